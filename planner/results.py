@@ -1,0 +1,219 @@
+"""Run results and the run directory (contract in DESIGN.md).
+
+A runner returns a :class:`RunResult`; :func:`write_run_directory` writes it atomically:
+everything goes to a temporary sibling directory that is renamed to the final name only when
+complete, so an interrupted run never leaves a half-written run directory behind.
+
+Run directory layout::
+
+    scenario.yaml     the resolved scenario (defaults filled in, overrides applied)
+    result.json       {"schema": 1, "name", "kind", "status", "reason", "seed", "metrics",
+                       "events", "timings_s", "versions", "files"}
+    trajectory.npz    the arrays (time series, traces, maps)
+    plots/*.png       figures (other formats if the scenario's output.formats asks)
+    *                 extra files a runner adds (e.g. gait.json, features.geojson)
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import platform
+import shutil
+import tempfile
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from datetime import datetime, timezone
+from importlib.metadata import PackageNotFoundError, version
+from pathlib import Path
+from typing import Any, Literal
+
+import numpy as np
+import yaml
+
+from planner.errors import HapexError
+
+SCHEMA_VERSION = 1
+_VERSIONED = ("hapex", "pin", "casadi", "numpy", "scipy", "shapely", "qpsolvers", "osqp",
+              "pydantic", "matplotlib")
+
+
+@dataclass(frozen=True)
+class Event:
+    """Something that happened during a run.
+
+    Attributes:
+        t: simulation time or step index at which it happened (``None`` when not timed) [s].
+        kind: short machine-readable tag, e.g. ``"phase_transition"``, ``"solver_failed"``.
+        message: human-readable sentence.
+        data: extra JSON-serialisable details.
+    """
+
+    kind: str
+    message: str = ""
+    t: float | None = None
+    data: Mapping[str, Any] = field(default_factory=dict)
+
+    def to_json(self) -> dict[str, Any]:
+        return {"t": self.t, "kind": self.kind, "message": self.message, "data": dict(self.data)}
+
+
+@dataclass
+class RunResult:
+    """What a scenario runner returns.
+
+    Attributes:
+        status: ``"ok"`` or ``"failed"`` (the scenario ran but its task failed; exit code 1).
+        reason: why it failed (empty when ok).
+        metrics: scalar results, JSON-serialisable (floats, ints, bools, strings, small lists).
+        arrays: named numpy arrays written to ``trajectory.npz``.
+        events: what happened during the run, in order.
+        figures: name -> matplotlib Figure, saved as ``plots/<name>.<fmt>``.
+        files: name -> text content of extra files written at the top of the run directory
+            (e.g. ``{"gait.json": "..."}``).
+    """
+
+    status: Literal["ok", "failed"] = "ok"
+    reason: str = ""
+    metrics: dict[str, Any] = field(default_factory=dict)
+    arrays: dict[str, np.ndarray] = field(default_factory=dict)
+    events: list[Event] = field(default_factory=list)
+    figures: dict[str, Any] = field(default_factory=dict)
+    files: dict[str, str] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if self.status not in ("ok", "failed"):
+            raise ValueError(f"status must be 'ok' or 'failed', got {self.status!r}")
+
+
+def package_versions() -> dict[str, str]:
+    """Versions of hapex and its main dependencies (``"not installed"`` when missing)."""
+    out = {}
+    for name in _VERSIONED:
+        try:
+            out[name] = version(name)
+        except PackageNotFoundError:
+            out[name] = "not installed"
+    out["python"] = platform.python_version()
+    return out
+
+
+def to_jsonable(value: Any) -> Any:
+    """Convert numpy scalars/arrays, tuples and non-finite floats to plain JSON values.
+
+    NaN and infinities become ``None`` (JSON has no representation for them).
+    """
+    if isinstance(value, Mapping):
+        return {str(k): to_jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [to_jsonable(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return to_jsonable(value.tolist())
+    if isinstance(value, (np.bool_, bool)):
+        return bool(value)
+    if isinstance(value, (np.integer,)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        f = float(value)
+        return f if math.isfinite(f) else None
+    return value
+
+
+def _prepare_target(out_dir: Path) -> None:
+    """Refuse to replace a directory that is neither empty nor a previous hapex run."""
+    if out_dir.exists():
+        if not out_dir.is_dir():
+            raise HapexError(f"--out {out_dir}: exists and is not a directory")
+        if any(out_dir.iterdir()) and not (out_dir / "result.json").is_file():
+            raise HapexError(
+                f"--out {out_dir}: directory is not empty and is not a hapex run directory; "
+                "choose another --out or remove it"
+            )
+
+
+def write_run_directory(
+    out_dir: Path,
+    result: RunResult,
+    *,
+    name: str,
+    kind: str,
+    seed: int,
+    resolved_scenario: Mapping[str, Any],
+    timings_s: Mapping[str, float],
+    plot_formats: tuple[str, ...] = ("png",),
+    dpi: int = 120,
+) -> Path:
+    """Write ``result`` as a complete run directory at ``out_dir``, atomically.
+
+    Args:
+        out_dir: final path of the run directory. An existing previous run there is replaced;
+            an existing non-empty directory that is not a run directory is an error.
+        result: what the runner returned.
+        name, kind, seed: scenario identity, copied into ``result.json``.
+        resolved_scenario: the validated scenario as plain data (written as scenario.yaml).
+        timings_s: wall-clock time per stage [s].
+        plot_formats: file formats for figures (``png``, ``svg``, ``pdf``).
+        dpi: resolution of raster figures [dots per inch].
+
+    Returns:
+        ``out_dir``.
+    """
+    out_dir = Path(out_dir)
+    _prepare_target(out_dir)
+    out_dir.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.tmp-", dir=out_dir.parent))
+    try:
+        files: dict[str, str] = {"scenario": "scenario.yaml", "result": "result.json"}
+        with open(tmp / "scenario.yaml", "w") as fh:
+            yaml.safe_dump(to_jsonable(dict(resolved_scenario)), fh, sort_keys=False)
+        if result.arrays:
+            np.savez_compressed(tmp / "trajectory.npz",
+                                **{k: np.asarray(v) for k, v in result.arrays.items()})
+            files["trajectory"] = "trajectory.npz"
+        if result.figures:
+            import matplotlib.pyplot as plt
+
+            (tmp / "plots").mkdir()
+            for fig_name, fig in result.figures.items():
+                for fmt in plot_formats:
+                    rel = f"plots/{fig_name}.{fmt}"
+                    fig.savefig(tmp / rel, dpi=dpi, bbox_inches="tight")
+                    files[f"plot:{fig_name}" if fmt == plot_formats[0] else
+                          f"plot:{fig_name}:{fmt}"] = rel
+                plt.close(fig)
+        for fname, text in result.files.items():
+            target = tmp / fname
+            target.parent.mkdir(parents=True, exist_ok=True)
+            target.write_text(text)
+            files[fname] = fname
+        doc = {
+            "schema": SCHEMA_VERSION,
+            "name": name,
+            "kind": kind,
+            "status": result.status,
+            "reason": result.reason,
+            "seed": seed,
+            "metrics": to_jsonable(result.metrics),
+            "events": [to_jsonable(e.to_json()) for e in result.events],
+            "timings_s": to_jsonable(dict(timings_s)),
+            "versions": package_versions(),
+            "created": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+            "files": files,
+        }
+        with open(tmp / "result.json", "w") as fh:
+            json.dump(doc, fh, indent=2, allow_nan=False)
+        old = None
+        if out_dir.exists():
+            old = out_dir.with_name(f".{out_dir.name}.old-{os.getpid()}")
+            os.replace(out_dir, old)
+        os.replace(tmp, out_dir)
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return out_dir
+
+
+__all__ = ["Event", "RunResult", "package_versions", "to_jsonable", "write_run_directory"]

@@ -1,0 +1,66 @@
+"""What a scenario runner gets besides its validated configuration."""
+
+from __future__ import annotations
+
+import sys
+import time
+from collections.abc import Iterable, Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TypeVar
+
+import numpy as np
+
+T = TypeVar("T")
+
+
+@dataclass
+class RunContext:
+    """Services offered to a runner.
+
+    Attributes:
+        rng: the only source of randomness, seeded from the scenario's ``seed``.
+        plots: whether the runner should build figures (``--no-plots`` / ``output.plots``).
+        quick: a short smoke-test run (``--quick``): runners reduce horizons and resolutions.
+        base_dir: folder of the scenario file; relative data-file paths resolve against it.
+        verbose: ``-v`` was given.
+        timings_s: wall-clock time per named stage [s], filled by :meth:`timer`.
+    """
+
+    rng: np.random.Generator
+    plots: bool = True
+    quick: bool = False
+    base_dir: Path = field(default_factory=Path.cwd)
+    verbose: bool = False
+    timings_s: dict[str, float] = field(default_factory=dict)
+
+    @classmethod
+    def for_seed(cls, seed: int, **kwargs) -> RunContext:
+        """A context whose generator is ``numpy.random.default_rng(seed)``."""
+        return cls(rng=np.random.default_rng(seed), **kwargs)
+
+    @contextmanager
+    def timer(self, stage: str) -> Iterator[None]:
+        """Measure the wall-clock time of a ``with`` block into ``timings_s[stage]`` [s]."""
+        t0 = time.perf_counter()
+        try:
+            yield
+        finally:
+            self.timings_s[stage] = self.timings_s.get(stage, 0.0) + time.perf_counter() - t0
+
+    def progress(self, iterable: Iterable[T], desc: str = "", total: int | None = None
+                 ) -> Iterable[T]:
+        """Wrap a long loop in a tqdm progress bar (shown on a terminal only)."""
+        from tqdm.auto import tqdm
+
+        return tqdm(iterable, desc=desc, total=total, leave=False,
+                    disable=not sys.stderr.isatty())
+
+    def log(self, message: str) -> None:
+        """Print a progress message on stderr when ``-v`` was given."""
+        if self.verbose:
+            print(message, file=sys.stderr)
+
+
+__all__ = ["RunContext"]

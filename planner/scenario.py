@@ -1,0 +1,329 @@
+"""Scenario files: YAML with line numbers, validated by pydantic models, one per ``kind``.
+
+A scenario file is a YAML mapping. Keys common to every kind (:class:`ScenarioBase`)::
+
+    name: step_trace          # identifier, letters/digits/_/- (default: the file's stem)
+    kind: trace               # selects the model and the runner (see ``hapex list``)
+    description: "..."        # one line, shown by ``hapex list``
+    seed: 0                   # seeds numpy.random.default_rng; the only randomness source
+    output: {plots: true, formats: [png], dpi: 120}
+
+Every other key belongs to the kind's own model, defined in ``planner/kinds/<kind>.py`` as
+``Config`` (a :class:`ScenarioBase` subclass with ``kind: Literal["<kind>"]``) together with
+``run(config, ctx) -> RunResult``. Kinds are discovered from that package, so adding a kind
+touches one file. Models forbid unknown keys; every problem is reported at once with its
+file, line and key path.
+"""
+
+from __future__ import annotations
+
+import importlib
+import pkgutil
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from functools import cache
+from pathlib import Path
+from typing import Any, Literal
+
+import yaml
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from planner.errors import InputIssue, ScenarioError
+
+ROOT = "(root)"
+
+
+class StrictModel(BaseModel):
+    """Base of every scenario model: unknown keys are errors; models are immutable."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class OutputSettings(StrictModel):
+    """What the run directory gets besides result.json."""
+
+    plots: bool = Field(True, description="write figures to plots/")
+    formats: tuple[Literal["png", "svg", "pdf"], ...] = Field(
+        ("png",), min_length=1, description="figure file formats")
+    dpi: int = Field(120, ge=30, le=600, description="raster figure resolution [dpi]")
+
+
+class ScenarioBase(StrictModel):
+    """Keys common to every scenario kind."""
+
+    name: str = Field(..., pattern=r"^[A-Za-z0-9_.-]+$", max_length=100,
+                      description="identifier of the scenario (default: the file name stem)")
+    kind: str
+    description: str = Field("", description="one-line description")
+    seed: int = Field(0, ge=0, description="seed of numpy.random.default_rng")
+    output: OutputSettings = Field(default_factory=OutputSettings)
+
+
+@dataclass(frozen=True)
+class KindSpec:
+    """A registered scenario kind: its model and its runner."""
+
+    name: str
+    config: type[ScenarioBase]
+    run: Callable[..., Any]
+    module: str
+
+
+@cache
+def kinds() -> dict[str, KindSpec]:
+    """All scenario kinds found in ``planner.kinds`` (name -> spec), sorted by name."""
+    import planner.kinds as pkg
+
+    found: dict[str, KindSpec] = {}
+    for info in pkgutil.iter_modules(pkg.__path__):
+        if info.name.startswith("_"):
+            continue
+        mod = importlib.import_module(f"planner.kinds.{info.name}")
+        config = getattr(mod, "Config", None)
+        run = getattr(mod, "run", None)
+        if config is None or run is None:
+            continue
+        ann = config.model_fields["kind"].annotation
+        name = ann.__args__[0]
+        found[name] = KindSpec(name, config, run, mod.__name__)
+    return dict(sorted(found.items()))
+
+
+# --------------------------------------------------------------------------- YAML + lines
+def _line_map(node: yaml.Node, path: tuple = (), out: dict | None = None) -> dict:
+    """Map every key path of a composed YAML node tree to its 1-based line."""
+    if out is None:
+        out = {}
+    out.setdefault(path, node.start_mark.line + 1)
+    if isinstance(node, yaml.MappingNode):
+        for knode, vnode in node.value:
+            key = knode.value
+            out[path + (key,)] = knode.start_mark.line + 1
+            _line_map(vnode, path + (key,), out)
+    elif isinstance(node, yaml.SequenceNode):
+        for i, item in enumerate(node.value):
+            out[path + (i,)] = item.start_mark.line + 1
+            _line_map(item, path + (i,), out)
+    return out
+
+
+@dataclass(frozen=True)
+class SourceDoc:
+    """A parsed YAML document and where each key came from."""
+
+    data: Any
+    source: str
+    lines: Mapping[tuple, int]
+    origins: Mapping[tuple, str]  # key path -> "--set:N" for overridden keys
+
+
+def read_yaml(path: str | Path) -> SourceDoc:
+    """Read a YAML file, keeping the line of every key.
+
+    Raises:
+        ScenarioError: the file is missing, unreadable, empty, not YAML, or not a mapping.
+    """
+    src = str(path)
+    try:
+        text = Path(path).read_text()
+    except FileNotFoundError:
+        raise ScenarioError([InputIssue(src, 0, ROOT, "file not found")]) from None
+    except IsADirectoryError:
+        raise ScenarioError([InputIssue(src, 0, ROOT, "is a directory, not a file")]) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ScenarioError([InputIssue(src, 0, ROOT, f"cannot read: {exc}")]) from None
+    try:
+        node = yaml.compose(text, Loader=yaml.SafeLoader)
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None) or getattr(exc, "context_mark", None)
+        line = mark.line + 1 if mark is not None else 0
+        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+        raise ScenarioError([InputIssue(src, line, ROOT, f"not valid YAML: {problem}")]) from None
+    if node is None:
+        raise ScenarioError([InputIssue(src, 1, ROOT, "file is empty; expected a mapping "
+                                        "with at least 'kind'")])
+    if not isinstance(data, dict):
+        raise ScenarioError([InputIssue(src, node.start_mark.line + 1, ROOT,
+                                        f"expected a mapping of keys, got {type(data).__name__}")])
+    return SourceDoc(data, src, _line_map(node), {})
+
+
+def _parse_override(text: str, index: int) -> tuple[tuple[str, ...], Any]:
+    where = f"--set:{index}"
+    if "=" not in text:
+        raise ScenarioError([InputIssue(where, 0, text, "expected key.path=value")])
+    key, _, raw = text.partition("=")
+    parts = tuple(p.strip() for p in key.strip().split("."))
+    if not key.strip() or any(not p for p in parts):
+        raise ScenarioError([InputIssue(where, 0, key or ROOT, "empty key in key.path=value")])
+    try:
+        value = yaml.safe_load(raw) if raw.strip() else None
+    except yaml.YAMLError:
+        value = raw
+    return parts, value
+
+
+def apply_overrides(doc: SourceDoc, overrides: Sequence[str]) -> SourceDoc:
+    """Apply ``--set key.path=value`` overrides (values parsed as YAML scalars/flow)."""
+    import copy
+
+    data = copy.deepcopy(doc.data)
+    origins = dict(doc.origins)
+    issues = []
+    for i, text in enumerate(overrides, start=1):
+        try:
+            parts, value = _parse_override(text, i)
+        except ScenarioError as exc:
+            issues.extend(exc.issues)
+            continue
+        cur = data
+        ok = True
+        for depth, p in enumerate(parts[:-1]):
+            nxt = cur.get(p) if isinstance(cur, dict) else None
+            if nxt is None and isinstance(cur, dict):
+                nxt = cur[p] = {}
+            if not isinstance(nxt, dict):
+                issues.append(InputIssue(f"--set:{i}", 0, ".".join(parts[: depth + 1]),
+                                         "is not a mapping; cannot set a key inside it"))
+                ok = False
+                break
+            cur = nxt
+        if ok:
+            cur[parts[-1]] = value
+            origins[parts] = f"--set:{i}"
+    if issues:
+        raise ScenarioError(issues)
+    return SourceDoc(data, doc.source, doc.lines, origins)
+
+
+def _locate(doc: SourceDoc, loc: Sequence[Any]) -> tuple[str, int, str]:
+    """Turn a pydantic error location into (source, line, dotted path).
+
+    Discriminator tags that pydantic inserts into ``loc`` are skipped by walking the data.
+    """
+    path: list[Any] = []
+    cur = doc.data
+    for item in loc:
+        if isinstance(cur, dict) and item in cur:
+            path.append(item)
+            cur = cur[item]
+        elif isinstance(cur, list) and isinstance(item, int) and 0 <= item < len(cur):
+            path.append(item)
+            cur = cur[item]
+        elif isinstance(item, str) and not (isinstance(cur, dict) and item in cur):
+            # a union/discriminator tag or a missing key: a missing key is the last item
+            if item == loc[-1]:
+                path.append(item)
+            cur = None if not isinstance(cur, (dict, list)) else cur
+    tpath = tuple(path)
+    for k in range(len(tpath), -1, -1):
+        if tpath[:k] in doc.origins:
+            return doc.origins[tpath[:k]], 0, _dotted(tpath)
+    line = 0
+    for k in range(len(tpath), -1, -1):
+        if tpath[:k] in doc.lines:
+            line = doc.lines[tpath[:k]]
+            break
+    return doc.source, line, _dotted(tpath)
+
+
+def _dotted(path: Sequence[Any]) -> str:
+    if not path:
+        return ROOT
+    out = ""
+    for p in path:
+        out += f"[{p}]" if isinstance(p, int) else (f".{p}" if out else str(p))
+    return out
+
+
+def _message(err: Mapping[str, Any]) -> str:
+    kind = err.get("type")
+    if kind == "extra_forbidden":
+        return "unknown key (check the spelling; see the README for the keys of this kind)"
+    if kind == "missing":
+        return "required key is missing"
+    if kind == "union_tag_invalid":
+        ctx = err.get("ctx", {})
+        return (f"unknown kind {ctx.get('tag')!r}; expected one of "
+                f"{ctx.get('expected_tags')}")
+    if kind == "union_tag_not_found":
+        return f"missing key {err.get('ctx', {}).get('discriminator', 'kind')}"
+    return str(err.get("msg", "invalid value"))
+
+
+def validate(doc: SourceDoc) -> ScenarioBase:
+    """Validate a parsed document against the model of its kind.
+
+    Raises:
+        ScenarioError: with one issue per problem, all at once.
+    """
+    data = dict(doc.data)
+    if "name" not in data and doc.source not in ("", "(input)"):
+        data["name"] = Path(doc.source).stem
+    if "kind" not in data:
+        raise ScenarioError([InputIssue(doc.source, 1, "kind",
+                                        f"required key is missing; expected one of "
+                                        f"{sorted(kinds())}")])
+    if not isinstance(data["kind"], str) or data["kind"] not in kinds():
+        src, line, path = _locate(doc, ("kind",))
+        raise ScenarioError([InputIssue(src, line, "kind",
+                                        f"unknown kind {data['kind']!r}; expected one of "
+                                        f"{sorted(kinds())}")])
+    doc = SourceDoc(data, doc.source, doc.lines, doc.origins)
+    model = kinds()[data["kind"]].config
+    try:
+        return model.model_validate(data)
+    except ValidationError as exc:
+        issues = []
+        seen = set()
+        for err in exc.errors():
+            src, line, path = _locate(doc, err["loc"])
+            issue = InputIssue(src, line, path, _message(err))
+            if str(issue) not in seen:
+                seen.add(str(issue))
+                issues.append(issue)
+        raise ScenarioError(sorted(issues, key=lambda i: (i.source != doc.source, i.line)))
+        # sorted: file errors in line order, then override errors
+
+
+def load_scenario(path: str | Path, overrides: Sequence[str] = (),
+                  seed: int | None = None) -> ScenarioBase:
+    """Read, override and validate a scenario file.
+
+    Args:
+        path: the YAML file.
+        overrides: ``key.path=value`` strings (as given to ``--set``).
+        seed: replaces the file's ``seed`` when given.
+
+    Returns:
+        The validated scenario (an instance of its kind's ``Config``).
+
+    Raises:
+        ScenarioError: every problem found, each with file, line and key path.
+    """
+    doc = read_yaml(path)
+    if seed is not None:
+        overrides = [*overrides, f"seed={seed}"]
+    doc = apply_overrides(doc, overrides)
+    return validate(doc)
+
+
+def scenario_from_dict(data: Mapping[str, Any]) -> ScenarioBase:
+    """Validate a scenario given as a Python mapping (library use)."""
+    return validate(SourceDoc(dict(data), "(dict)", {}, {}))
+
+
+__all__ = [
+    "KindSpec",
+    "OutputSettings",
+    "ScenarioBase",
+    "SourceDoc",
+    "StrictModel",
+    "apply_overrides",
+    "kinds",
+    "load_scenario",
+    "read_yaml",
+    "scenario_from_dict",
+    "validate",
+]
