@@ -1,0 +1,135 @@
+"""Shared helpers of the benchmark scripts: timing, environment stamp, CSV + Markdown report.
+
+Every ``bench_*.py`` script prints a table on stdout and writes
+``benchmarks/results/<name>.csv`` and ``<name>.md`` (override with ``--out DIR``), stamped with
+package versions, CPU and date. Benchmarks measure; they never assert on time.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import math
+import platform
+import statistics
+import time
+from collections.abc import Callable, Sequence
+from datetime import datetime, timezone
+from pathlib import Path
+
+from planner.results import package_versions
+
+RESULTS = Path(__file__).resolve().parent / "results"
+
+
+def cpu_name() -> str:
+    """The CPU model name (from /proc/cpuinfo on Linux), or platform.processor()."""
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or platform.machine()
+
+
+def environment() -> dict[str, str]:
+    """Versions, CPU, core count and UTC date, for report headers."""
+    import os
+
+    env = {"date": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+           "cpu": cpu_name(), "cores": str(os.cpu_count()), "platform": platform.platform()}
+    env.update(package_versions())
+    return env
+
+
+def time_call(fn: Callable[[], object], *, repeat: int = 7, min_time: float = 0.05
+              ) -> dict[str, float]:
+    """Time ``fn()``: calls per batch chosen so a batch lasts ``min_time`` [s].
+
+    Returns:
+        ``{"best_s", "median_s", "calls"}``: per-call best and median over ``repeat``
+        batches [s], and the batch size.
+    """
+    fn()  # warm-up (imports, caches, JIT of code paths)
+    n = 1
+    while True:
+        t0 = time.perf_counter()
+        for _ in range(n):
+            fn()
+        dt = time.perf_counter() - t0
+        if dt >= min_time or n >= 1 << 20:
+            break
+        n *= 2 if dt == 0 else max(2, min(100, math.ceil(min_time / dt)))
+    samples = [dt / n]
+    for _ in range(repeat - 1):
+        t0 = time.perf_counter()
+        for _ in range(n):
+            fn()
+        samples.append((time.perf_counter() - t0) / n)
+    return {"best_s": min(samples), "median_s": statistics.median(samples), "calls": n}
+
+
+def shifted_geometric_mean(values: Sequence[float], shift: float = 1e-3) -> float:
+    """Shifted geometric mean (qpbenchmark style) of positive values."""
+    if not values:
+        return float("nan")
+    return math.exp(sum(math.log(v + shift) for v in values) / len(values)) - shift
+
+
+def arg_parser(description: str) -> argparse.ArgumentParser:
+    """An argparse parser with the options every benchmark script takes."""
+    p = argparse.ArgumentParser(description=description)
+    p.add_argument("--out", type=Path, default=RESULTS, help="folder for the CSV/Markdown report")
+    p.add_argument("--quick", action="store_true", help="smaller sizes, for a smoke test")
+    return p
+
+
+def _fmt(v: object) -> str:
+    if isinstance(v, float):
+        if v == 0 or math.isnan(v):
+            return f"{v:g}"
+        return f"{v:.4g}" if 1e-3 <= abs(v) < 1e5 else f"{v:.3e}"
+    return str(v)
+
+
+def markdown_table(rows: Sequence[dict], columns: Sequence[str]) -> str:
+    """Rows (dicts) as a GitHub Markdown table in the given column order."""
+    head = "| " + " | ".join(columns) + " |"
+    sep = "|" + "|".join("---" for _ in columns) + "|"
+    body = ["| " + " | ".join(_fmt(r.get(c, "")) for c in columns) + " |" for r in rows]
+    return "\n".join([head, sep, *body])
+
+
+def write_report(name: str, rows: Sequence[dict], *, title: str, out: Path = RESULTS,
+                 notes: Sequence[str] = (), columns: Sequence[str] | None = None) -> Path:
+    """Print the table and write ``<out>/<name>.csv`` and ``<out>/<name>.md``.
+
+    Returns:
+        The Markdown file's path.
+    """
+    if columns is None:
+        columns = list(dict.fromkeys(k for r in rows for k in r))
+    table = markdown_table(rows, columns)
+    print(f"\n{title}\n")
+    print(table)
+    for n in notes:
+        print(f"- {n}")
+    out.mkdir(parents=True, exist_ok=True)
+    with open(out / f"{name}.csv", "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(columns), extrasaction="ignore")
+        w.writeheader()
+        for r in rows:
+            w.writerow(r)
+    env = environment()
+    md = [f"# {title}", "", "| | |", "|---|---|", *(f"| {k} | {v} |" for k, v in env.items()),
+          "", table, ""]
+    md += [f"- {n}" for n in notes]
+    path = out / f"{name}.md"
+    path.write_text("\n".join(md) + "\n")
+    print(f"\nwrote {out / (name + '.csv')} and {path}")
+    return path
+
+
+__all__ = ["arg_parser", "cpu_name", "environment", "markdown_table", "shifted_geometric_mean",
+           "time_call", "write_report"]
