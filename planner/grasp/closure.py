@@ -1,0 +1,123 @@
+"""Force closure: an exact vectorized planar two-contact test and general tests.
+
+* :func:`force_closure_two_planar` — Nguyen's condition: two planar point contacts with
+  friction are in force closure iff the segment joining them lies strictly inside both
+  friction cones (``|angle(n_i, ±(p_2 - p_1))| < atan(mu)``). Vectorized over any batch shape.
+* :func:`force_closure` — any number ``k >= 2`` of planar or spatial point contacts with
+  friction (a palm contact is just one more contact): the grasp is in force closure iff the
+  origin lies strictly inside the convex hull of the primitive wrenches (closed form for two
+  planar contacts, Qhull otherwise). Spatial cones are inscribed pyramids, so the spatial test
+  is conservative by at most the pyramid's inscription error.
+* :func:`force_closure_lp` — the same question as an LP through the project's QP entry point
+  (``max t  s.t.  W λ = 0, Σ λ = 1, λ >= t``; closure iff ``W`` has full rank and ``t > 0``):
+  the "numerical solution" used by Leveroni, kept as a cross-check and benchmark baseline.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from planner.grasp.cones import check_mu
+from planner.grasp.wrenches import check_contacts, primitive_wrenches
+
+#: Strictness margin of the hull and LP tests (wrench-space distance, unit-force scale).
+HULL_TOL = 1e-10
+
+
+def force_closure_two_planar(p1, n1, p2, n2, mu: float, mu2: float | None = None) -> np.ndarray:
+    """Nguyen's exact two-contact planar force-closure test, vectorized.
+
+    Args:
+        p1, p2: (..., 2) contact points [m] (broadcastable).
+        n1, n2: (..., 2) inward unit normals (broadcastable; not re-normalized here).
+        mu: friction coefficient (>= 0) at ``p1`` (and at ``p2`` unless ``mu2`` is given).
+        mu2: friction coefficient at ``p2`` (e.g. a palm of another material).
+
+    Returns:
+        (...) bool: the segment ``p1 p2`` lies strictly inside both friction cones.
+    """
+    mu = check_mu(mu)
+    mu2 = mu if mu2 is None else check_mu(mu2)
+    p1, n1, p2, n2 = (np.asarray(a, dtype=float) for a in (p1, n1, p2, n2))
+    dx = p2[..., 0] - p1[..., 0]
+    dy = p2[..., 1] - p1[..., 1]
+    dot1 = n1[..., 0] * dx + n1[..., 1] * dy
+    cr1 = n1[..., 0] * dy - n1[..., 1] * dx
+    dot2 = -(n2[..., 0] * dx + n2[..., 1] * dy)
+    cr2 = -(n2[..., 0] * dy - n2[..., 1] * dx)
+    return (dot1 > 0) & (np.abs(cr1) < mu * dot1) & (dot2 > 0) & (np.abs(cr2) < mu2 * dot2)
+
+
+def _hull_offsets(w: np.ndarray) -> np.ndarray | None:
+    """Facet offsets of the convex hull of the rows of ``w`` (None if it is flat)."""
+    from scipy.spatial import ConvexHull, QhullError
+
+    if w.shape[0] <= w.shape[1] or np.linalg.matrix_rank(w, tol=1e-9) < w.shape[1]:
+        return None
+    try:
+        hull = ConvexHull(w)
+    except QhullError:
+        return None
+    return hull.equations[:, -1]
+
+
+def force_closure(points, normals, mu: float, *, facets: int = 8) -> bool:
+    """Whether point contacts with friction hold the object in force closure.
+
+    Args:
+        points: (k, 2) planar or (k, 3) spatial contact points [m], k >= 2.
+        normals: (k, 2) or (k, 3) inward unit contact normals (pointing into the object;
+            normalized here).
+        mu: Coulomb friction coefficient (>= 0), the same at every contact.
+        facets: spatial only: edges of the inscribed friction pyramids (>= 3).
+
+    Returns:
+        True iff every object wrench can be resisted by contact forces inside the cones.
+        Closed form (Nguyen) for two planar contacts; convex hull of the primitive wrenches
+        otherwise (origin strictly inside).
+
+    Raises:
+        InvalidParameter: bad shapes, NaN, zero normals, ``mu < 0``, fewer than 2 contacts.
+    """
+    p, n = check_contacts(points, normals, 2)
+    mu = check_mu(mu)
+    if p.shape[1] == 2 and p.shape[0] == 2:
+        return bool(force_closure_two_planar(p[0], n[0], p[1], n[1], mu))
+    offsets = _hull_offsets(primitive_wrenches(p, n, mu, facets=facets))
+    return offsets is not None and bool(np.all(offsets < -HULL_TOL))
+
+
+def force_closure_lp(points, normals, mu: float, *, facets: int = 8, solver: str = "osqp") -> bool:
+    """Force closure decided by a linear program (through :func:`planner.control.qp.solve_lp`).
+
+    Solves ``max t  s.t.  W^T λ = 0, Σ λ = 1, λ_i >= t, t <= 1`` over the primitive wrenches
+    ``W`` (rows); the grasp is in force closure iff ``W`` has full rank and ``t* > 0``
+    (then the origin is a strictly positive combination of spanning wrenches, i.e. interior).
+
+    Args: as :func:`force_closure`, plus ``solver``: QP backend accepting LPs
+        (``"osqp"``, ``"clarabel"``, ``"proxqp"``).
+    """
+    from planner.control.qp import solve_lp
+
+    p, n = check_contacts(points, normals, 2)
+    w = primitive_wrenches(p, n, check_mu(mu), facets=facets)
+    m, d = w.shape
+    if np.linalg.matrix_rank(w, tol=1e-9) < d:
+        return False
+    # variables x = (λ (m), t)
+    c = np.zeros(m + 1)
+    c[-1] = -1.0
+    A = np.zeros((d + 1, m + 1))
+    A[:d, :m] = w.T
+    A[d, :m] = 1.0
+    b = np.zeros(d + 1)
+    b[d] = 1.0
+    G = np.hstack([-np.eye(m), np.ones((m, 1))])  # t - λ_i <= 0
+    h = np.zeros(m)
+    ub = np.full(m + 1, np.inf)
+    ub[-1] = 1.0
+    sol = solve_lp(c, G, h, A, b, ub=ub, solver=solver)
+    return bool(sol.x[-1] > 1e-7 / m)
+
+
+__all__ = ["HULL_TOL", "force_closure", "force_closure_lp", "force_closure_two_planar"]

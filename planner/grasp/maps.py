@@ -1,0 +1,188 @@
+"""Grasp maps of planar objects (§2.2.1, Fig. 2.4, after Leveroni).
+
+A contact is located by its *contact angle* θ: the polar angle of the contact point about the
+object frame's origin, counter-clockwise from the object's x-axis, in [0, 2π). The grasp map
+of a finger pair is the force-closure indicator (and the ε quality) over a grid of
+``(θ1, θ2)``. Both are computed by the exact closed forms of
+:func:`planner.grasp.closure.force_closure_two_planar` and
+:func:`planner.grasp.quality.epsilon_two_planar`, broadcast over the whole grid: the closure
+map is a component-wise numpy kernel on preallocated buffers.
+
+Rotating the object by φ slides the map along the diagonal (Leveroni): the map of the
+rotated object, indexed by *world* polar angles, is the original map shifted by ``(φ, φ)``;
+see :func:`shift_diagonal`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from planner.errors import InvalidParameter
+from planner.grasp.cones import check_mu
+from planner.grasp.quality import epsilon_two_planar
+
+
+@dataclass(frozen=True)
+class GraspMap:
+    """Force closure and ε over a grid of contact-angle pairs.
+
+    Attributes:
+        theta: (n,) contact angles [rad], ``2π i / n``.
+        points: (n, 2) contact points in the object frame [m].
+        normals: (n, 2) inward unit normals in the object frame.
+        force_closure: (n, n) bool, ``[i, j]`` for contact 1 at ``theta[i]`` and contact 2 at
+            ``theta[j]``.
+        epsilon: (n, n) Ferrari–Canny ε (L1, torques about the contacts' midpoint divided by
+            half their distance; 0 where not in force closure), or all-NaN when not computed.
+        mu: friction coefficient at contact 1; mu2: at contact 2.
+    """
+
+    theta: np.ndarray
+    points: np.ndarray
+    normals: np.ndarray
+    force_closure: np.ndarray
+    epsilon: np.ndarray
+    mu: float
+    mu2: float
+
+    @property
+    def resolution(self) -> int:
+        """Number of contact angles per axis."""
+        return int(self.theta.size)
+
+    @property
+    def closure_fraction(self) -> float:
+        """Fraction of grid cells in force closure [-]."""
+        return float(np.mean(self.force_closure))
+
+
+def contact_angles(resolution: int) -> np.ndarray:
+    """The grid ``2π i / resolution``, i = 0..resolution-1 [rad]."""
+    if int(resolution) != resolution or resolution < 4:
+        raise InvalidParameter(f"resolution must be an integer >= 4, got {resolution!r}")
+    return 2.0 * np.pi * np.arange(int(resolution)) / int(resolution)
+
+
+def profile_contacts(profile, theta) -> tuple[np.ndarray, np.ndarray]:
+    """Contact points and inward normals of a closed star-shaped profile at contact angles.
+
+    Args:
+        profile: an object with ``point_at_polar_angle(theta) -> (points (n,2), outward
+            normals (n,2))`` (e.g. ``planner.geometry.curves.circle(0.05)``).
+        theta: (n,) contact angles [rad].
+
+    Returns:
+        ``(points (n, 2) [m], inward unit normals (n, 2))``.
+    """
+    if not hasattr(profile, "point_at_polar_angle"):
+        raise InvalidParameter(
+            f"profile must be a closed profile with point_at_polar_angle(); "
+            f"got {type(profile).__name__}"
+        )
+    pts, out = profile.point_at_polar_angle(np.asarray(theta, dtype=float))
+    pts = np.asarray(pts, dtype=float)
+    nrm = -np.asarray(out, dtype=float)
+    if not (np.all(np.isfinite(pts)) and np.all(np.isfinite(nrm))):
+        raise InvalidParameter("profile returned NaN/inf points or normals")
+    return pts, nrm
+
+
+class ClosureKernel:
+    """Two-contact force-closure map kernel with preallocated (n, n) buffers.
+
+    ``kernel(x, y, nx, ny)`` evaluates Nguyen's condition for every pair ``(i, j)`` of n
+    contacts (points ``(x, y)``, inward normals ``(nx, ny)``, each (n,)) into a reused boolean
+    array; the returned array is overwritten by the next call.
+    """
+
+    def __init__(self, n: int, mu: float, mu2: float | None = None):
+        self.n = int(n)
+        self.mu = check_mu(mu)
+        self.mu2 = self.mu if mu2 is None else check_mu(mu2)
+        self._dx = np.empty((self.n, self.n))
+        self._dy = np.empty((self.n, self.n))
+        self._a = np.empty((self.n, self.n))
+        self._b = np.empty((self.n, self.n))
+        self._ok = np.empty((self.n, self.n), dtype=bool)
+        self._t = np.empty((self.n, self.n), dtype=bool)
+
+    def __call__(self, x, y, nx, ny) -> np.ndarray:
+        dx, dy, a, b, ok, t = self._dx, self._dy, self._a, self._b, self._ok, self._t
+        np.subtract(x[None, :], x[:, None], out=dx)  # dx[i, j] = x[j] - x[i]
+        np.subtract(y[None, :], y[:, None], out=dy)
+        # contact 1 (row i): dot = n_i . d, cross = n_i x d
+        np.multiply(nx[:, None], dx, out=a)
+        a += ny[:, None] * dy
+        np.multiply(nx[:, None], dy, out=b)
+        b -= ny[:, None] * dx
+        np.abs(b, out=b)
+        np.greater(a, 0.0, out=ok)
+        a *= self.mu
+        np.less(b, a, out=t)
+        ok &= t
+        # contact 2 (column j): dot = -n_j . d, cross = -(n_j x d)
+        np.multiply(nx[None, :], dx, out=a)
+        a += ny[None, :] * dy
+        a *= -1.0
+        np.multiply(nx[None, :], dy, out=b)
+        b -= ny[None, :] * dx
+        np.abs(b, out=b)
+        np.greater(a, 0.0, out=t)
+        ok &= t
+        a *= self.mu2
+        np.less(b, a, out=t)
+        ok &= t
+        return ok
+
+
+def grasp_map(
+    profile, mu: float, resolution: int = 360, *, mu2: float | None = None, epsilon: bool = True
+) -> GraspMap:
+    """The two-contact grasp map of a closed planar profile (Fig. 2.4).
+
+    Args:
+        profile: closed profile star-shaped about its origin (``point_at_polar_angle``).
+        mu: friction coefficient at both contacts (>= 0), or at contact 1 if ``mu2`` given.
+        resolution: number of contact angles per axis (>= 4); ``theta = 2π i / resolution``.
+        mu2: friction coefficient at contact 2 (e.g. the palm).
+        epsilon: also compute the ε map (else it is all-NaN).
+
+    Returns:
+        The :class:`GraspMap`; ``force_closure[i, j]`` is Nguyen's exact test and
+        ``epsilon[i, j]`` equals ``epsilon_quality`` of the same two contacts.
+    """
+    theta = contact_angles(resolution)
+    mu = check_mu(mu)
+    mu2 = mu if mu2 is None else check_mu(mu2)
+    pts, nrm = profile_contacts(profile, theta)
+    fc = ClosureKernel(theta.size, mu, mu2)(pts[:, 0], pts[:, 1], nrm[:, 0], nrm[:, 1]).copy()
+    if epsilon:
+        eps = epsilon_two_planar(
+            pts[:, None, :], nrm[:, None, :], pts[None, :, :], nrm[None, :, :], mu, mu2
+        )
+        eps = np.where(fc, eps, 0.0)
+    else:
+        eps = np.full(fc.shape, np.nan)
+    return GraspMap(theta, pts, nrm, fc, eps, mu, mu2)
+
+
+def shift_diagonal(values: np.ndarray, steps: int) -> np.ndarray:
+    """Slide a map along its diagonal by ``steps`` grid cells (Leveroni's rotation rule).
+
+    If an object is rotated counter-clockwise by ``φ = 2π steps / n``, its map indexed by world
+    contact angles is ``shift_diagonal(map, steps)``: entry ``[i, j]`` of the result is entry
+    ``[i - steps, j - steps]`` of the original (indices mod n).
+    """
+    return np.roll(np.roll(np.asarray(values), steps, axis=0), steps, axis=1)
+
+
+__all__ = [
+    "ClosureKernel",
+    "GraspMap",
+    "contact_angles",
+    "grasp_map",
+    "profile_contacts",
+    "shift_diagonal",
+]

@@ -1,0 +1,87 @@
+"""Primitive contact wrenches: the generators of the grasp wrench space (Ferrari–Canny).
+
+A primitive wrench is the object wrench of one unit-norm friction-cone edge force at one
+contact, ``w = (f, (p - c) x f / rho)``: torques about the reference point ``c`` are divided
+by the length ``rho`` so that every component is in newtons and the wrench space, hence ε,
+is invariant under rigid motions and uniform scaling of the grasp. The default ``c`` is the
+centroid of the contacts and the default ``rho`` the largest contact distance from ``c``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from planner.errors import InvalidParameter
+from planner.grasp.cones import check_mu, planar_cone_edges, pyramid_cone_edges, unit_rows
+
+
+def check_contacts(points, normals, min_contacts: int = 2) -> tuple[np.ndarray, np.ndarray]:
+    """Validate contact points (k, d) and inward normals (k, d), d in {2, 3}; unit normals out."""
+    p = np.asarray(points, dtype=float)
+    if p.ndim != 2 or p.shape[1] not in (2, 3):
+        raise InvalidParameter(f"points must have shape (k, 2) or (k, 3), got {p.shape}")
+    if not np.all(np.isfinite(p)):
+        raise InvalidParameter("points contain NaN or inf")
+    n = unit_rows("normals", normals, p.shape[1])
+    if n.shape != p.shape:
+        raise InvalidParameter(f"normals must have the shape of points {p.shape}, got {n.shape}")
+    if p.shape[0] < min_contacts:
+        raise InvalidParameter(f"need at least {min_contacts} contacts, got {p.shape[0]}")
+    return p, n
+
+
+def torque_frame(
+    points: np.ndarray, torque_reference=None, torque_scale=None
+) -> tuple[np.ndarray, float]:
+    """Reference point ``c`` (d,) [m] and torque length ``rho`` [m] of the wrench normalization."""
+    d = points.shape[1]
+    if torque_reference is None:
+        c = points.mean(axis=0)
+    else:
+        c = np.asarray(torque_reference, dtype=float)
+        if c.shape != (d,) or not np.all(np.isfinite(c)):
+            raise InvalidParameter(
+                f"torque_reference must be a finite ({d},) point, got {torque_reference!r}"
+            )
+    if torque_scale is None:
+        rho = float(np.max(np.linalg.norm(points - c, axis=1)))
+        if rho <= 0:
+            rho = 1.0  # all contacts coincide: no torque arm; any scale gives the same hull
+    else:
+        rho = float(torque_scale)
+        if not np.isfinite(rho) or rho <= 0:
+            raise InvalidParameter(f"torque_scale must be > 0 [m], got {torque_scale!r}")
+    return c, rho
+
+
+def primitive_wrenches(
+    points, normals, mu: float, *, torque_reference=None, torque_scale=None, facets: int = 8
+) -> np.ndarray:
+    """Primitive wrenches of point contacts with friction.
+
+    Args:
+        points: (k, 2) or (k, 3) contact points [m].
+        normals: (k, 2) or (k, 3) inward unit normals.
+        mu: friction coefficient (>= 0); 0 gives frictionless contacts (one generator each).
+        torque_reference: (d,) torque reference point [m] (default: contact centroid).
+        torque_scale: torque length ``rho`` [m] (default: max contact distance from it).
+        facets: pyramid edges per contact in 3-D (>= 3).
+
+    Returns:
+        Planar: (2k, 3) rows ``(f_x, f_y, tau_z / rho)`` (k rows if ``mu == 0``).
+        Spatial: (k facets, 6) rows ``(f, tau / rho)`` (k rows if ``mu == 0``).
+    """
+    p, n = check_contacts(points, normals, 1)
+    mu = check_mu(mu)
+    c, rho = torque_frame(p, torque_reference, torque_scale)
+    r = (p - c) / rho
+    if p.shape[1] == 2:
+        f = n[:, None, :] if mu == 0 else planar_cone_edges(n, mu)
+        tau = r[:, None, 0] * f[..., 1] - r[:, None, 1] * f[..., 0]
+        return np.concatenate([f, tau[..., None]], axis=-1).reshape(-1, 3)
+    f = n[:, None, :] if mu == 0 else pyramid_cone_edges(n, mu, facets, reference=-r)
+    tau = np.cross(np.broadcast_to(r[:, None, :], f.shape), f)
+    return np.concatenate([f, tau], axis=-1).reshape(-1, 6)
+
+
+__all__ = ["check_contacts", "primitive_wrenches", "torque_frame"]
