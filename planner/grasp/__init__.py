@@ -20,15 +20,27 @@ from planner.grasp.cones import (
     pyramid_cone_edges,
     soft_finger_generators,
 )
+from planner.grasp.gait import Gait, GaitPhase, plan_gait
 from planner.grasp.grasp_matrix import grasp_matrix, hand_jacobian, joint_torques
 from planner.grasp.maps import GraspMap, contact_angles, grasp_map, shift_diagonal
 from planner.grasp.quality import epsilon_quality, epsilon_two_planar
 from planner.grasp.stability import TwoContactStability, two_contact_stability
+from planner.grasp.workspace import (
+    HandReachability,
+    ReachabilityModel,
+    WorkspaceTables,
+    workspace_map,
+)
 from planner.grasp.wrenches import primitive_wrenches
 
 __all__ = [
     "ContactType",
+    "Gait",
+    "GaitPhase",
     "GraspMap",
+    "HandReachability",
+    "ReachabilityModel",
+    "WorkspaceTables",
     "TwoContactStability",
     "contact_angles",
     "epsilon_quality",
@@ -40,10 +52,12 @@ __all__ = [
     "grasp_matrix",
     "hand_jacobian",
     "joint_torques",
+    "plan_gait",
     "planar_cone_edges",
     "primitive_wrenches",
     "pyramid_cone_edges",
     "shift_diagonal",
     "soft_finger_generators",
     "two_contact_stability",
+    "workspace_map",
 ]
