@@ -76,10 +76,13 @@ class GaitPhase:
 
     def to_json(self) -> dict:
         """JSON-ready dict (angles in degrees, suffixed ``_deg``)."""
-        deg = lambda d: {
-            k: (None if not np.isfinite(v) else round(float(np.rad2deg(v)), 3))  # noqa: E731
-            for k, v in d.items()
-        }
+
+        def deg(d: dict[str, float]) -> dict[str, float | None]:
+            return {
+                k: (round(float(np.rad2deg(v)), 3) if np.isfinite(v) else None)
+                for k, v in d.items()
+            }
+
         return {
             "phase": self.phase,
             "name": PHASE_NAMES[self.phase],
@@ -416,7 +419,6 @@ def plan_gait(
 def _infeasible_reason(prob: GaitProblem) -> str | None:
     """A global reason no gait can exist, or None."""
     rl, rr = prob.reach["left"], prob.reach["right"]
-    deg = np.rad2deg
     if not rl.any() or not rr.any():
         who = "left" if not rl.any() else "right"
         return f"workspace: the {who} finger cannot reach the object at any orientation"
@@ -435,13 +437,12 @@ def _infeasible_reason(prob: GaitProblem) -> str | None:
             "palm grasps: no finger can hold the object in force closure against the palm "
             "at any orientation, so no finger is ever free to relocate"
         )
-    del deg
     return None
 
 
 def search_gait(prob: GaitProblem, max_starts: int = 12, max_nodes: int = 400) -> Gait:
     """Run the gait search on prebuilt tables (see :func:`plan_gait`)."""
-    n, s = prob.theta.size, prob.sign
+    n = prob.theta.size
     why = _infeasible_reason(prob)
     if why is not None:
         return Gait(False, why, resolution=n)
@@ -481,7 +482,6 @@ def _walk(srch: _Search, k: int, i: int, j: int, budget: list[int]):
     path: list[tuple[int, int, int]] = []
     on_path: dict[tuple[int, int, int], int] = {}
     edges: list = []  # edge taken from path[d] to path[d+1]
-    stack = [((k, i, j), None)]  # (node, edge into it)
     iters: dict[tuple[int, int, int], list] = {}
     reason = None
     node = (k, i, j)
@@ -544,7 +544,6 @@ def _build_gait(prob: GaitProblem, loop) -> Gait:
     covered: set[int] = set()
     path = []
     eps_all = []
-    nan = float("nan")
     for k, i, j, t, route, (i3, j3, _) in loop:
         k2, i2, j2 = (k + t) % n, (i + s * t) % n, (j + s * t) % n
         di = np.mod(i + s * np.arange(t + 1), n)
