@@ -1,0 +1,188 @@
+"""Fingertip paths as signals: planar frame, block decimation, Gaussian-derivative curvature.
+
+The curvature of a planar curve is invariant under reparametrization (thesis eq. B.5),
+
+.. math:: k = \\frac{x' y'' - y' x''}{(x'^2 + y'^2)^{3/2}},
+
+so it is computed from derivatives with respect to the sample index (time, for data taken at a
+constant rate, App. B.1) of the Gaussian-smoothed coordinates; no resampling is needed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.ndimage import gaussian_filter1d
+
+
+@dataclass(frozen=True, eq=False)
+class PlanarFrame:
+    """Where a 2-D analysis of (N, D) data lives.
+
+    Attributes:
+        origin: (D,) origin of the plane [m].
+        axes: (2, D) orthonormal in-plane axes (rows).
+    """
+
+    origin: np.ndarray
+    axes: np.ndarray
+
+    def to_plane(self, pts: np.ndarray) -> np.ndarray:
+        """(N, D) points -> (N, 2) in-plane coordinates [m]."""
+        return (pts - self.origin) @ self.axes.T
+
+    def vectors_to_plane(self, vec: np.ndarray) -> np.ndarray:
+        """(N, D) vectors -> (N, 2) in-plane components."""
+        return vec @ self.axes.T
+
+    def from_plane(self, uv: np.ndarray) -> np.ndarray:
+        """(N, 2) in-plane coordinates -> (N, D) points [m]."""
+        return self.origin + uv @ self.axes
+
+
+def planar_frame(points: np.ndarray, outward_hint: np.ndarray | None = None) -> PlanarFrame:
+    """The plane of a fingertip path.
+
+    2-D data keep their own coordinates. 3-D data are projected on their best-fit plane
+    (principal components); the second in-plane axis points to the side of ``outward_hint``
+    ((D,) mean measured outward normal) when given, else to world +z.
+
+    Args:
+        points: (N, D) fingertip-centre positions [m], D = 2 or 3.
+        outward_hint: (D,) a vector pointing away from the object, or ``None``.
+    """
+    d = points.shape[1]
+    if d == 2:
+        return PlanarFrame(np.zeros(2), np.eye(2))
+    origin = points.mean(axis=0)
+    _, _, vt = np.linalg.svd(points - origin, full_matrices=False)
+    e1, e2 = vt[0], vt[1]
+    travel = points[-1] - points[0]
+    if e1 @ travel < 0:
+        e1 = -e1
+    hint = np.array([0.0, 0.0, 1.0]) if outward_hint is None else outward_hint
+    if e2 @ hint < 0:
+        e2 = -e2
+    return PlanarFrame(origin, np.vstack([e1, e2]))
+
+
+def median_spacing(points: np.ndarray) -> float:
+    """Robust mean distance between consecutive samples of a noisy path [m].
+
+    Uses displacements over ``k`` samples (k ~ N/100) so that measurement noise, which
+    inflates sample-to-sample distances, does not dominate.
+    """
+    n = points.shape[0]
+    k = max(1, n // 100)
+    d = np.linalg.norm(points[k:] - points[:-k], axis=1)
+    h = float(np.median(d)) / k
+    if h <= 0:
+        h = float(np.linalg.norm(np.diff(points, axis=0), axis=1).mean())
+    return h
+
+
+def block_means(arr: np.ndarray, block: int) -> tuple[np.ndarray, np.ndarray]:
+    """Average consecutive blocks of ``block`` samples (the decimation of App. B.2 step 2,
+    done by averaging rather than dropping so that the noise shrinks by sqrt(block)).
+
+    Args:
+        arr: (N, ...) samples.
+        block: samples per block (>= 1); the last block may be shorter.
+
+    Returns:
+        ``(means (M, ...), centre_index (M,))`` with the (fractional) input index of each
+        block's centre.
+    """
+    n = arr.shape[0]
+    if block <= 1:
+        return arr.astype(float, copy=True), np.arange(n, dtype=float)
+    starts = np.arange(0, n, block)
+    counts = np.diff(np.append(starts, n))
+    sums = np.add.reduceat(arr, starts, axis=0)
+    shape = (-1,) + (1,) * (arr.ndim - 1)
+    return sums / counts.reshape(shape), starts + (counts - 1) / 2.0
+
+
+def _odd_pad(x: np.ndarray, pad: int) -> np.ndarray:
+    """Pad (N, ...) along axis 0 by point reflection about each end (keeps linear trends)."""
+    pad = min(pad, x.shape[0] - 1)
+    head = 2 * x[:1] - x[pad:0:-1]
+    tail = 2 * x[-1:] - x[-2 : -pad - 2 : -1]
+    return np.concatenate([head, x, tail], axis=0), pad
+
+
+def gaussian_derivatives(x: np.ndarray, sigma: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Gaussian-smoothed value, first and second derivative with respect to sample index.
+
+    Args:
+        x: (N, D) samples.
+        sigma: Gaussian standard deviation [samples]; 0 means finite differences only.
+
+    Returns:
+        ``(x_s, dx, ddx)``, each (N, D).
+    """
+    if sigma <= 0:
+        return x, np.gradient(x, axis=0), np.gradient(np.gradient(x, axis=0), axis=0)
+    xp, pad = _odd_pad(x, int(4 * sigma) + 2)
+    sl = slice(pad, pad + x.shape[0])
+    xs = gaussian_filter1d(xp, sigma, axis=0, order=0, mode="nearest")[sl]
+    dx = gaussian_filter1d(xp, sigma, axis=0, order=1, mode="nearest")[sl]
+    ddx = gaussian_filter1d(xp, sigma, axis=0, order=2, mode="nearest")[sl]
+    return xs, dx, ddx
+
+
+def signed_curvature(dx: np.ndarray, ddx: np.ndarray) -> np.ndarray:
+    """Counter-clockwise-positive curvature of a planar curve, eq. (B.5) [1/m].
+
+    Args:
+        dx: (N, 2) first derivative with respect to any parameter.
+        ddx: (N, 2) second derivative with respect to the same parameter.
+    """
+    num = dx[:, 0] * ddx[:, 1] - dx[:, 1] * ddx[:, 0]
+    den = np.maximum(np.hypot(dx[:, 0], dx[:, 1]), 1e-300) ** 3
+    return num / den
+
+
+def left_normals(dx: np.ndarray) -> np.ndarray:
+    """(N, 2) unit left normals of the direction of travel ``dx`` (N, 2)."""
+    speed = np.maximum(np.hypot(dx[:, 0], dx[:, 1]), 1e-300)
+    return np.column_stack([-dx[:, 1], dx[:, 0]]) / speed[:, None]
+
+
+def arclength(points: np.ndarray, start: float = 0.0) -> np.ndarray:
+    """(N,) cumulative arclength of an (N, D) polyline, starting at ``start`` [m]."""
+    seg = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    return start + np.concatenate([[0.0], np.cumsum(seg)])
+
+
+#: expected false alarms: the default smoothing makes the noise of the curvature signal this
+#: many times smaller than the detection threshold
+NOISE_MARGIN = 8.0
+
+
+def noise_sigma(values: np.ndarray) -> float:
+    """Robust white-noise standard deviation of (N,) or (N, D) samples, from the median
+    absolute second difference (``var(x[i+1] - 2x[i] + x[i-1]) = 6 sigma^2``); smooth signal
+    content contributes only ``h^2 x''``."""
+    v = values.reshape(values.shape[0], -1)
+    d2 = v[2:] - 2 * v[1:-1] + v[:-2]
+    return float(np.median(np.abs(d2)) / 0.6745 / np.sqrt(6.0))
+
+
+def auto_scale(
+    sigma: float, spacing: float, threshold: float, order: int, lo: float, hi: float
+) -> float:
+    """Gaussian smoothing scale [m] that keeps the noise of a derivative signal at
+    ``threshold / NOISE_MARGIN``.
+
+    For white noise of standard deviation ``sigma`` sampled every ``spacing`` [m], the
+    ``order``-th Gaussian derivative at scale ``s`` has standard deviation
+    ``sigma * sqrt(spacing * c) / s^(order + 1/2)`` with ``c = 1/(4 sqrt(pi))`` (order 1) or
+    ``3/(8 sqrt(pi))`` (order 2). Solved for ``s`` and clipped to ``[lo, hi]``.
+    """
+    c = 1 / (4 * np.sqrt(np.pi)) if order == 1 else 3 / (8 * np.sqrt(np.pi))
+    if sigma <= 0:
+        return lo
+    s = (sigma * np.sqrt(spacing * c) * NOISE_MARGIN / threshold) ** (1.0 / (order + 0.5))
+    return float(np.clip(s, lo, hi))

@@ -1,0 +1,49 @@
+"""Threshold a curvature signal into feature regions (App. B.2 steps 6-7)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """Inclusive (first, last) index pairs of the runs of True in a 1-D boolean mask."""
+    m = np.concatenate([[False], mask, [False]]).astype(np.int8)
+    d = np.diff(m)
+    starts = np.flatnonzero(d == 1)
+    ends = np.flatnonzero(d == -1) - 1
+    return list(zip(starts.tolist(), ends.tolist(), strict=True))
+
+
+def threshold_regions(
+    signal: np.ndarray, s: np.ndarray, upper: float, lower: float, merge_gap: float = 0.0
+) -> list[tuple[int, int, int, int]]:
+    """Regions where ``signal > upper`` (sign +1) or ``signal < lower`` (sign -1).
+
+    Runs of the same sign separated by less than ``merge_gap`` of arclength (noise dips
+    inside one feature) are merged.
+
+    Args:
+        signal: (M,) curvature signal [1/m] (non-finite values never count as features).
+        s: (M,) arclength of each sample [m], non-decreasing.
+        upper: convex threshold [1/m].
+        lower: concave threshold [1/m].
+        merge_gap: largest gap between same-sign runs that are merged [m].
+
+    Returns:
+        ``[(sign, first, last, peak), ...]`` sample indices, sorted by ``first``.
+    """
+    sig = np.where(np.isfinite(signal), signal, 0.0)
+    out: list[tuple[int, int, int, int]] = []
+    for sign, mask in ((1, sig > upper), (-1, sig < lower)):
+        runs = _runs(mask)
+        merged: list[list[int]] = []
+        for a, b in runs:
+            if merged and s[a] - s[merged[-1][1]] < merge_gap:
+                merged[-1][1] = b
+            else:
+                merged.append([a, b])
+        for a, b in merged:
+            seg = sign * sig[a : b + 1]
+            out.append((sign, a, b, a + int(np.argmax(seg))))
+    out.sort(key=lambda r: r[1])
+    return out

@@ -1,0 +1,142 @@
+"""Noise-type smoothing filters of thesis §3.3.3 and App. B.3.
+
+Every filter works on samples taken at constant time intervals and filters each coordinate
+against time (App. B.1: "the convolution ... can be done separately along the x and y
+directions with respect to t"). Ends are handled by point-reflection padding, which keeps
+linear trends, so a filtered straight path stays straight up to its ends.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage, signal
+
+from planner.detection._validate import choice
+from planner.errors import InvalidParameter
+
+FILTERS = ("none", "average", "median", "dual_point", "gaussian", "wiener")
+
+
+def _check_window(window, method: str) -> int:
+    if isinstance(window, bool) or not isinstance(window, (int, np.integer)) or window < 1:
+        raise InvalidParameter(
+            f"window: expected a positive integer number of samples for "
+            f"the {method!r} filter, got {window!r}"
+        )
+    return int(window)
+
+
+def _pad(x: np.ndarray, pad: int) -> tuple[np.ndarray, int]:
+    pad = int(min(pad, x.shape[0] - 1))
+    if pad <= 0:
+        return x, 0
+    head = 2 * x[:1] - x[pad:0:-1]
+    tail = 2 * x[-1:] - x[-2 : -pad - 2 : -1]
+    return np.concatenate([head, x, tail], axis=0), pad
+
+
+def gaussian_kernel(window: int, sigma: float) -> np.ndarray:
+    """Normalised Gaussian weights of ``window`` taps and standard deviation ``sigma``
+    [samples] (App. B.3, "Gaussian filter")."""
+    window = _check_window(window, "gaussian")
+    if not np.isfinite(sigma) or sigma <= 0:
+        raise InvalidParameter(
+            f"sigma: expected a positive standard deviation [samples], got {sigma!r}"
+        )
+    u = np.arange(window) - (window - 1) / 2.0
+    w = np.exp(-0.5 * (u / sigma) ** 2)
+    return w / w.sum()
+
+
+def dual_point(points: np.ndarray, iterations: int = 1) -> np.ndarray:
+    """Dual-point (corner-cutting) smoothing of a polyline (App. B.3).
+
+    Each iteration replaces every segment by its 1/4 and 3/4 points (the end points are
+    kept), so the vertex count roughly doubles.
+
+    Args:
+        points: (N, D) polyline vertices.
+        iterations: number of passes k (>= 1); the cost is O(2^k N).
+
+    Returns:
+        (2^k (N - 1) + 2, D)-ish array of smoothed vertices.
+    """
+    iterations = _check_window(iterations, "dual_point")
+    p = np.asarray(points, dtype=float)
+    if p.ndim == 1:
+        p = p[:, None]
+    for _ in range(iterations):
+        q = 0.75 * p[:-1] + 0.25 * p[1:]
+        r = 0.25 * p[:-1] + 0.75 * p[1:]
+        mid = np.empty((2 * q.shape[0], p.shape[1]))
+        mid[0::2], mid[1::2] = q, r
+        p = np.vstack([p[:1], mid, p[-1:]])
+    return p
+
+
+def smooth(x, method: str = "gaussian", window: int = 25, sigma: float | None = None) -> np.ndarray:
+    """Filter a time series (each column against time).
+
+    Args:
+        x: (N,) or (N, D) samples taken at constant time intervals.
+        method: one of ``"none"``, ``"average"`` (eq. B.6, uniform weights), ``"median"``,
+            ``"dual_point"`` (``window`` = number of corner-cutting iterations, the result
+            resampled back to N samples by index), ``"gaussian"`` (``window`` taps,
+            standard deviation ``sigma``), ``"wiener"`` (``scipy.signal.wiener`` with the
+            local noise power estimated from the data).
+        window: filter length [samples] (odd lengths are centred exactly).
+        sigma: Gaussian standard deviation [samples]; default ``window / 4``.
+
+    Returns:
+        Array of the shape of ``x``.
+
+    Raises:
+        InvalidParameter: unknown method, bad window/sigma, or a non-finite input.
+    """
+    choice("method", method, FILTERS)
+    arr = np.asarray(x, dtype=float)
+    if arr.ndim not in (1, 2) or arr.shape[0] < 2:
+        raise InvalidParameter(
+            f"x: expected (N,) or (N, D) samples with N >= 2, got shape {arr.shape}"
+        )
+    if not np.isfinite(arr).all():
+        raise InvalidParameter("x: contains NaN or infinite values; remove them first")
+    if method == "none":
+        return arr.copy()
+    window = _check_window(window, method)
+    one_d = arr.ndim == 1
+    a = arr[:, None] if one_d else arr
+    n = a.shape[0]
+    if method == "dual_point":
+        out = dual_point(a, window)
+        idx = np.linspace(0, out.shape[0] - 1, n)
+        res = np.column_stack(
+            [np.interp(idx, np.arange(out.shape[0]), out[:, j]) for j in range(a.shape[1])]
+        )
+        return res[:, 0] if one_d else res
+    ap, pad = _pad(a, window)
+    if method == "average":
+        res = ndimage.uniform_filter1d(ap, window, axis=0, mode="nearest")
+    elif method == "median":
+        res = ndimage.median_filter(ap, size=(window, 1), mode="nearest")
+    elif method == "gaussian":
+        k = gaussian_kernel(window, window / 4.0 if sigma is None else float(sigma))
+        res = ndimage.convolve1d(ap, k, axis=0, mode="nearest")
+    else:  # wiener
+        res = np.column_stack([_wiener(ap[:, j], window) for j in range(ap.shape[1])])
+    res = res[pad : pad + n]
+    return res[:, 0] if one_d else res
+
+
+def _wiener(x: np.ndarray, window: int) -> np.ndarray:
+    """scipy's Wiener filter on a de-meaned copy (it pads with zeros internally)."""
+    mean = x.mean()
+    if np.ptp(x) == 0:
+        return x.copy()
+    with np.errstate(invalid="ignore", divide="ignore"):
+        out = signal.wiener(x - mean, mysize=window)
+    out = np.where(np.isfinite(out), out, x - mean)
+    return out + mean
+
+
+__all__ = ["FILTERS", "dual_point", "gaussian_kernel", "smooth"]
