@@ -43,6 +43,7 @@ def _hand_info() -> RobotInfo:
     p["joint_range_deg"] = float(
         np.rad2deg(hand.params.right.upper[0] - hand.params.right.lower[0])
     )
+    p = {k: float(v) + 0.0 for k, v in p.items()}
     return RobotInfo(
         "planar_hand",
         "planar hand: two 3-DOF fingers (left flat pad with 8x8 tactile array, right "
@@ -64,6 +65,7 @@ def _three_gm_info() -> RobotInfo:
     p["max_force_at_center"] = 9.0
     p["workspace_volume"] = trapezoid_volume()
     p["workspace_volume_in3"] = trapezoid_volume() / 0.0254**3
+    p = {k: float(v) + 0.0 for k, v in p.items()}
     return RobotInfo(
         "three_gm",
         "3GM five-bar finger on a rotating base with the OWTS fingertip (thesis App. C.2, §4.3.1)",
