@@ -1,8 +1,10 @@
 """Force closure: an exact vectorized planar two-contact test and general tests.
 
 * :func:`force_closure_two_planar` — Nguyen's condition: two planar point contacts with
-  friction are in force closure iff the segment joining them lies strictly inside both
-  friction cones (``|angle(n_i, ±(p_2 - p_1))| < atan(mu)``). Vectorized over any batch shape.
+  friction are in force closure iff the line joining them lies strictly inside both
+  friction cones with the two forces opposed: the usual squeezing grasp (``p_2 - p_1`` in
+  cone 1 and ``p_1 - p_2`` in cone 2) or an expanding one (``p_1 - p_2`` in cone 1 and
+  ``p_2 - p_1`` in cone 2, e.g. fingers inside a ring). Vectorized over any batch shape.
 * :func:`force_closure` — any number ``k >= 2`` of planar or spatial point contacts with
   friction (a palm contact is just one more contact): the grasp is in force closure iff the
   origin lies strictly inside the convex hull of the primitive wrenches (closed form for two
@@ -17,6 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from planner.errors import InfeasibleProblem
 from planner.grasp.cones import check_mu
 from planner.grasp.wrenches import check_contacts, primitive_wrenches
 
@@ -34,7 +37,8 @@ def force_closure_two_planar(p1, n1, p2, n2, mu: float, mu2: float | None = None
         mu2: friction coefficient at ``p2`` (e.g. a palm of another material).
 
     Returns:
-        (...) bool: the segment ``p1 p2`` lies strictly inside both friction cones.
+        (...) bool: the line ``p1 p2`` lies strictly inside both friction cones, the forces
+        along it opposed (squeezing or expanding).
     """
     mu = check_mu(mu)
     mu2 = mu if mu2 is None else check_mu(mu2)
@@ -45,7 +49,9 @@ def force_closure_two_planar(p1, n1, p2, n2, mu: float, mu2: float | None = None
     cr1 = n1[..., 0] * dy - n1[..., 1] * dx
     dot2 = -(n2[..., 0] * dx + n2[..., 1] * dy)
     cr2 = -(n2[..., 0] * dy - n2[..., 1] * dx)
-    return (dot1 > 0) & (np.abs(cr1) < mu * dot1) & (dot2 > 0) & (np.abs(cr2) < mu2 * dot2)
+    return (
+        (np.abs(cr1) < mu * np.abs(dot1)) & (np.abs(cr2) < mu2 * np.abs(dot2)) & (dot1 * dot2 > 0)
+    )
 
 
 def _hull_offsets(w: np.ndarray) -> np.ndarray | None:
@@ -116,7 +122,10 @@ def force_closure_lp(points, normals, mu: float, *, facets: int = 8, solver: str
     h = np.zeros(m)
     ub = np.full(m + 1, np.inf)
     ub[-1] = 1.0
-    sol = solve_lp(c, G, h, A, b, ub=ub, solver=solver)
+    try:
+        sol = solve_lp(c, G, h, A, b, ub=ub, solver=solver)
+    except InfeasibleProblem:  # no combination with unit sum balances: origin not inside
+        return False
     return bool(sol.x[-1] > 1e-7 / m)
 
 

@@ -105,34 +105,37 @@ class ClosureKernel:
         self._dy = np.empty((self.n, self.n))
         self._a = np.empty((self.n, self.n))
         self._b = np.empty((self.n, self.n))
+        self._c = np.empty((self.n, self.n))
         self._ok = np.empty((self.n, self.n), dtype=bool)
         self._t = np.empty((self.n, self.n), dtype=bool)
 
     def __call__(self, x, y, nx, ny) -> np.ndarray:
-        dx, dy, a, b, ok, t = self._dx, self._dy, self._a, self._b, self._ok, self._t
+        dx, dy, a, b, c = self._dx, self._dy, self._a, self._b, self._c
+        ok, t = self._ok, self._t
         np.subtract(x[None, :], x[:, None], out=dx)  # dx[i, j] = x[j] - x[i]
         np.subtract(y[None, :], y[:, None], out=dy)
-        # contact 1 (row i): dot = n_i . d, cross = n_i x d
+        # contact 1 (row i): dot = n_i . d, cross = n_i x d; ok: |cross| < mu |dot|
         np.multiply(nx[:, None], dx, out=a)
         a += ny[:, None] * dy
         np.multiply(nx[:, None], dy, out=b)
         b -= ny[:, None] * dx
         np.abs(b, out=b)
-        np.greater(a, 0.0, out=ok)
-        a *= self.mu
-        np.less(b, a, out=t)
-        ok &= t
-        # contact 2 (column j): dot = -n_j . d, cross = -(n_j x d)
-        np.multiply(nx[None, :], dx, out=a)
-        a += ny[None, :] * dy
-        a *= -1.0
+        np.abs(a, out=c)
+        c *= self.mu
+        np.less(b, c, out=ok)
+        # contact 2 (column j): dot = -n_j . d (sign irrelevant below), cross likewise
+        np.multiply(nx[None, :], dx, out=c)
+        c += ny[None, :] * dy
         np.multiply(nx[None, :], dy, out=b)
         b -= ny[None, :] * dx
         np.abs(b, out=b)
-        np.greater(a, 0.0, out=t)
+        # forces opposed along the line: dot1 * dot2 > 0 <=> a * c < 0 (c = -dot2)
+        np.multiply(a, c, out=a)
+        np.less(a, 0.0, out=t)
         ok &= t
-        a *= self.mu2
-        np.less(b, a, out=t)
+        np.abs(c, out=c)
+        c *= self.mu2
+        np.less(b, c, out=t)
         ok &= t
         return ok
 
