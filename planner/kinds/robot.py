@@ -1,0 +1,233 @@
+"""Scenario kind ``robot``: draw a robot in a configuration and map its workspace.
+
+* ``robot: planar_hand`` — the hand (thesis §2.2, Fig. 2.13) with a ball resting on the palm;
+  the workspace map of each finger on the ball (which contact angles it can reach: IK inside
+  the joint limits, fingertip orientation range, no penetration) and sampled reachable sets.
+* ``robot: three_gm`` — the 3GM finger (App. C.2) in a configuration and its well-conditioned
+  trapezoid: IK, condition number and force capacity on a grid of the trapezoid.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field, model_validator
+
+from planner.scenario import ScenarioBase, StrictModel
+
+
+class HandOptions(StrictModel):
+    """Options of the planar hand."""
+
+    left_tip: Literal["flat", "round"] = Field(
+        "flat", description="left fingertip: flat pad with the 8x8 array, or round"
+    )
+    right_tip: Literal["flat", "round"] = Field("round", description="right fingertip")
+    tip_radius: float = Field(0.025, gt=0.0, le=0.1, description="round fingertip radius [m]")
+    ball_diameter: float = Field(
+        0.10, gt=0.0, le=0.3, description="diameter of the ball resting on the palm [m]"
+    )
+    angle_step_deg: float = Field(
+        2.0, gt=0.0, le=45.0, description="contact-angle step of the workspace map [deg]"
+    )
+    max_tip_contact_angle_deg: float = Field(
+        60.0,
+        ge=0.0,
+        le=90.0,
+        description="round tips: largest angle between the fingertip axis and the contact [deg]",
+    )
+    samples: int = Field(
+        3000, ge=10, le=200000, description="joint-space samples of each finger's reachable set"
+    )
+
+
+class ThreeGMOptions(StrictModel):
+    """Options of the 3GM."""
+
+    grid: int = Field(9, ge=2, le=30, description="trapezoid grid points per axis")
+
+
+class Config(ScenarioBase):
+    """A ``robot`` scenario."""
+
+    kind: Literal["robot"]
+    robot: Literal["planar_hand", "three_gm"] = Field(..., description="which robot")
+    configuration_deg: tuple[float, ...] | None = Field(
+        None,
+        description="joint angles to draw [deg]: 6 for planar_hand (left j1..j3, right "
+        "j1..j3), 3 for three_gm (θ1, θ2, θ3); default: a grasp of the ball / the "
+        "workspace centre",
+    )
+    hand: HandOptions = Field(default_factory=HandOptions)
+    three_gm: ThreeGMOptions = Field(default_factory=ThreeGMOptions)
+
+    @model_validator(mode="after")
+    def _check_configuration_length(self) -> Config:
+        n = {"planar_hand": 6, "three_gm": 3}[self.robot]
+        if self.configuration_deg is not None and len(self.configuration_deg) != n:
+            raise ValueError(
+                f"configuration_deg must have {n} angles for robot "
+                f"{self.robot!r}, got {len(self.configuration_deg)}"
+            )
+        return self
+
+
+def run(config: Config, ctx):
+    """Run a ``robot`` scenario (see the module docstring)."""
+    if config.robot == "planar_hand":
+        return _run_hand(config, ctx)
+    return _run_three_gm(config, ctx)
+
+
+def _run_hand(config: Config, ctx):
+    import numpy as np
+
+    from planner.results import Event, RunResult
+    from robots.errors import UnreachableTarget
+    from robots.planar_hand import PlanarHand, ball_workspace, sample_reachable
+
+    o = config.hand
+    hand = PlanarHand(left_tip=o.left_tip, right_tip=o.right_tip, tip_radius=o.tip_radius)
+    radius = o.ball_diameter / 2
+    center = np.array([0.0, radius])
+    step = max(o.angle_step_deg, 10.0) if ctx.quick else o.angle_step_deg
+    angles = np.deg2rad(np.arange(0.0, 360.0, step))
+    events = []
+    with ctx.timer("workspace_map"):
+        maps = {
+            f: ball_workspace(
+                hand, f, center, radius, angles, np.deg2rad(o.max_tip_contact_angle_deg)
+            )
+            for f in ("left", "right")
+        }
+    with ctx.timer("reachable_set"):
+        n = min(o.samples, 300) if ctx.quick else o.samples
+        sets = {f: sample_reachable(hand, f, n, ctx.rng) for f in ("left", "right")}
+    if config.configuration_deg is not None:
+        q = np.deg2rad(np.array(config.configuration_deg))
+        if not hand.within_limits(q):
+            lim = np.rad2deg(hand.joint_limits).round(1).tolist()
+            return RunResult(
+                status="failed",
+                reason=f"configuration_deg "
+                f"{list(config.configuration_deg)} is outside the joint limits "
+                f"{lim} deg",
+            )
+    else:  # a grasp: each finger at the middle of its reachable arc
+        q = hand.neutral()
+        for f, m in maps.items():
+            if m.reachable.any():
+                idx = np.flatnonzero(m.reachable)
+                q[hand.finger_slice(f)] = m.q[idx[len(idx) // 2]]
+            else:
+                events.append(Event("unreachable", f"{f} finger cannot touch the ball"))
+    metrics = {"ball_diameter_m": o.ball_diameter, "n_angles": int(len(angles))}
+    for f, m in maps.items():
+        metrics[f"reachable_fraction_{f}"] = m.fraction
+        metrics[f"reachable_arc_deg_{f}"] = float(m.reachable.sum() * step)
+        if m.reachable.any():
+            a = np.rad2deg(m.angles[m.reachable])
+            metrics[f"reachable_angle_min_deg_{f}"] = float(a.min())
+            metrics[f"reachable_angle_max_deg_{f}"] = float(a.max())
+    pos = hand.fingertip_positions(q)
+    metrics.update({f"tip_{f}_{c}": float(pos[f][i]) for f in pos for i, c in enumerate("xy")})
+    arrays = {"contact_angles": angles, "q": q}
+    for f in ("left", "right"):
+        arrays[f"reachable_{f}"] = maps[f].reachable
+        arrays[f"q_{f}"] = maps[f].q
+        arrays[f"reachable_set_{f}"] = sets[f].positions
+    figures = {}
+    if ctx.plots:
+        from robots.plotting import draw_hand, draw_reachable_sets
+
+        with ctx.timer("plots"):
+            figures["hand"] = draw_hand(
+                hand,
+                q,
+                center,
+                radius,
+                maps,
+                title=f"Planar hand and a {o.ball_diameter * 100:.0f} cm ball: reachable contacts",
+            )
+            if not ctx.quick:  # one figure is enough for a smoke test
+                figures["reachable_sets"] = draw_reachable_sets(
+                    {f: s.positions for f, s in sets.items()}, center, radius
+                )
+    if not any(m.reachable.any() for m in maps.values()):
+        return RunResult(
+            status="failed",
+            reason="neither finger can touch the ball",
+            metrics=metrics,
+            arrays=arrays,
+            events=events,
+            figures=figures,
+        )
+    _ = UnreachableTarget  # (documented failure type of the hand's IK)
+    return RunResult(metrics=metrics, arrays=arrays, events=events, figures=figures)
+
+
+def _run_three_gm(config: Config, ctx):
+    import numpy as np
+
+    from planner.errors import SingularConfiguration
+    from planner.results import RunResult
+    from robots.three_gm import ThreeGM, check_conditioned_workspace, trapezoid_grid
+    from robots.three_gm.workspace import trapezoid_volume
+
+    gm = ThreeGM()
+    if config.configuration_deg is not None:
+        theta = np.deg2rad(np.array(config.configuration_deg))
+        if not gm.within_limits(theta):
+            return RunResult(
+                status="failed",
+                reason=f"configuration_deg "
+                f"{list(config.configuration_deg)} is outside the joint limits "
+                f"{np.rad2deg(gm.joint_limits).round(1).tolist()} deg",
+            )
+    else:
+        theta = gm.center_theta
+    try:
+        x = gm.forward_kinematics(theta)
+        J = gm.jacobian(theta)
+    except SingularConfiguration as exc:
+        return RunResult(status="failed", reason=str(exc))
+    n = min(config.three_gm.grid, 4) if ctx.quick else config.three_gm.grid
+    with ctx.timer("workspace"):
+        ws = check_conditioned_workspace(gm, trapezoid_grid(n))
+    ok = ws.reachable
+    metrics = {
+        "endpoint_x": float(x[0]),
+        "endpoint_y": float(x[1]),
+        "endpoint_z": float(x[2]),
+        "jacobian_condition": float(np.linalg.cond(J)),
+        "force_capacity_N": gm.force_capacity(theta),
+        "workspace_volume_in3": trapezoid_volume() / 0.0254**3,
+        "workspace_reachable_fraction": float(ok.mean()),
+        "workspace_max_condition": float(ws.condition[ok].max()) if ok.any() else None,
+        "workspace_min_force_N": float(ws.force_capacity[ok].min()) if ok.any() else None,
+        "force_at_center_N": gm.force_capacity(gm.center_theta),
+        "encoder_resolution_rad": gm.encoder_resolution,
+    }
+    arrays = {
+        "theta": theta,
+        "endpoint": x,
+        "workspace_points": ws.points,
+        "workspace_theta": ws.theta,
+        "workspace_condition": ws.condition,
+        "workspace_force_capacity": ws.force_capacity,
+    }
+    figures = {}
+    if ctx.plots:
+        from robots.plotting import draw_three_gm
+
+        with ctx.timer("plots"):
+            figures["three_gm"] = draw_three_gm(gm, theta, ws)
+    if not ok.all():
+        return RunResult(
+            status="failed",
+            reason=f"{int((~ok).sum())} trapezoid points are unreachable",
+            metrics=metrics,
+            arrays=arrays,
+            figures=figures,
+        )
+    return RunResult(metrics=metrics, arrays=arrays, figures=figures)
