@@ -294,7 +294,9 @@ def feature_skeleton(
     gen_pt = pts[pairs[keep, 0]]
     for col in (0, 1):
         radii[edges[:, col]] = np.hypot(*(verts[edges[:, col]] - gen_pt).T)
-    points, edges, radii = g.compact(verts, edges, radii)
+    scale = float(np.ptp(pts, axis=0).max())
+    merged, edges, _ = g.merge_close_points(np.column_stack([verts, radii]), edges, 1e-9 * scale)
+    points, radii = merged[:, :2], merged[:, 2]
     if s.keep_largest and len(edges):
         points, edges, radii = g.compact(
             points, edges[g.largest_component_mask(len(points), edges)], radii

@@ -186,6 +186,41 @@ def has_cycle(n: int, edges: np.ndarray) -> bool:
     return len(edges) > used.size - n_comp
 
 
+def merge_close_points(
+    points: np.ndarray, edges: np.ndarray, tol: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Merge nodes closer than ``tol`` (qhull may emit nearly equal Voronoi vertices for
+    cocircular samples) and drop the self-loops and repeated edges this creates.
+
+    Args:
+        points: (K, 2) node positions [m].
+        edges: (E, 2) node indices.
+        tol: merge distance [m].
+
+    Returns:
+        ``(points (K', 2), edges (E', 2), source (E',))``: ``source`` is the index in the
+        input ``edges`` of each output edge; merged nodes sit at their group's first node.
+        Unused nodes are dropped; ``points`` may have extra columns (carried along).
+    """
+    from scipy.spatial import cKDTree
+
+    src = np.arange(len(edges))
+    if len(points) and len(edges):
+        pairs = cKDTree(points[:, :2]).query_pairs(tol, output_type="ndarray")
+        if len(pairs):
+            _, rep = component_labels(len(points), pairs)
+            first = np.full(rep.max() + 1, -1)
+            order = np.arange(len(points))[::-1]
+            first[rep[order]] = order
+            e = np.sort(rep[edges], axis=1)
+            ok = np.flatnonzero(e[:, 0] != e[:, 1])
+            _, idx = np.unique(e[ok], axis=0, return_index=True)
+            src = ok[np.sort(idx)]
+            edges = first[e[src]]
+    pts, new_edges = compact(points, edges)
+    return pts, new_edges, src
+
+
 def compact(
     points: np.ndarray, edges: np.ndarray, *per_point: np.ndarray
 ) -> tuple[np.ndarray, ...]:
@@ -216,6 +251,7 @@ __all__ = [
     "has_cycle",
     "largest_component_mask",
     "longest_path",
+    "merge_close_points",
     "path_edges",
     "prune_terminal_arcs",
     "terminal_arcs",
