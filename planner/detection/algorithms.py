@@ -4,7 +4,10 @@ All four threshold a curvature signal (outward convention, convex > 0) and map e
 the estimated surface, eq. (3.11) ``s_e = s_t - r_f z_t``:
 
 1. curvature of the estimated surface built from the tactile **contact points**,
-   thresholds ``+-1/r_f`` (Definition 1);
+   thresholds ``+-1/r_f`` (Definition 1). The sensor measures the contact relative to the
+   fingertip, so that relative vector is what is smoothed (in time) before the fingertip
+   pose is added back; across an interference point the smoothed contact then sweeps the
+   r_f fillet, and concave features are missed, as §3.4.2 reports;
 2. derivative of the **contact normal** angle with respect to arclength, thresholds
    ``+-1/r_f``. §3.3.1 says "arclength of the contact path", but the findings of §3.4.2
    (spikes at concave features, convex ones missed "because the normal direction does not
@@ -53,6 +56,7 @@ class _Prepared:
     s: np.ndarray  # (M,) arclength along the centre path [m]
     orientation: int  # +1: material on the right of travel; -1: on the left
     outward: np.ndarray  # (M, 2) outward unit normal of the traced curve
+    spacing: float  # arclength between decimated samples [m]
 
 
 def default_scale(
@@ -125,7 +129,7 @@ def _prepare(
     else:
         o = 1
     s = P.arclength(cs, start=h * (block - 1) / 2.0)
-    return _Prepared(frame, cs, dc, ddc, block, sigma, index, s, o, o * left)
+    return _Prepared(frame, cs, dc, ddc, block, sigma, index, s, o, o * left, h * block)
 
 
 def curvature_signal(
@@ -185,8 +189,7 @@ def curvature_signal(
                 "curvature limitation k_t < 1/r_f; the data are too noisy "
                 "for this smoothing_scale"
             )
-        _, de, dde = P.gaussian_derivatives(surf, 1.0)
-        k = -o * P.signed_curvature(de, dde)
+        k = -o * P.curvature_by_arclength(surf, prep.spacing)
         upper, lower = 1.0 / r, -1.0 / r
         s, idx, traced = prep.s[valid], prep.index[valid], prep.centers[valid]
     else:
@@ -198,8 +201,14 @@ def curvature_signal(
         ns, _, _ = P.gaussian_derivatives(nv, prep.sigma)
         ns /= np.maximum(np.linalg.norm(ns, axis=1), 1e-300)[:, None]
         if algorithm == 1:
-            k = -o * P.signed_curvature(dcp, ddcp)
-            surf = cps
+            # the tactile sensor measures the contact relative to the fingertip: smooth that
+            # (the contact location on the sensor), then add the smoothed fingertip pose
+            rel, _ = P.block_means(prep.frame.to_plane(con) - prep.frame.to_plane(c), block)
+            rs, _, _ = P.gaussian_derivatives(rel, prep.sigma)
+            mag, _, _ = P.gaussian_derivatives(np.linalg.norm(rel, axis=1)[:, None], prep.sigma)
+            rs *= (mag[:, 0] / np.maximum(np.linalg.norm(rs, axis=1), 1e-300))[:, None]
+            surf = prep.centers + rs
+            k = -o * P.curvature_by_arclength(surf, prep.spacing)
         else:
             phi = np.unwrap(np.arctan2(ns[:, 1], ns[:, 0]))
             dphi = np.gradient(phi)

@@ -81,6 +81,7 @@ def detect_multiscale(
             ri,
             3,
             material_side="right" if o > 0 else "left",
+            smoothing_scale=max(scale, default_scale(pts, ri, 3)),
         )
         res = []
         for f in feats:

@@ -186,3 +186,26 @@ def auto_scale(
         return lo
     s = (sigma * np.sqrt(spacing * c) * NOISE_MARGIN / threshold) ** (1.0 / (order + 0.5))
     return float(np.clip(s, lo, hi))
+
+
+def curvature_by_arclength(points: np.ndarray, spacing: float, sigma: float = 1.5) -> np.ndarray:
+    """Counter-clockwise curvature of a sampled curve, computed on an equal-arclength
+    resampling (so that samples bunched where the curve dwells, e.g. a contact point resting
+    on a corner while the fingertip rolls over it, neither amplify noise nor hide the
+    corner) and read back at every input sample [1/m].
+
+    Args:
+        points: (M, 2) curve samples in order [m].
+        spacing: arclength step of the resampling [m].
+        sigma: Gaussian smoothing on the resampled curve [samples].
+    """
+    s = arclength(points)
+    if s[-1] <= 2 * spacing:
+        _, d1, d2 = gaussian_derivatives(points, sigma)
+        return signed_curvature(d1, d2)
+    grid = np.arange(0.0, s[-1] + spacing / 2, spacing)
+    res = np.column_stack([np.interp(grid, s, points[:, j]) for j in range(points.shape[1])])
+    _, d1, d2 = gaussian_derivatives(res, sigma)
+    k = signed_curvature(d1, d2)
+    idx = np.clip(np.rint(s / spacing).astype(int), 0, grid.size - 1)
+    return k[idx]

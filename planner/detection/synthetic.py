@@ -129,6 +129,8 @@ class SyntheticTrace:
         observable: the ground truth as a fingertip can know it: same-sign features inside
             one unobservable region (a gap of the contact locus, between the two contacts of
             an interference point) count as one, at their mean position.
+        observable_index: (K,) sample index at which the fingertip passes each observable
+            feature (its contact point crosses the feature), for scoring in time.
         profile: (K, 2) dense points of the object profile [m].
         tip_radius: r_f [m].
     """
@@ -143,6 +145,7 @@ class SyntheticTrace:
     s: np.ndarray
     truth: tuple[CurvatureFeature, ...]
     observable: tuple[CurvatureFeature, ...]
+    observable_index: np.ndarray
     profile: np.ndarray
     tip_radius: float
 
@@ -174,7 +177,7 @@ def simulate(
         center_sigma, contact_sigma: Gaussian noise per coordinate [m].
         normal_sigma: Gaussian noise of the normal direction [rad].
         rng: random generator (required when any noise is non-zero).
-        resolution: grid step of the profile [m] (default ``min(spacing, r_f) / 4``).
+        resolution: grid step of the profile [m] (default ``min(spacing, r_f/50, size/50)/2``).
 
     Returns:
         A :class:`SyntheticTrace` with ground truth.
@@ -186,7 +189,8 @@ def simulate(
         if center_sigma or contact_sigma or normal_sigma:
             raise InvalidParameter("rng: a numpy Generator is required for noisy traces")
         rng = np.random.default_rng(0)
-    dx = resolution or min(spacing, r / 50) / 2
+    feat = min(abs(shape.size), shape.width) if shape.kind != "plane" else r
+    dx = resolution or min(spacing, r / 50, feat / 50) / 2
     half = shape.length + max(shape.width, abs(shape.size)) + r
     x = np.arange(-half, half + dx / 2, dx)
     f = shape.height(x)
@@ -226,6 +230,12 @@ def simulate(
         for sg, a, b, pk, yp in shape.truth_local()
     )
     observable = _observable(truth, shape.truth_local(), con[:, 0], max(20 * dx, r / 100))
+    inv = _rot(-shape.angle)
+    cx = (tp @ inv.T)[:, 0]
+    xs = [float((np.asarray(f.position) @ inv.T)[0]) for f in observable]
+    i0 = np.searchsorted(cx, xs, side="left")
+    i1 = np.searchsorted(cx, xs, side="right")
+    obs_idx = np.clip((i0 + np.maximum(i1 - 1, i0)) // 2, 0, len(cx) - 1)
     prof = np.column_stack([x, f]) @ rot.T
     return SyntheticTrace(
         t=s / speed,
@@ -238,6 +248,7 @@ def simulate(
         s=s,
         truth=truth,
         observable=observable,
+        observable_index=obs_idx.astype(int),
         profile=prof,
         tip_radius=r,
     )

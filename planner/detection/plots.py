@@ -1,0 +1,129 @@
+"""Figures of the detection kinds (thesis Figs. 3.12, B.5-B.6): the trace with the features
+marked, and the curvature signals with their thresholds."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from planner.detection.types import CurvatureFeature, CurvatureSignal
+
+_COLORS = {1: "tab:orange", 2: "tab:green", 3: "tab:red", 4: "tab:purple"}
+
+
+def trace_figure(
+    centers: np.ndarray,
+    surfaces: Mapping[int, np.ndarray],
+    features: Mapping[int, Sequence[CurvatureFeature]],
+    tip_radius: float,
+    *,
+    profile: np.ndarray | None = None,
+    truth: Sequence | None = None,
+    title: str = "Feature detection",
+):
+    """Fingertip-centre path, estimated surfaces and detected features (cf. Fig. 3.12).
+
+    Args:
+        centers: (N, 2+) measured fingertip centres [m] (only x, y are drawn).
+        surfaces: algorithm -> (M, 2+) estimated surface used by that algorithm [m].
+        features: algorithm -> detected features.
+        tip_radius: r_f [m] (a fingertip circle is drawn for scale).
+        profile: (K, 2) true object profile [m], if known.
+        truth: true features (``.sign``, ``.position``), if known.
+    """
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Circle
+
+    fig = Figure(figsize=(8, 6))
+    ax = fig.add_subplot(1, 1, 1)
+    mm = 1e3
+    ax.plot(
+        centers[:, 0] * mm,
+        centers[:, 1] * mm,
+        ".",
+        ms=1,
+        color="0.6",
+        label="fingertip centre (measured)",
+    )
+    if profile is not None:
+        ax.plot(
+            profile[:, 0] * mm,
+            profile[:, 1] * mm,
+            "-",
+            color="k",
+            lw=1.2,
+            label="object profile (truth)",
+        )
+    for alg, surf in surfaces.items():
+        ax.plot(
+            surf[:, 0] * mm,
+            surf[:, 1] * mm,
+            "-",
+            lw=0.8,
+            color=_COLORS[alg],
+            alpha=0.7,
+            label=f"estimated surface, alg. {alg}",
+        )
+    for alg, feats in features.items():
+        for f in feats:
+            p = np.asarray(f.position) * mm
+            ax.plot(
+                p[0], p[1], "^" if f.sign > 0 else "v", ms=9, mfc="none", mec=_COLORS[alg], mew=1.5
+            )
+    if truth:
+        for f in truth:
+            p = np.asarray(f.position) * mm
+            ax.plot(p[0], p[1], "o", ms=4, color="k")
+    mid = centers[len(centers) // 2, :2] * mm
+    ax.add_patch(Circle(mid, tip_radius * mm, fill=False, ls="--", color="0.3", lw=0.8))
+    ax.plot([], [], "^", mfc="none", mec="k", label="convex feature (+)")
+    ax.plot([], [], "v", mfc="none", mec="k", label="concave feature (-)")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x [mm]")
+    ax.set_ylabel("y [mm]")
+    ax.set_title(title)
+    ax.legend(fontsize=7, loc="best")
+    ax.grid(True, lw=0.3)
+    return fig
+
+
+def signal_figure(
+    signals: Mapping[int, CurvatureSignal],
+    features: Mapping[int, Sequence[CurvatureFeature]],
+    title: str = "Curvature signals and thresholds",
+):
+    """One panel per algorithm: its curvature signal against arclength with thresholds and
+    feature regions shaded (cf. Figs. B.5-B.6)."""
+    from matplotlib.figure import Figure
+
+    n = max(1, len(signals))
+    fig = Figure(figsize=(8, 2.2 * n + 0.6))
+    axes = [fig.add_subplot(n, 1, i + 1) for i in range(n)]
+    for ax, (alg, sig) in zip(axes, signals.items(), strict=False):
+        s = sig.s * 1e3
+        k = np.clip(sig.curvature, -20 * sig.upper, 20 * sig.upper)
+        ax.plot(s, k, "-", lw=0.8, color=_COLORS[alg])
+        ax.axhline(sig.upper, color="k", ls="--", lw=0.7)
+        ax.axhline(sig.lower, color="k", ls=":", lw=0.7)
+        for f in features.get(alg, []):
+            ax.axvspan(
+                f.start * 1e3,
+                max(f.end * 1e3, f.start * 1e3 + 0.05),
+                color="tab:red" if f.sign > 0 else "tab:blue",
+                alpha=0.25,
+            )
+        lim = max(3 * sig.upper, float(np.percentile(np.abs(k), 99.5)) * 1.1)
+        ax.set_ylim(-lim, lim)
+        ax.set_ylabel("k [1/m]")
+        ax.set_title(
+            f"algorithm {alg}: thresholds {sig.upper:.3g} / {sig.lower:.3g} 1/m", fontsize=9
+        )
+        ax.grid(True, lw=0.3)
+    axes[-1].set_xlabel("arclength along the fingertip-centre path [mm]")
+    fig.suptitle(title)
+    fig.tight_layout()
+    return fig
+
+
+__all__ = ["signal_figure", "trace_figure"]
