@@ -433,9 +433,15 @@ def _infeasible_reason(prob: GaitProblem) -> str | None:
     lp = (prob.fc_lp & rl).any()
     rp = (prob.fc_rp & rr).any()
     if not lp and not rp:
+        if prob.fc_lp.any() or prob.fc_rp.any():
+            return (
+                "workspace (palm grasps): the contacts that would hold the object in force "
+                "closure against the palm lie outside both fingers' workspaces at every "
+                "orientation, so no finger is ever free to relocate"
+            )
         return (
-            "palm grasps: no finger can hold the object in force closure against the palm "
-            "at any orientation, so no finger is ever free to relocate"
+            "force closure (palm grasps): no contact forms a force-closure grasp with the "
+            "palm contact at any orientation, so no finger is ever free to relocate"
         )
     return None
 

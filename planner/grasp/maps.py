@@ -81,12 +81,44 @@ def profile_contacts(profile, theta) -> tuple[np.ndarray, np.ndarray]:
             f"profile must be a closed profile with point_at_polar_angle(); "
             f"got {type(profile).__name__}"
         )
-    pts, out = profile.point_at_polar_angle(np.asarray(theta, dtype=float))
+    try:
+        pts, out = profile.point_at_polar_angle(np.asarray(theta, dtype=float))
+    except InvalidParameter:
+        if not getattr(profile, "closed", False) or not hasattr(profile, "sample"):
+            raise
+        pts, out = _polar_from_samples(profile, np.asarray(theta, dtype=float))
     pts = np.asarray(pts, dtype=float)
     nrm = -np.asarray(out, dtype=float)
     if not (np.all(np.isfinite(pts)) and np.all(np.isfinite(nrm))):
         raise InvalidParameter("profile returned NaN/inf points or normals")
     return pts, nrm
+
+
+def _polar_from_samples(profile, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Polar lookup from dense samples, for profiles with sharp corners.
+
+    Works around ``Profile.point_at_polar_angle`` rejecting polygons with sharp corners (the
+    corner's fan samples share one polar angle). At a corner the outward normal is taken as
+    the bisector of the two sides' normals (the contact normal is undefined there).
+    """
+    smp = profile.sample(profile.length / 8192.0)
+    P, N = smp.points, smp.normals
+    phi = np.mod(np.arctan2(P[:, 1], P[:, 0]), 2 * np.pi)
+    order = np.argsort(phi, kind="stable")
+    phi, P, N = phi[order], P[order], N[order]
+    # merge samples sharing a polar angle (corner fans): mean point and bisector normal
+    uniq, start = np.unique(np.round(phi, 12), return_index=True)
+    counts = np.diff(np.r_[start, phi.size])
+    P = np.add.reduceat(P, start) / counts[:, None]
+    N = np.add.reduceat(N, start)
+    N /= np.linalg.norm(N, axis=1, keepdims=True)
+    phi = np.r_[uniq[-1] - 2 * np.pi, uniq, uniq[0] + 2 * np.pi]
+    P = np.vstack([P[-1:], P, P[:1]])
+    N = np.vstack([N[-1:], N, N[:1]])
+    th = np.mod(theta, 2 * np.pi)
+    pts = np.stack([np.interp(th, phi, P[:, 0]), np.interp(th, phi, P[:, 1])], axis=-1)
+    nrm = np.stack([np.interp(th, phi, N[:, 0]), np.interp(th, phi, N[:, 1])], axis=-1)
+    return pts, nrm / np.linalg.norm(nrm, axis=1, keepdims=True)
 
 
 class ClosureKernel:

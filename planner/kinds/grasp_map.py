@@ -125,7 +125,7 @@ def run(config: Config, ctx):
     from robots.planar_hand import PlanarHand
 
     res = min(config.resolution, 90) if ctx.quick else config.resolution
-    gres = min(config.gait_resolution, 72) if ctx.quick else config.gait_resolution
+    gres = min(config.gait_resolution, 48) if ctx.quick else config.gait_resolution
     try:
         profile = config.object.profile()
         hand = PlanarHand(
