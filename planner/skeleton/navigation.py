@@ -1,0 +1,239 @@
+"""Using the feature map: safest paths, unexplored regions, the full negative MAT
+(thesis §4.5.3 and §5.3).
+
+- :func:`safest_path`: "if the goal is to avoid features, the trajectory of the global
+  skeleton depicts the safest navigation path that is the farthest from all features" — a
+  shortest path along the global skeleton, using only edges wide enough for the fingertip.
+- :func:`region_report`: "larger regions that do not closely bound a feature (to within a
+  fingertip diameter) may need to be explored further".
+- :func:`negative_medial_axis`: the full negative MAT (medial axis of the space between
+  features, including arcs equidistant from two points of one feature), for comparison
+  with the global skeleton.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from scipy.sparse import csgraph
+from scipy.spatial import cKDTree
+
+from planner.errors import InfeasibleProblem, InvalidParameter
+from planner.skeleton import graph as g
+from planner.skeleton._checks import check_points, check_positive
+from planner.skeleton.feature import Skeleton, SkeletonSettings, voronoi
+from planner.skeleton.global_map import GlobalSkeleton, _with_far_points
+from planner.skeleton.region import boundary_loops, estimate_spacing, region_polygon
+from planner.skeleton.segments import clip_segments, merge_segments
+
+
+@dataclass(frozen=True)
+class NavigationPath:
+    """A path along the global skeleton.
+
+    Attributes:
+        points: (P, 2) way points from start to goal [m].
+        length: path length [m].
+        min_clearance: smallest distance from the path's skeleton edges to a feature
+            boundary [m] (the start and goal legs are not counted).
+    """
+
+    points: np.ndarray
+    length: float
+    min_clearance: float
+
+
+def safest_path(
+    gs: GlobalSkeleton, start: np.ndarray, goal: np.ndarray, tip_radius: float = 0.0
+) -> NavigationPath:
+    """Shortest path along the global skeleton between two points, avoiding features.
+
+    ``start`` and ``goal`` are joined to their nearest usable skeleton points; only edges
+    whose clearance (smallest disk radius on them) is at least ``tip_radius`` are used.
+
+    Args:
+        gs: the global skeleton.
+        start: (2,) start point [m].
+        goal: (2,) goal point [m].
+        tip_radius: fingertip radius r_f [m] (0 uses every edge).
+
+    Returns:
+        :class:`NavigationPath`.
+
+    Raises:
+        InfeasibleProblem: no path along edges of sufficient clearance.
+    """
+    s = check_points(np.reshape(np.asarray(start, dtype=float), (-1, 2)), "start")
+    t = check_points(np.reshape(np.asarray(goal, dtype=float), (-1, 2)), "goal")
+    if len(s) != 1 or len(t) != 1:
+        raise InvalidParameter("start, goal: expected one (x, y) point each [m]")
+    r = check_positive(tip_radius, "tip_radius", allow_none=False, allow_zero=True)
+    ok = gs.edge_clearance >= r
+    edges = gs.edges[ok]
+    if len(edges) == 0:
+        raise InfeasibleProblem(
+            f"no global skeleton edge has clearance >= tip_radius {r:g} m "
+            f"(largest: {gs.edge_clearance.max(initial=0.0):g} m)"
+        )
+    used = np.unique(edges)
+    tree = cKDTree(gs.points[used])
+    a, b = (int(used[tree.query(p[0])[1]]) for p in (s, t))
+    graph = g.adjacency(len(gs.points), edges, g.edge_lengths(gs.points, edges))
+    dist, pred = csgraph.dijkstra(graph, directed=False, indices=a, return_predecessors=True)
+    if not np.isfinite(dist[b]):
+        raise InfeasibleProblem(
+            f"start and goal are not connected along global skeleton edges with clearance "
+            f">= tip_radius {r:g} m"
+        )
+    path = [b]
+    while path[-1] != a:
+        path.append(int(pred[path[-1]]))
+    nodes = np.asarray(path[::-1])
+    pts = np.vstack([s, gs.points[nodes], t])
+    length = float(np.hypot(*np.diff(pts, axis=0).T).sum())
+    clear = np.inf
+    if len(nodes) > 1:
+        pair = np.sort(np.column_stack([nodes[:-1], nodes[1:]]), axis=1)
+        key = {
+            tuple(e): c
+            for e, c in zip(np.sort(edges, axis=1).tolist(), gs.edge_clearance[ok], strict=True)
+        }
+        clear = min(key[tuple(p)] for p in pair.tolist())
+    return NavigationPath(pts, length, float(clear))
+
+
+@dataclass(frozen=True)
+class RegionInfo:
+    """How well a region of the feature map is explained by its feature.
+
+    Attributes:
+        feature: feature index.
+        area: region area [m^2].
+        feature_area: area enclosed by the feature's boundary samples (0 if none) [m^2].
+        largest_gap: radius of the largest disk in the region, outside the features, free
+            of that feature's boundary samples [m] (room for an undiscovered feature).
+        needs_exploration: ``largest_gap`` exceeds the threshold (a fingertip diameter).
+    """
+
+    feature: int
+    area: float
+    feature_area: float
+    largest_gap: float
+    needs_exploration: bool
+
+
+def region_report(
+    gs: GlobalSkeleton, tip_radius: float, step: float | None = None
+) -> list[RegionInfo]:
+    """Flag regions that do not closely bound their feature (thesis §4.5.3, §5.3).
+
+    The largest gap is evaluated at the vertices of the Voronoi diagram of all boundary
+    samples (the centres of maximal empty disks) and along the region outline sampled every
+    ``step``; a region needs exploration when it exceeds one fingertip diameter
+    ``2 tip_radius``.
+
+    Args:
+        gs: the global skeleton.
+        tip_radius: fingertip radius r_f [m] (> 0).
+        step: sampling step along region outlines [m] (default: 1/50 of the domain size).
+
+    Returns:
+        One :class:`RegionInfo` per feature, in input order.
+    """
+    r = check_positive(tip_radius, "tip_radius", allow_none=False)
+    size = max(np.ptp(np.asarray(gs.domain.exterior.coords), axis=0))
+    step = check_positive(step, "step") or size / 50.0
+    allb = np.concatenate(gs.boundaries)
+    tree = cKDTree(allb)
+    feats = []
+    for b in gs.boundaries:
+        try:
+            feats.append(region_polygon(b, boundary_loops(b, estimate_spacing(b))))
+        except InvalidParameter:
+            feats.append(shapely.Polygon())
+    cand = voronoi(_with_far_points(allb)).vertices
+    x0, y0, x1, y1 = gs.domain.bounds
+    cand = cand[(cand[:, 0] >= x0) & (cand[:, 0] <= x1) & (cand[:, 1] >= y0) & (cand[:, 1] <= y1)]
+    out = []
+    for i, reg in enumerate(gs.regions):
+        if reg.is_empty:
+            out.append(RegionInfo(i, 0.0, float(feats[i].area), 0.0, False))
+            continue
+        outline = shapely.get_coordinates(shapely.segmentize(reg.boundary, step))
+        inside = cand[shapely.contains_xy(reg, cand[:, 0], cand[:, 1])]
+        pts = np.vstack([outline, inside])
+        free = (
+            ~np.any(
+                [shapely.contains_xy(f, pts[:, 0], pts[:, 1]) for f in feats if not f.is_empty],
+                axis=0,
+            )
+            if any(not f.is_empty for f in feats)
+            else np.ones(len(pts), dtype=bool)
+        )
+        gap = float(tree.query(pts[free])[0].max()) if free.any() else 0.0
+        out.append(RegionInfo(i, float(reg.area), float(feats[i].area), gap, gap > 2 * r))
+    return out
+
+
+def negative_medial_axis(
+    boundaries: list, spacing: float | None = None, margin: float | None = None
+) -> Skeleton:
+    """The full negative MAT: the DVMA of all boundary samples outside every feature.
+
+    Unlike the global skeleton it keeps arcs equidistant from two samples of the *same*
+    feature (e.g. inside a concave feature), which "would distort the description of feature
+    spacing" (thesis §4.5.3). Edges between neighbouring samples of one contour (generators
+    closer than ``2 spacing``) are dropped; the result is clipped to the global domain.
+
+    Args:
+        boundaries: list of (M_i, 2) boundary samples [m].
+        spacing: sample spacing [m] (estimated per feature when None; the largest is used).
+        margin: domain margin [m], as in :func:`global_skeleton`.
+
+    Returns:
+        A :class:`Skeleton` (radii: distance to the nearest sample [m]).
+    """
+    from planner.skeleton.global_map import _check_boundaries, _domain
+
+    bnd = _check_boundaries(boundaries, 4)
+    spacing = check_positive(spacing, "spacing") or max(estimate_spacing(b) for b in bnd)
+    allb = np.concatenate(bnd)
+    domain = _domain(allb, check_positive(margin, "margin", allow_zero=True))
+    feats = []
+    for b in bnd:
+        try:
+            feats.append(region_polygon(b, boundary_loops(b, spacing)))
+        except InvalidParameter:
+            pass
+    vor = voronoi(_with_far_points(allb))
+    rp = np.asarray(vor.ridge_points, dtype=np.int64)
+    rv = np.asarray(vor.ridge_vertices, dtype=np.int64).reshape(-1, 2)
+    n = len(allb)
+    keep = (rp < n).all(axis=1) & (rv >= 0).all(axis=1)
+    gen = np.hypot(*(allb[np.minimum(rp[:, 0], n - 1)] - allb[np.minimum(rp[:, 1], n - 1)]).T)
+    keep &= gen >= 2.0 * spacing
+    seg, inside = clip_segments(vor.vertices[rv[keep]], domain.bounds)
+    seg = seg[inside]
+    mid = seg.mean(axis=1)
+    out = np.ones(len(seg), dtype=bool)
+    for f in feats:
+        out &= ~shapely.contains_xy(f, mid[:, 0], mid[:, 1])
+    points, edges = merge_segments(seg[out])
+    scale = float(np.ptp(allb, axis=0).max()) or 1.0
+    points, edges, _ = g.merge_close_points(points, edges, 1e-9 * scale)
+    radii = cKDTree(allb).query(points)[0] if len(points) else np.zeros(0)
+    return Skeleton(
+        points,
+        edges,
+        radii,
+        float(spacing),
+        0.0,
+        SkeletonSettings(),
+        domain,
+        {"negative_mat": len(edges)},
+    )
+
+
+__all__ = ["NavigationPath", "RegionInfo", "negative_medial_axis", "region_report", "safest_path"]
