@@ -4,7 +4,7 @@
 ``model.jointPlacements[i]`` and the joint motion (a rotation about, or a translation along,
 the joint axis) into symbolic homogeneous transforms, then applies each requested frame's
 placement. The result is a ``casadi.Function`` ``q -> (p_1, J_1, p_2, J_2, ...)`` (positions
-(3,) in the world frame [m], Jacobians (3, nq) [m/rad]) that matches ``pin.framesForward-
+(3,) in the world frame [m], dense Jacobians (3, nq) [m/rad]) that matches ``pin.framesForward-
 Kinematics`` / ``pin.getFrameJacobian(..., LOCAL_WORLD_ALIGNED)`` (tested). :func:`compile`
 turns any such Function into C, builds it with gcc and loads it back (``casadi.external``).
 """
@@ -114,7 +114,7 @@ def frame_kinematics(model, frames: list[str], name: str = "fk"):
     for fname in frames:
         fr = model.frames[model.getFrameId(fname)]
         p = ts[fr.parentJoint] + Rs[fr.parentJoint] @ cs.DM(fr.placement.translation)
-        outs += [p, cs.jacobian(p, q)]
+        outs += [p, cs.densify(cs.jacobian(p, q))]
         names += [f"p_{fname}", f"J_{fname}"]
     return cs.Function(name, [q], outs, ["q"], names)
 

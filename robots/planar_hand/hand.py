@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -68,6 +69,8 @@ class PlanarHand:
         self.params: HandParams = params
         self._base = {s: np.array(params.finger(s).base, dtype=float) for s in FINGERS}
         self._len = {s: np.array(params.finger(s).lengths, dtype=float) for s in FINGERS}
+        self._basel = {s: tuple(float(v) for v in params.finger(s).base) for s in FINGERS}
+        self._lenl = {s: tuple(float(v) for v in params.finger(s).lengths) for s in FINGERS}
         self._model = None
 
     # ------------------------------------------------------------------ model and limits
@@ -115,17 +118,19 @@ class PlanarHand:
         Returns:
             ``{"left": (2,), "right": (2,)}`` fingertip points in the hand plane [m].
         """
-        q = as_vector(q, 6, "q")
-        return {
-            s: kin.fingertip(self._base[s], self._len[s], q[self.finger_slice(s)])[0]
-            for s in FINGERS
-        }
+        ql = as_vector(q, 6, "q").tolist()
+        out = {}
+        for s, k in (("left", 0), ("right", 3)):
+            x, y, _, _ = kin.tip_and_jacobian(self._basel[s], self._lenl[s], ql[k : k + 3])
+            out[s] = np.array([x, y])
+        return out
 
     def fingertip_pose(self, q, finger: str) -> FingertipPose:
         """Position and orientation of one fingertip for the full (6,) configuration ``q``."""
         q = as_vector(q, 6, "q")
-        p, phi = kin.fingertip(self._base[finger], self._len[finger], q[self.finger_slice(finger)])
-        return FingertipPose(p, float(phi), kin.direction(phi))
+        sl = self.finger_slice(finger)
+        x, y, phi, _ = kin.tip_and_jacobian(self._basel[finger], self._lenl[finger], q[sl].tolist())
+        return FingertipPose(np.array([x, y]), phi, np.array([-math.sin(phi), math.cos(phi)]))
 
     def finger_points(self, q, finger: str) -> np.ndarray:
         """(4, 2) joint 1, joint 2, joint 3 and fingertip points of ``finger`` [m]."""
@@ -149,7 +154,10 @@ class PlanarHand:
             (2, 3) Jacobian [m/rad] with respect to that finger's three joints.
         """
         q = as_vector(q, 6, "q")
-        off = None if point is None else as_vector(point, 2, "point")
+        if point is None:
+            sl = self.finger_slice(finger)
+            return kin.tip_and_jacobian(self._basel[finger], self._lenl[finger], q[sl].tolist())[3]
+        off = as_vector(point, 2, "point")
         return kin.fingertip_jacobian(self._len[finger], q[self.finger_slice(finger)], off)
 
     def hand_jacobian(self, q, contacts: dict[str, np.ndarray] | None = None) -> np.ndarray:

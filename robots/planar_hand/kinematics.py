@@ -13,6 +13,8 @@ the hand Jacobian J_h, thesis eq. 2.5) is ``sum_{i>=k} l_i d'(s_i)`` with
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 TWO_PI = 2.0 * np.pi
@@ -76,6 +78,35 @@ def fingertip_jacobian(
         dd[..., 2, :] += extra
     cols = np.cumsum(dd[..., ::-1, :], axis=-2)[..., ::-1, :]  # column k = sum_{i>=k}
     return np.swapaxes(cols, -1, -2)
+
+
+def tip_and_jacobian(base, lengths, q) -> tuple[float, float, float, np.ndarray]:
+    """Scalar fast path for one configuration (``math`` instead of numpy ufuncs).
+
+    Args:
+        base: (2,) joint-1 position [m]; lengths: (3,) [m]; q: (3,) joint angles [rad].
+
+    Returns:
+        fingertip x [m], y [m], orientation phi [rad] and the (2, 3) Jacobian [m/rad].
+    """
+    l1, l2, l3 = lengths
+    s1 = q[0]
+    s2 = s1 + q[1]
+    s3 = s2 + q[2]
+    c1, n1, c2, n2, c3, n3 = (
+        math.cos(s1),
+        math.sin(s1),
+        math.cos(s2),
+        math.sin(s2),
+        math.cos(s3),
+        math.sin(s3),
+    )
+    x = base[0] - l1 * n1 - l2 * n2 - l3 * n3
+    y = base[1] + l1 * c1 + l2 * c2 + l3 * c3
+    j3x, j3y = -l3 * c3, -l3 * n3
+    j2x, j2y = j3x - l2 * c2, j3y - l2 * n2
+    j1x, j1y = j2x - l1 * c1, j2y - l1 * n1
+    return x, y, s3, np.array([[j1x, j2x, j3x], [j1y, j2y, j3y]])
 
 
 def wrap_into(q: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

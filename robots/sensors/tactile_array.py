@@ -92,6 +92,7 @@ class TactileArray:
         self.v = (np.arange(self.rows) - (self.rows - 1) / 2) * self.pitch
         self._fu, self._Bu = self._blur(self.cols)
         self._fv, self._Bv = self._blur(self.rows)
+        self._BuT = np.ascontiguousarray(self._Bu.T)
 
     def _blur(self, n: int) -> tuple[np.ndarray, np.ndarray]:
         """Fine sample points (n*os,) [m] and the (n, n*os) average-and-spread matrix."""
@@ -150,7 +151,7 @@ class TactileArray:
         r2 = dv[:, :, None] ** 2 + du[:, None, :] ** 2
         P = p0[:, None, None] * np.sqrt(np.maximum(1.0 - r2, 0.0))
         P = self._conserve(P, F, c)
-        img = np.einsum("iv,nvu,ju->nij", self._Bv, P, self._Bu, optimize=True)
+        img = self._Bv @ P @ self._BuT
         img[img < self.threshold] = 0.0
         return img[0] if single else img
 

@@ -35,4 +35,4 @@ def casadi_kinematics(params: dict[str, float], name: str = "three_gm_fk"):
         (r + p["h2"]) * cs.sin(t3) - p["h3"] * cs.cos(t3),
         z,
     )
-    return cs.Function(name, [th], [x, cs.jacobian(x, th)], ["theta"], ["x", "J"])
+    return cs.Function(name, [th], [x, cs.densify(cs.jacobian(x, th))], ["theta"], ["x", "J"])

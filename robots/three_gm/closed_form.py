@@ -31,6 +31,7 @@ Pinocchio. Eq. C.9 is then correct as printed.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -75,10 +76,11 @@ def five_bar_state(p: dict[str, float], theta: np.ndarray) -> FiveBarState:
     """
     t1, t2, t3 = float(theta[0]), float(theta[1]), float(theta[2])
     l1, l2, l3, l4, l5 = p["l1"], p["l2"], p["l3"], p["l4"], p["l5"]
-    a1 = l1 * np.cos(t1) - l2 * np.cos(t2)
-    a2 = l1 * np.sin(t1) - l2 * np.sin(t2) + p["h1"]
+    c1, s1 = math.cos(t1), math.sin(t1)
+    a1 = l1 * c1 - l2 * math.cos(t2)
+    a2 = l1 * s1 - l2 * math.sin(t2) + p["h1"]
     aa = a1 * a1 + a2 * a2
-    na = np.sqrt(aa)
+    na = math.sqrt(aa)
     if na < 1e-12:
         raise SingularConfiguration(
             f"the passive joints P1 and P2 coincide (|a| = {na:.3g} m) at theta = "
@@ -87,7 +89,7 @@ def five_bar_state(p: dict[str, float], theta: np.ndarray) -> FiveBarState:
         )
     b1 = (l3 * l3 - l4 * l4 - aa) / (2.0 * l4)
     b2 = (l3 * l3 - l4 * l4 + aa) / (2.0 * l3)
-    c = np.arctan2(a2 / na, a1 / na)
+    c = math.atan2(a2 / na, a1 / na)
     for name, b in (("b1", b1), ("b2", b2)):
         arg = b / na
         if not -1.0 <= arg <= 1.0:
@@ -96,16 +98,14 @@ def five_bar_state(p: dict[str, float], theta: np.ndarray) -> FiveBarState:
                 f"argument {name}/|a| = {arg:.6g} of eq. C.5 is outside [-1, 1]",
                 value=float(arg),
             )
-    g1 = c - np.arccos(b1 / na)
-    g2 = c - np.arccos(b2 / na)
-    r = l1 * np.cos(t1) + l5 * np.cos(g1)
-    z = l1 * np.sin(t1) + l5 * np.sin(g1)
+    g1 = c - math.acos(b1 / na)
+    g2 = c - math.acos(b2 / na)
+    r = l1 * c1 + l5 * math.cos(g1)
+    z = l1 * s1 + l5 * math.sin(g1)
     h2, h3 = p["h2"], p["h3"]
-    c3, s3 = np.cos(t3), np.sin(t3)
+    c3, s3 = math.cos(t3), math.sin(t3)
     pos = np.array([(r + h2) * c3 + h3 * s3, (r + h2) * s3 - h3 * c3, z])
-    return FiveBarState(
-        float(a1), float(a2), float(b1), float(b2), float(c), float(g1), float(g2), float(r), pos
-    )
+    return FiveBarState(a1, a2, b1, b2, c, g1, g2, r, pos)
 
 
 def jacobian_from_state(
@@ -119,7 +119,7 @@ def jacobian_from_state(
     """
     t1, t2, t3 = float(theta[0]), float(theta[1]), float(theta[2])
     g1, g2 = st.gamma1, st.gamma2
-    den = np.sin(g2 - g1)
+    den = math.sin(g2 - g1)
     if abs(den) < min_sin:
         raise SingularConfiguration(
             f"links l3 and l4 are aligned at theta = {np.asarray(theta).tolist()} rad "
@@ -127,18 +127,19 @@ def jacobian_from_state(
             value=float(den),
         )
     l1, l2, l4, l5 = p["l1"], p["l2"], p["l4"], p["l5"]
-    c1 = l1 * l5 * np.sin(t1 - g2) / (l4 * den)
-    c2 = l2 * l5 * np.sin(g2 - t2) / (l4 * den)
-    dr1 = -l1 * np.sin(t1) - c1 * np.sin(g1)
-    dr2 = -c2 * np.sin(g1)
-    c3, s3 = np.cos(t3), np.sin(t3)
+    c1 = l1 * l5 * math.sin(t1 - g2) / (l4 * den)
+    c2 = l2 * l5 * math.sin(g2 - t2) / (l4 * den)
+    sg1, cg1 = math.sin(g1), math.cos(g1)
+    dr1 = -l1 * math.sin(t1) - c1 * sg1
+    dr2 = -c2 * sg1
+    c3, s3 = math.cos(t3), math.sin(t3)
     rh = st.r + p["h2"]
     h3 = p["h3"]
     return np.array(
         [
             [dr1 * c3, dr2 * c3, -rh * s3 + h3 * c3],
             [dr1 * s3, dr2 * s3, rh * c3 + h3 * s3],
-            [l1 * np.cos(t1) + c1 * np.cos(g1), c2 * np.cos(g1), 0.0],
+            [l1 * math.cos(t1) + c1 * cg1, c2 * cg1, 0.0],
         ]
     )
 

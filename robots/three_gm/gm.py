@@ -88,6 +88,12 @@ class ThreeGM:
         th = as_vector(theta, 3, "theta")
         return cf.jacobian_from_state(self.params, th, cf.five_bar_state(self.params, th))
 
+    def forward_kinematics_and_jacobian(self, theta) -> tuple[np.ndarray, np.ndarray]:
+        """Endpoint (3,) [m] and Jacobian (3, 3) [m/rad] from one evaluation of eqs. C.4-C.9."""
+        th = as_vector(theta, 3, "theta")
+        st = cf.five_bar_state(self.params, th)
+        return st.position, cf.jacobian_from_state(self.params, th, st)
+
     def endpoint_velocity(self, theta, theta_dot) -> np.ndarray:
         """(3,) endpoint velocity v = J θ̇ [m/s] (eq. C.10); ``theta_dot`` (3,) [rad/s]."""
         return self.jacobian(theta) @ as_vector(theta_dot, 3, "theta_dot")
