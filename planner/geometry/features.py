@@ -43,6 +43,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from planner.errors import InvalidParameter
+from planner.geometry.feature_maps import (  # 2-D maps, re-exported
+    CurvatureRegion,
+    FeatureMap,
+    MacroRegion,
+    curvature_feature_map,
+    multiscale_feature_maps,
+)
 
 MACRO_KINDS = ("bump", "pit", "ridge", "ravine", "step", "cusp", "unknown")
 
@@ -307,6 +314,11 @@ def macro_features_1d(
 
 __all__ = [
     "MACRO_KINDS",
+    "CurvatureRegion",
+    "FeatureMap",
+    "MacroRegion",
+    "curvature_feature_map",
+    "multiscale_feature_maps",
     "CurvatureFeature1D",
     "MacroFeature1D",
     "classify_pattern",

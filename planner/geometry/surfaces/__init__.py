@@ -2,7 +2,8 @@
 §3.2.1).
 
 ``sphere(radius)``, ``bump(a)``, ``plane()`` and the other catalogue constructors return a
-:class:`ParametricSurface`; :func:`height_field` builds a surface from sampled heights.
+:class:`ParametricSurface`; :class:`HeightField` builds a surface from sampled heights and
+:func:`offset_surfaces` its traced and estimated surfaces.
 """
 
 from planner.geometry.surfaces.catalogue import (
@@ -19,6 +20,12 @@ from planner.geometry.surfaces.catalogue import (
     swept_profile,
     wire_on_plane,
 )
+from planner.geometry.surfaces.height_field import (
+    HeightField,
+    grid_principal_curvatures,
+    monge_principal_curvatures,
+)
+from planner.geometry.surfaces.offsets import OffsetSurfaces, offset_surfaces
 from planner.geometry.surfaces.parametric import (
     ParametricSurface,
     SurfaceGeometry,
@@ -27,6 +34,11 @@ from planner.geometry.surfaces.parametric import (
 
 __all__ = [
     "CATALOGUE",
+    "HeightField",
+    "OffsetSurfaces",
+    "grid_principal_curvatures",
+    "monge_principal_curvatures",
+    "offset_surfaces",
     "ParametricSurface",
     "SurfaceGeometry",
     "bump",

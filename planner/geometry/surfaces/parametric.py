@@ -288,9 +288,13 @@ class ParametricSurface:
             return SurfaceGeometry(*self._eval("all", u, v))
         if not math.isfinite(sum(fr) + sum(k) + sum(t) + sum(m)):
             return SurfaceGeometry(*self._eval("all", u, v))
-        return SurfaceGeometry(np.array(p), np.array(fr).reshape(3, 3).T,
-                               np.array(k).reshape(2, 2).T, np.array(t).reshape(1, 2),
-                               np.array(m).reshape(2, 2).T)
+        return SurfaceGeometry(
+            np.array(p),
+            np.array(fr).reshape(3, 3).T,
+            np.array(k).reshape(2, 2).T,
+            np.array(t).reshape(1, 2),
+            np.array(m).reshape(2, 2).T,
+        )
 
     def point(self, u, v) -> np.ndarray:
         """Surface points ``f(u, v)``: (..., 3) [m]."""
