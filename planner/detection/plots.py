@@ -35,56 +35,72 @@ def trace_figure(
     from matplotlib.figure import Figure
     from matplotlib.patches import Circle
 
-    fig = Figure(figsize=(8, 6))
-    ax = fig.add_subplot(1, 1, 1)
+    fig = Figure(figsize=(12, 5.5))
+    axes = [fig.add_subplot(1, 2, 1), fig.add_subplot(1, 2, 2)]
     mm = 1e3
-    ax.plot(
-        centers[:, 0] * mm,
-        centers[:, 1] * mm,
-        ".",
-        ms=1,
-        color="0.6",
-        label="fingertip centre (measured)",
-    )
-    if profile is not None:
+    pts = [np.asarray(f.position)[:2] for fs in features.values() for f in fs]
+    pts += [np.asarray(f.position)[:2] for f in truth or []]
+    for ax in axes:
         ax.plot(
-            profile[:, 0] * mm,
-            profile[:, 1] * mm,
-            "-",
-            color="k",
-            lw=1.2,
-            label="object profile (truth)",
+            centers[:, 0] * mm,
+            centers[:, 1] * mm,
+            ".",
+            ms=1,
+            color="0.6",
+            label="fingertip centre (measured)",
         )
-    for alg, surf in surfaces.items():
-        ax.plot(
-            surf[:, 0] * mm,
-            surf[:, 1] * mm,
-            "-",
-            lw=0.8,
-            color=_COLORS[alg],
-            alpha=0.7,
-            label=f"estimated surface, alg. {alg}",
-        )
-    for alg, feats in features.items():
-        for f in feats:
-            p = np.asarray(f.position) * mm
+        if profile is not None:
             ax.plot(
-                p[0], p[1], "^" if f.sign > 0 else "v", ms=9, mfc="none", mec=_COLORS[alg], mew=1.5
+                profile[:, 0] * mm,
+                profile[:, 1] * mm,
+                "-",
+                color="k",
+                lw=1.2,
+                label="object profile (truth)",
             )
-    if truth:
-        for f in truth:
+        for alg, surf in surfaces.items():
+            ax.plot(
+                surf[:, 0] * mm,
+                surf[:, 1] * mm,
+                "-",
+                lw=0.8,
+                color=_COLORS[alg],
+                alpha=0.7,
+                label=f"estimated surface, alg. {alg}",
+            )
+        for alg, feats in features.items():
+            for f in feats:
+                p = np.asarray(f.position) * mm
+                ax.plot(
+                    p[0],
+                    p[1],
+                    "^" if f.sign > 0 else "v",
+                    ms=9,
+                    mfc="none",
+                    mec=_COLORS[alg],
+                    mew=1.5,
+                )
+        for f in truth or []:
             p = np.asarray(f.position) * mm
             ax.plot(p[0], p[1], "o", ms=4, color="k")
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.set_xlabel("x [mm]")
+        ax.set_ylabel("y [mm]")
+        ax.grid(True, lw=0.3)
     mid = centers[len(centers) // 2, :2] * mm
-    ax.add_patch(Circle(mid, tip_radius * mm, fill=False, ls="--", color="0.3", lw=0.8))
-    ax.plot([], [], "^", mfc="none", mec="k", label="convex feature (+)")
-    ax.plot([], [], "v", mfc="none", mec="k", label="concave feature (-)")
-    ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel("x [mm]")
-    ax.set_ylabel("y [mm]")
-    ax.set_title(title)
-    ax.legend(fontsize=7, loc="best")
-    ax.grid(True, lw=0.3)
+    axes[0].add_patch(Circle(mid, tip_radius * mm, fill=False, ls="--", color="0.3", lw=0.8))
+    axes[0].plot([], [], "^", mfc="none", mec="k", label="convex feature (+)")
+    axes[0].plot([], [], "v", mfc="none", mec="k", label="concave feature (-)")
+    axes[0].set_title(title, fontsize=10)
+    axes[0].legend(fontsize=7, loc="best")
+    if pts:
+        c = np.mean(pts, axis=0) * mm
+        half = max(0.6 * tip_radius * mm, float(np.ptp(np.array(pts) * mm, axis=0).max()))
+        axes[1].set_xlim(c[0] - half, c[0] + half)
+        axes[1].set_ylim(c[1] - half, c[1] + half)
+        axes[1].set_aspect("equal", adjustable="box")
+    axes[1].set_title("zoom on the features", fontsize=10)
+    fig.tight_layout()
     return fig
 
 

@@ -82,8 +82,8 @@ def smooth(x, method: str = "gaussian", window: int = 25, sigma: float | None = 
         method: one of ``"none"``, ``"average"`` (eq. B.6, uniform weights), ``"median"``,
             ``"dual_point"`` (``window`` = number of corner-cutting iterations, the result
             resampled back to N samples by index), ``"gaussian"`` (``window`` taps,
-            standard deviation ``sigma``), ``"wiener"`` (``scipy.signal.wiener`` with the
-            local noise power estimated from the data).
+            standard deviation ``sigma``), ``"wiener"`` (``scipy.signal.wiener`` on the linearly
+            detrended signal, noise power estimated from the data).
         window: filter length [samples] (odd lengths are centred exactly).
         sigma: Gaussian standard deviation [samples]; default ``window / 4``.
 
@@ -129,14 +129,18 @@ def smooth(x, method: str = "gaussian", window: int = 25, sigma: float | None = 
 
 
 def _wiener(x: np.ndarray, window: int) -> np.ndarray:
-    """scipy's Wiener filter on a de-meaned copy (it pads with zeros internally)."""
-    mean = x.mean()
+    """scipy's Wiener filter on a linearly detrended copy: it pads with zeros and estimates
+    the noise power as the mean local variance, which a trend (a path along an inclined
+    plane) would inflate until nothing is filtered."""
     if np.ptp(x) == 0:
         return x.copy()
+    u = np.arange(x.size, dtype=float)
+    coef = np.polyfit(u, x, 1)
+    trend = np.polyval(coef, u)
     with np.errstate(invalid="ignore", divide="ignore"):
-        out = signal.wiener(x - mean, mysize=window)
-    out = np.where(np.isfinite(out), out, x - mean)
-    return out + mean
+        out = signal.wiener(x - trend, mysize=window)
+    out = np.where(np.isfinite(out), out, x - trend)
+    return out + trend
 
 
 __all__ = ["FILTERS", "dual_point", "gaussian_kernel", "smooth"]
