@@ -184,3 +184,21 @@ def test_gauges():
     assert abs(pot.measure(0.5, rng) - 0.5) <= pot.resolution / 2
     with pytest.raises(InvalidParameter, match="resolution"):
         ForceSensor(resolution=0.0)
+
+
+def test_ridge_crossing_changes_sphere_pattern_to_ridge():
+    from robots.sensors import ridge_crossing_images
+
+    arr = TactileArray()
+    offsets = np.linspace(-0.015, 0.015, 7)
+    rc = ridge_crossing_images(arr, offsets, force=0.3)
+    assert rc.images.shape == (7, 8, 8)
+    np.testing.assert_array_equal(rc.on_ridge, np.abs(offsets) <= 0.01)
+    for k in range(7):
+        r = arr.read(rc.images[k])
+        assert r.in_contact and r.force == pytest.approx(0.3, rel=0.15)
+        if rc.on_ridge[k]:  # a line along v at the ridge position
+            assert abs(r.centroid[0] - offsets[k]) < 1.5e-3
+            assert (rc.images[k] > 0).any(axis=1).all()
+        else:  # the ball's blob at the pad centre
+            assert np.linalg.norm(r.centroid) < 1e-3

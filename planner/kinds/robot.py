@@ -2,7 +2,8 @@
 
 * ``robot: planar_hand`` — the hand (thesis §2.2, Fig. 2.13) with a ball resting on the palm;
   the workspace map of each finger on the ball (which contact angles it can reach: IK inside
-  the joint limits, fingertip orientation range, no penetration) and sampled reachable sets.
+  the joint limits, fingertip orientation range, no penetration), sampled reachable sets, and
+  the left pad's 8x8 tactile images sliding over the ball's ridge (Fig. 2.14).
 * ``robot: three_gm`` — the 3GM finger (App. C.2) in a configuration and its well-conditioned
   trapezoid: IK, condition number and force capacity on a grid of the trapezoid.
 """
@@ -38,6 +39,18 @@ class HandOptions(StrictModel):
     )
     samples: int = Field(
         3000, ge=10, le=200000, description="joint-space samples of each finger's reachable set"
+    )
+    tactile_force: float = Field(
+        0.3,
+        gt=0.0,
+        le=20.0,
+        description="normal force on the 8x8 array for the tactile images (0.3 N, §2.3.2) [N]",
+    )
+    ridge_width_mm: float = Field(
+        4.0, gt=0.0, le=20.0, description="width of the ball's ridge (Fig. 2.15) [mm]"
+    )
+    ridge_height_mm: float = Field(
+        3.0, gt=0.0, le=20.0, description="height of the ball's ridge (Fig. 2.15) [mm]"
     )
 
 
@@ -129,6 +142,25 @@ def _run_hand(config: Config, ctx):
             a = np.rad2deg(m.angles[m.reachable])
             metrics[f"reachable_angle_min_deg_{f}"] = float(a.min())
             metrics[f"reachable_angle_max_deg_{f}"] = float(a.max())
+    with ctx.timer("tactile"):
+        from robots.sensors import TactileArray, ridge_crossing_images
+
+        arr = TactileArray()
+        crossing = ridge_crossing_images(
+            arr,
+            np.linspace(-0.015, 0.015, 7 if ctx.quick else 31),
+            o.tactile_force,
+            radius,
+            o.ridge_width_mm / 1000,
+            o.ridge_height_mm / 1000,
+        )
+        centers = ctx.rng.uniform(-0.006, 0.006, size=(50 if ctx.quick else 500, 2))
+        imgs = arr.sphere_images(centers, radius, o.tactile_force)
+        err = np.array(
+            [np.linalg.norm(arr.read(im).centroid - c) for im, c in zip(imgs, centers, strict=True)]
+        )
+    metrics["tactile_localization_rms_mm"] = float(np.sqrt(np.mean(err**2)) * 1000)
+    metrics["tactile_localization_max_mm"] = float(err.max() * 1000)
     pos = hand.fingertip_positions(q)
     metrics.update({f"tip_{f}_{c}": float(pos[f][i]) for f in pos for i, c in enumerate("xy")})
     arrays = {"contact_angles": angles, "q": q}
@@ -136,6 +168,8 @@ def _run_hand(config: Config, ctx):
         arrays[f"reachable_{f}"] = maps[f].reachable
         arrays[f"q_{f}"] = maps[f].q
         arrays[f"reachable_set_{f}"] = sets[f].positions
+    arrays["tactile_ridge_offsets"] = crossing.offsets
+    arrays["tactile_ridge_images"] = crossing.images
     figures = {}
     if ctx.plots:
         from robots.plotting import draw_hand, draw_reachable_sets
@@ -150,9 +184,12 @@ def _run_hand(config: Config, ctx):
                 title=f"Planar hand and a {o.ball_diameter * 100:.0f} cm ball: reachable contacts",
             )
             if not ctx.quick:  # one figure is enough for a smoke test
+                from robots.sensors.tactile_scenes import draw_ridge_crossing
+
                 figures["reachable_sets"] = draw_reachable_sets(
                     {f: s.positions for f, s in sets.items()}, center, radius
                 )
+                figures["tactile_ridge_crossing"] = draw_ridge_crossing(arr, crossing)
     if not any(m.reachable.any() for m in maps.values()):
         return RunResult(
             status="failed",

@@ -14,6 +14,7 @@ from robots.sensors.owts_sampling import (
     fit_nonlinearity,
 )
 from robots.sensors.tactile_array import TactileArray, TactileReading
+from robots.sensors.tactile_scenes import RidgeCrossing, ridge_crossing_images
 
 __all__ = [
     "FULL_SCALE_V",
@@ -25,7 +26,9 @@ __all__ = [
     "OWTSSampler",
     "Potentiometer",
     "RadialNonlinearity",
+    "RidgeCrossing",
     "TactileArray",
     "TactileReading",
     "fit_nonlinearity",
+    "ridge_crossing_images",
 ]
