@@ -25,6 +25,10 @@ from planner.grasp.wrenches import check_contacts, primitive_wrenches
 
 #: Strictness margin of the hull and LP tests (wrench-space distance, unit-force scale).
 HULL_TOL = 1e-10
+#: Relative strictness of Nguyen's test: a contact line on a cone edge up to rounding
+#: (``|t| = mu n`` within 1e-9) is *not* in force closure, so grids that hit the boundary
+#: exactly (e.g. a circle at separation ``pi - 2 atan(mu)``) give the same answer everywhere.
+STRICT = 1.0 + 1e-9
 
 
 def force_closure_two_planar(p1, n1, p2, n2, mu: float, mu2: float | None = None) -> np.ndarray:
@@ -50,7 +54,9 @@ def force_closure_two_planar(p1, n1, p2, n2, mu: float, mu2: float | None = None
     dot2 = -(n2[..., 0] * dx + n2[..., 1] * dy)
     cr2 = -(n2[..., 0] * dy - n2[..., 1] * dx)
     return (
-        (np.abs(cr1) < mu * np.abs(dot1)) & (np.abs(cr2) < mu2 * np.abs(dot2)) & (dot1 * dot2 > 0)
+        (np.abs(cr1) * STRICT < mu * np.abs(dot1))
+        & (np.abs(cr2) * STRICT < mu2 * np.abs(dot2))
+        & (dot1 * dot2 > 0)
     )
 
 

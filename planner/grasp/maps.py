@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from planner.errors import InvalidParameter
+from planner.grasp.closure import STRICT
 from planner.grasp.cones import check_mu
 from planner.grasp.quality import epsilon_two_planar
 
@@ -127,47 +128,58 @@ class ClosureKernel:
     ``kernel(x, y, nx, ny)`` evaluates Nguyen's condition for every pair ``(i, j)`` of n
     contacts (points ``(x, y)``, inward normals ``(nx, ny)``, each (n,)) into a reused boolean
     array; the returned array is overwritten by the next call.
+
+    With ``d = p_j - p_i``, the dot and cross products of contact i's normal with ``d`` are
+    ``A = N P^T - (n_i . p_i)`` and ``B = N_rot P^T - (n_i x p_i)`` (two BLAS outer
+    products); contact j sees ``-d``, whose products are the transposes ``A^T``, ``B^T``.
+    Closure: ``|B| < mu |A|`` at i (strict by the relative margin ``STRICT``),
+    ``|B^T| < mu2 |A^T|`` at j and ``A * A^T > 0``
+    (forces opposed along the line, squeezing or expanding).
     """
 
     def __init__(self, n: int, mu: float, mu2: float | None = None):
         self.n = int(n)
         self.mu = check_mu(mu)
         self.mu2 = self.mu if mu2 is None else check_mu(mu2)
-        self._dx = np.empty((self.n, self.n))
-        self._dy = np.empty((self.n, self.n))
-        self._a = np.empty((self.n, self.n))
-        self._b = np.empty((self.n, self.n))
-        self._c = np.empty((self.n, self.n))
-        self._ok = np.empty((self.n, self.n), dtype=bool)
-        self._t = np.empty((self.n, self.n), dtype=bool)
+        shape = (self.n, self.n)
+        self._a = np.empty(shape)
+        self._b = np.empty(shape)
+        self._c = np.empty(shape)
+        self._ok = np.empty(shape, dtype=bool)
+        self._t = np.empty(shape, dtype=bool)
+        self._u = np.empty(shape, dtype=bool)
+        self._N = np.empty((self.n, 2))
+        self._Nr = np.empty((self.n, 2))
+        self._P = np.empty((2, self.n))
 
     def __call__(self, x, y, nx, ny) -> np.ndarray:
-        dx, dy, a, b, c = self._dx, self._dy, self._a, self._b, self._c
-        ok, t = self._ok, self._t
-        np.subtract(x[None, :], x[:, None], out=dx)  # dx[i, j] = x[j] - x[i]
-        np.subtract(y[None, :], y[:, None], out=dy)
-        # contact 1 (row i): dot = n_i . d, cross = n_i x d; ok: |cross| < mu |dot|
-        np.multiply(nx[:, None], dx, out=a)
-        a += ny[:, None] * dy
-        np.multiply(nx[:, None], dy, out=b)
-        b -= ny[:, None] * dx
+        a, b, c, ok, t, u = self._a, self._b, self._c, self._ok, self._t, self._u
+        N, Nr, P = self._N, self._Nr, self._P
+        N[:, 0], N[:, 1] = nx, ny
+        Nr[:, 0], Nr[:, 1] = -ny, nx
+        P[0], P[1] = x, y
+        np.matmul(N, P, out=a)
+        a -= np.diagonal(a)[:, None].copy()  # A[i, j] = n_i . (p_j - p_i)
+        np.matmul(Nr, P, out=b)
+        b -= np.diagonal(b)[:, None].copy()  # B[i, j] = n_i x (p_j - p_i)
         np.abs(b, out=b)
+        b *= STRICT
         np.abs(a, out=c)
-        c *= self.mu
-        np.less(b, c, out=ok)
-        # contact 2 (column j): dot = -n_j . d (sign irrelevant below), cross likewise
-        np.multiply(nx[None, :], dx, out=c)
-        c += ny[None, :] * dy
-        np.multiply(nx[None, :], dy, out=b)
-        b -= ny[None, :] * dx
-        np.abs(b, out=b)
-        # forces opposed along the line: dot1 * dot2 > 0 <=> a * c < 0 (c = -dot2)
-        np.multiply(a, c, out=a)
-        np.less(a, 0.0, out=t)
-        ok &= t
-        np.abs(c, out=c)
-        c *= self.mu2
-        np.less(b, c, out=t)
+        if self.mu == self.mu2:
+            c *= self.mu
+            np.less(b, c, out=t)
+            np.logical_and(t, t.T, out=ok)
+        else:
+            np.multiply(c, self.mu, out=c)
+            np.less(b, c, out=t)
+            np.abs(a, out=c)
+            c *= self.mu2
+            np.less(b, c, out=u)
+            np.logical_and(t, u.T, out=ok)
+        np.greater(a, 0.0, out=t)
+        np.equal(t, t.T, out=u)
+        ok &= u
+        np.not_equal(a, 0.0, out=t)
         ok &= t
         return ok
 

@@ -1,0 +1,192 @@
+"""Benchmark of planner.grasp and the grasp-force QP (issue #5), qpbenchmark style.
+
+Instances x settings measured side by side in one run:
+
+* 360 x 360 two-contact force-closure map: the preallocated component-wise kernel, the
+  public ``grasp_map(..., epsilon=False)``, and with ε; versus the per-cell LP baseline
+  (Leveroni's "numerical solution"; a subset is timed and extrapolated);
+* ``force_closure`` / ``epsilon_quality`` per call for 2, 3, 4 planar contacts;
+* the grasp-force QP per solve across backends, native in-place re-solve (warm) vs a fresh
+  problem through qpsolvers (cold);
+* gait search (``plan_gait``) on >= 20 objects: success and time.
+
+Run: ``python benchmarks/bench_grasp.py [--quick] [--out DIR]``.
+"""
+
+from __future__ import annotations
+
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).parent))
+from _common import arg_parser, shifted_geometric_mean, time_call, write_report  # noqa: E402
+
+
+def circle_contacts(theta, radius=0.05):
+    u = np.stack([np.cos(theta), np.sin(theta)], axis=-1)
+    return radius * u, -u
+
+
+def bench_maps(quick: bool) -> list[dict]:
+    from planner.geometry import curves
+    from planner.grasp import force_closure_lp, grasp_map
+    from planner.grasp.maps import ClosureKernel, contact_angles, profile_contacts
+
+    rows = []
+    n = 360
+    prof = curves.ellipse(0.06, 0.04)
+    theta = contact_angles(n)
+    p, nrm = profile_contacts(prof, theta)
+    kern = ClosureKernel(n, 1.0)
+    x, y, nx, ny = p[:, 0].copy(), p[:, 1].copy(), nrm[:, 0].copy(), nrm[:, 1].copy()
+    t_kern = time_call(lambda: kern(x, y, nx, ny), repeat=3 if quick else 7)
+    rows.append({"benchmark": "fc map 360x360", "setting": "kernel (preallocated)",
+                 "time_ms": t_kern["median_s"] * 1e3, "target_ms": 2.0})
+    t_fc = time_call(lambda: grasp_map(prof, 1.0, n, epsilon=False), repeat=3 if quick else 7)
+    rows.append({"benchmark": "fc map 360x360", "setting": "grasp_map(epsilon=False)",
+                 "time_ms": t_fc["median_s"] * 1e3, "target_ms": 2.0})
+    t_eps = time_call(lambda: grasp_map(prof, 1.0, n), repeat=3 if quick else 5)
+    rows.append({"benchmark": "fc+eps map 360x360", "setting": "grasp_map",
+                 "time_ms": t_eps["median_s"] * 1e3, "target_ms": 50.0})
+    # per-cell LP baseline on a random subset, extrapolated to n*n cells
+    rng = np.random.default_rng(0)
+    m = 50 if quick else 300
+    cells = rng.integers(0, n, size=(m, 2))
+    cells = cells[cells[:, 0] != cells[:, 1]]
+    ref = kern(x, y, nx, ny).copy()
+    t0 = time.perf_counter()
+    agree = 0
+    for i, j in cells:
+        agree += force_closure_lp(p[[i, j]], nrm[[i, j]], 1.0) == ref[i, j]
+    per_cell = (time.perf_counter() - t0) / len(cells)
+    lp_ms = per_cell * n * n * 1e3
+    rows.append({"benchmark": "fc map 360x360", "setting": "per-cell LP (osqp), extrapolated",
+                 "time_ms": lp_ms, "speedup_vs_lp": 1.0,
+                 "accuracy": f"{agree}/{len(cells)} cells agree"})
+    for r in rows[:3]:
+        r["speedup_vs_lp"] = lp_ms / r["time_ms"]
+    return rows
+
+
+def bench_calls(quick: bool) -> list[dict]:
+    from planner.grasp import epsilon_quality, force_closure
+
+    rows = []
+    for k in (2, 3, 4):
+        t = np.linspace(0, 2 * np.pi, k, endpoint=False) + 0.3
+        p, nrm = circle_contacts(t)
+        for name, fn in (("force_closure", force_closure), ("epsilon_quality", epsilon_quality)):
+            tc = time_call(lambda fn=fn: fn(p, nrm, 0.5), repeat=3 if quick else 7)
+            rows.append({"benchmark": f"{name} per call", "setting": f"{k} planar contacts",
+                         "time_ms": tc["median_s"] * 1e3})
+    return rows
+
+
+def bench_qp(quick: bool) -> list[dict]:
+    from planner.control import GraspForceQP, available_solvers
+
+    solvers = list(available_solvers())
+    try:
+        import quadprog  # noqa: F401
+    except ImportError:
+        pass
+    t = np.array([0.0, 2.3, 4.1])
+    p, nrm = circle_contacts(t)
+    rng = np.random.default_rng(1)
+    wrenches = rng.normal(scale=[1.0, 1.0, 0.02], size=(50, 3))
+    ref = GraspForceQP(p, nrm, 0.8, solver="daqp")
+    rows = []
+    for s in solvers:
+        for mode in ("warm", "cold"):
+            times, errs, ok = [], [], 0
+            qp = GraspForceQP(p, nrm, 0.8, solver=s, native=True) if mode == "warm" else None
+            for w in wrenches[: 10 if quick else 50]:
+                t0 = time.perf_counter()
+                try:
+                    if mode == "cold":
+                        d = GraspForceQP(p, nrm, 0.8, solver=s, native=False).solve(w, 1.0)
+                    else:
+                        d = qp.solve(w, 1.0)
+                except Exception:  # noqa: BLE001 - a failed solve counts against success
+                    times.append(time.perf_counter() - t0)
+                    continue
+                times.append(time.perf_counter() - t0)
+                ok += 1
+                errs.append(float(np.max(np.abs(d.forces - ref.solve(w, 1.0).forces))))
+            rows.append({"benchmark": "grasp-force QP per solve (3 contacts)",
+                         "setting": f"{s} {mode}" + (" (native in place)" if mode == "warm"
+                                                     and s in ("osqp", "daqp") else ""),
+                         "time_ms": statistics.median(times) * 1e3,
+                         "success": f"{ok}/{len(times)}",
+                         "accuracy": f"max |f - f_daqp| = {max(errs) if errs else float('nan'):.1e} N"})
+    return rows
+
+
+def gait_objects(quick: bool):
+    from planner.geometry import curves
+
+    objs = []
+    for r in (0.04, 0.045, 0.05, 0.055, 0.06):
+        objs.append((f"circle r={r * 1e3:.0f}mm", curves.circle(r)))
+    for aspect in (1.25, 1.5, 2.0, 3.0, 4.0):
+        b = 0.045 / np.sqrt(aspect)
+        objs.append((f"ellipse aspect {aspect:g}", curves.ellipse(b * aspect, b)))
+    for side, cr in ((0.07, 0.01), (0.08, 0.015), (0.09, 0.02), (0.08, 0.005), (0.1, 0.025)):
+        objs.append((f"rounded square {side * 1e3:.0f}mm r{cr * 1e3:.0f}",
+                     curves.rounded_rectangle(side, side, cr)))
+    for k, r in ((5, 0.05), (6, 0.05), (8, 0.05), (6, 0.06), (3, 0.06)):
+        a = np.linspace(0, 2 * np.pi, k, endpoint=False)[::-1] + 0.2
+        objs.append((f"polygon {k} sides R{r * 1e3:.0f}mm",
+                     curves.polygon(r * np.c_[np.cos(a), np.sin(a)])))
+    return objs[::4] if quick else objs
+
+
+def bench_gait(quick: bool) -> tuple[list[dict], list[str]]:
+    from planner.grasp import plan_gait
+    from planner.grasp.gait import gait_problem, search_gait
+    from planner.grasp.workspace import HandReachability
+    from robots.planar_hand import PlanarHand
+
+    reach = HandReachability(PlanarHand(left_tip="round"))
+    rows, totals, searches, successes = [], [], [], 0
+    for name, prof in gait_objects(quick):
+        t0 = time.perf_counter()
+        g = plan_gait(prof, reach, 1.0, resolution=72)
+        total = time.perf_counter() - t0
+        prob = gait_problem(prof, reach, 1.0, resolution=72)
+        t1 = time.perf_counter()
+        search_gait(prob)
+        search = time.perf_counter() - t1
+        totals.append(total)
+        searches.append(search)
+        successes += g.feasible
+        rows.append({"benchmark": "gait search (n=72)", "setting": name,
+                     "time_ms": total * 1e3, "search_only_ms": search * 1e3,
+                     "success": "yes" if g.feasible else "no",
+                     "accuracy": (f"{np.rad2deg(g.rotation_per_cycle):.1f} deg/cycle, "
+                                  f"min eps {g.min_epsilon:.3f}" if g.feasible
+                                  else g.reason[:70])})
+    notes = [f"gait search: {successes}/{len(totals)} objects with a gait; median total "
+             f"{statistics.median(totals) * 1e3:.1f} ms (tables + search), median search only "
+             f"{statistics.median(searches) * 1e3:.1f} ms, shifted geometric mean total "
+             f"{shifted_geometric_mean(totals) * 1e3:.1f} ms; target median <= 100 ms"]
+    return rows, notes
+
+
+def main() -> None:
+    args = arg_parser(__doc__.splitlines()[0]).parse_args()
+    rows = bench_maps(args.quick) + bench_calls(args.quick) + bench_qp(args.quick)
+    grows, notes = bench_gait(args.quick)
+    rows += grows
+    write_report("bench_grasp", rows, title="hapex grasp analysis and grasp-force QP",
+                 out=args.out, notes=notes,
+                 columns=["benchmark", "setting", "time_ms", "target_ms", "speedup_vs_lp",
+                          "search_only_ms", "success", "accuracy"])
+
+
+if __name__ == "__main__":
+    main()
