@@ -104,6 +104,13 @@ def test_ik_unreachable_and_bad_input():
         HAND.inverse_kinematics("middle", [0.0, 0.1])
     with pytest.raises(InvalidParameter, match=r"shape \(6,\)"):
         HAND.fingertip_positions(np.zeros(5))
+    for call in (
+        lambda: HAND.jacobian(HAND.neutral(), "thumb", [0.0, 0.0]),
+        lambda: HAND.fingertip_pose(HAND.neutral(), "thumb"),
+        lambda: HAND.finger_points(HAND.neutral(), "thumb"),
+    ):
+        with pytest.raises(InvalidParameter, match="finger must be one of"):
+            call()
     with pytest.raises(InvalidParameter, match="left_tip must be one of"):
         PlanarHand(left_tip="pointy")
 

@@ -127,6 +127,7 @@ class PlanarHand:
 
     def fingertip_pose(self, q, finger: str) -> FingertipPose:
         """Position and orientation of one fingertip for the full (6,) configuration ``q``."""
+        check_choice(finger, "finger", FINGERS)
         q = as_vector(q, 6, "q")
         sl = self.finger_slice(finger)
         x, y, phi, _ = kin.tip_and_jacobian(self._basel[finger], self._lenl[finger], q[sl].tolist())
@@ -134,6 +135,7 @@ class PlanarHand:
 
     def finger_points(self, q, finger: str) -> np.ndarray:
         """(4, 2) joint 1, joint 2, joint 3 and fingertip points of ``finger`` [m]."""
+        check_choice(finger, "finger", FINGERS)
         q = as_vector(q, 6, "q")
         return kin.finger_points(
             self._base[finger], self._len[finger], q[self.finger_slice(finger)]
@@ -153,6 +155,7 @@ class PlanarHand:
         Returns:
             (2, 3) Jacobian [m/rad] with respect to that finger's three joints.
         """
+        check_choice(finger, "finger", FINGERS)
         q = as_vector(q, 6, "q")
         if point is None:
             sl = self.finger_slice(finger)
