@@ -260,21 +260,35 @@ def _concave_position(sig: CurvatureSignal, p: int, tip_radius: float) -> np.nda
     m = max(2, int(np.ceil(3 * sig.scale / max(np.median(np.diff(sig.s)), 1e-300))))
     n = sig.s.size
     i, j = max(p - m, 0), min(p + m, n - 1)
-    tr, su = sig.traced[:, :2], sig.surface[:, :2]
-    if sig.traced.shape[1] == 3 or i == p or j == p:
+    if i == p or j == p:
         return sig.surface[p].copy()
-    a, b = su[i], su[j]
-    na = (tr[i] - a) / tip_radius
-    nb = (tr[j] - b) / tip_radius
+    a3, b3 = sig.surface[i], sig.surface[j]
+    na3 = sig.traced[i] - a3
+    # a 2-D basis of the plane of the two contacts and the normal (identity for 2-D data)
+    e1 = b3 - a3
+    if np.linalg.norm(e1) < 1e-12 * tip_radius:
+        return sig.surface[p].copy()
+    e1 = e1 / np.linalg.norm(e1)
+    e2 = na3 - (na3 @ e1) * e1
+    if np.linalg.norm(e2) < 1e-9 * tip_radius:
+        return sig.surface[p].copy()
+    e2 = e2 / np.linalg.norm(e2)
+    basis = np.vstack([e1, e2])
+    a, b = np.zeros(2), basis @ (b3 - a3)
+    na = basis @ (sig.traced[i] - a3) / tip_radius
+    nb = basis @ (sig.traced[j] - b3) / tip_radius
     ka, kb = sig.curvature[i], sig.curvature[j]
     if max(ka, kb) < 1.0 / (4 * tip_radius):
         mat = np.array([na, nb])
         if abs(np.linalg.det(mat)) < 1e-6:
-            return 0.5 * (a + b)
-        return np.linalg.solve(mat, np.array([na @ a, nb @ b]))
-    if kb > ka:
-        return b - ((b - a) @ na) * na
-    return a - ((a - b) @ nb) * nb
+            x = 0.5 * (a + b)
+        else:
+            x = np.linalg.solve(mat, np.array([na @ a, nb @ b]))
+    elif kb > ka:
+        x = b - ((b - a) @ na) * na
+    else:
+        x = a - ((a - b) @ nb) * nb
+    return a3 + x @ basis
 
 
 def features_from_signal(
@@ -282,7 +296,7 @@ def features_from_signal(
 ) -> list[CurvatureFeature]:
     """Threshold a :class:`CurvatureSignal` into curvature features (App. B.2 steps 6-7).
 
-    With ``tip_radius`` and an algorithm-2 or -3 signal of 2-D data, concave features are placed
+    With ``tip_radius`` and an algorithm-2 or -3 signal, concave features are placed
     in the unobservable region of their interference point (see ``_concave_position``)
     instead of on the fillet of the estimated surface.
     """

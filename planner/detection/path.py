@@ -13,7 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.ndimage import gaussian_filter1d
+from scipy.ndimage import correlate1d
 
 
 @dataclass(frozen=True, eq=False)
@@ -112,6 +112,22 @@ def _odd_pad(x: np.ndarray, pad: int) -> np.ndarray:
     return np.concatenate([head, x, tail], axis=0), pad
 
 
+def derivative_kernels(sigma: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Sampled Gaussian smoothing, first- and second-derivative kernels (radius 4 sigma),
+    corrected to be exact on constants, ramps and parabolas: the raw sampled derivative
+    kernels of a truncated Gaussian do not sum to zero, which leaks the absolute position
+    (metres away from the origin) into the derivatives."""
+    rad = max(1, int(4 * sigma + 0.5))
+    j = np.arange(-rad, rad + 1, dtype=float)
+    g = np.exp(-0.5 * (j / sigma) ** 2)
+    k0 = g / g.sum()
+    k1 = j * g / np.sum(j * j * g)
+    m = np.sum(j * j * g) / g.sum()
+    q = (j * j - m) * g
+    k2 = 2 * q / np.sum(q * j * j)
+    return k0, k1, k2
+
+
 def gaussian_derivatives(x: np.ndarray, sigma: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Gaussian-smoothed value, first and second derivative with respect to sample index.
 
@@ -124,11 +140,12 @@ def gaussian_derivatives(x: np.ndarray, sigma: float) -> tuple[np.ndarray, np.nd
     """
     if sigma <= 0:
         return x, np.gradient(x, axis=0), np.gradient(np.gradient(x, axis=0), axis=0)
-    xp, pad = _odd_pad(x, int(4 * sigma) + 2)
+    k0, k1, k2 = derivative_kernels(sigma)
+    xp, pad = _odd_pad(x, k0.size // 2 + 1)
     sl = slice(pad, pad + x.shape[0])
-    xs = gaussian_filter1d(xp, sigma, axis=0, order=0, mode="nearest")[sl]
-    dx = gaussian_filter1d(xp, sigma, axis=0, order=1, mode="nearest")[sl]
-    ddx = gaussian_filter1d(xp, sigma, axis=0, order=2, mode="nearest")[sl]
+    xs = correlate1d(xp, k0, axis=0, mode="nearest")[sl]
+    dx = correlate1d(xp, k1, axis=0, mode="nearest")[sl]
+    ddx = correlate1d(xp, k2, axis=0, mode="nearest")[sl]
     return xs, dx, ddx
 
 

@@ -1,0 +1,157 @@
+"""planner.detection.detect_features: the four algorithms of thesis Fig. 3.8."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from planner.detection import curvature_signal, detect_features, macro_features, score_features
+from planner.detection.synthetic import THESIS_NORMAL_SIGMA, Shape, simulate
+from planner.errors import InvalidParameter
+
+R = 0.01
+
+
+def _trace(kind="wire", size=0.65e-3, angle=np.pi / 4, seed=0, noise=1.0, r=R, **kw):
+    return simulate(
+        Shape(kind, size, angle=angle, **kw),
+        r,
+        spacing=2e-5,
+        center_sigma=1e-4 * noise,
+        contact_sigma=2.5e-4 * noise,
+        normal_sigma=THESIS_NORMAL_SIGMA * noise,
+        rng=np.random.default_rng(seed),
+    )
+
+
+def _signs(fs):
+    return "".join("+" if f.sign > 0 else "-" for f in fs)
+
+
+def test_traced_curvature_maps_to_object_curvature():
+    # A fingertip rolling over a convex circular object of radius Ro traces a circle of
+    # radius Ro + r: k_t = 1/(Ro + r) and k_obj = k_t / (1 - r k_t) = 1/Ro.
+    ro = 0.004
+    th = np.linspace(np.pi * 0.9, np.pi * 0.1, 4000)  # clockwise: material on the right
+    centers = (ro + R) * np.column_stack([np.cos(th), np.sin(th)])
+    sig = curvature_signal(centers, R, 3)
+    mid = sig.curvature[len(sig.curvature) // 4 : 3 * len(sig.curvature) // 4]
+    assert np.allclose(mid, 1 / (ro + R), rtol=1e-3)
+    k_obj = mid / (1 - R * mid)
+    assert np.allclose(k_obj, 1 / ro, rtol=5e-3)
+
+
+@settings(max_examples=15, deadline=None)
+@given(ratio=st.floats(0.3, 3.0).filter(lambda x: abs(x - 1) > 0.15))
+def test_convex_feature_iff_object_radius_below_tip_radius(ratio):
+    # k_obj > 1/r_f  <=>  k_t > 1/(2 r_f): the threshold of algorithm 3
+    ro = ratio * R
+    th = np.linspace(np.pi * 0.75, np.pi * 0.25, 3000)
+    centers = (ro + R) * np.column_stack([np.cos(th), np.sin(th)])
+    feats = detect_features(centers, R, 3)
+    convex = [f for f in feats if f.sign > 0]
+    assert bool(convex) == (ro < R)
+
+
+@pytest.mark.parametrize(
+    "kind,size,expected",
+    [
+        ("wire", 0.65e-3, "-+-"),
+        ("step", 2e-3, "-+"),
+        ("step", -2e-3, "+-"),
+        ("plane", 0.0, ""),
+    ],
+)
+def test_algorithm3_sign_patterns(kind, size, expected):
+    tr = _trace(kind, size)
+    feats = detect_features(tr.centers, R)
+    assert _signs(feats) == expected
+    sc = score_features(feats, tr.observable, R / 2)
+    assert sc.fp == 0 and sc.fn == 0
+
+
+def test_wire_localization_and_macro_bump():
+    tr = _trace("wire", 0.65e-3, seed=3)
+    feats = detect_features(tr.centers, R)
+    sc = score_features(feats, tr.observable, R / 2)
+    assert sc.f1 == 1.0
+    assert sc.localization < 0.4e-3
+    conv = [f for f in feats if f.sign > 0][0]
+    truth = [f for f in tr.observable if f.sign > 0][0]
+    assert np.linalg.norm(conv.position - truth.position) < 0.3e-3
+    macros = macro_features(feats, R)
+    assert [m.kind for m in macros] == ["bump"]
+    for f in feats:
+        assert 0 <= f.start <= f.peak <= f.end <= tr.s[-1] + 1e-3
+
+
+def test_thesis_findings_on_45_degree_wire():
+    # §3.4.2: algorithm 3 best; 1 and 4 miss concave features; 2 misses convex ones.
+    tr = _trace("wire", 0.65e-3, seed=11)
+    got = {
+        a: _signs(detect_features(tr.centers, R, a, normals=tr.normals, contacts=tr.contacts))
+        for a in (1, 2, 3, 4)
+    }
+    assert got[3] == "-+-"
+    assert "-" not in got[1] and "-" not in got[4]
+    assert "+" not in got[2] and "-" in got[2]
+
+
+def test_three_d_data_and_rigid_motion():
+    tr = _trace("step", 2e-3, angle=0.3, seed=4)
+    feats2 = detect_features(tr.centers, R)
+    rot = np.array([[0.0, 0.6, 0.8], [1.0, 0.0, 0.0], [0.0, 0.8, -0.6]])
+    c3 = np.column_stack([tr.centers, np.zeros(len(tr.centers))]) @ rot.T + [0.1, -0.2, 0.3]
+    n3 = np.column_stack([tr.normals, np.zeros(len(tr.normals))]) @ rot.T
+    feats3 = detect_features(c3, R, normals=n3)
+    assert _signs(feats3) == _signs(feats2) == "-+"
+    for f2, f3 in zip(feats2, feats3, strict=True):
+        assert f3.position.shape == (3,)
+        p2 = np.append(f2.position, 0.0) @ rot.T + [0.1, -0.2, 0.3]
+        assert np.linalg.norm(p2 - f3.position) < 1e-4
+        assert abs(f2.peak - f3.peak) < 1e-4
+
+
+@settings(max_examples=10, deadline=None)
+@given(angle=st.floats(-np.pi, np.pi), dx=st.floats(-1, 1), dy=st.floats(-1, 1))
+def test_rotation_invariance_with_normals(angle, dx, dy):
+    tr = _trace("wire", 1e-3, angle=0.0, seed=5)
+    c, s = np.cos(angle), np.sin(angle)
+    rot = np.array([[c, -s], [s, c]])
+    feats = detect_features(tr.centers @ rot.T + [dx, dy], R, normals=tr.normals @ rot.T)
+    assert _signs(feats) == "-+-"
+
+
+def test_reversed_travel_uses_normals_for_the_material_side():
+    tr = _trace("step", 2e-3, seed=6)
+    feats = detect_features(tr.centers[::-1], R, normals=tr.normals[::-1])
+    assert _signs(feats) == "+-"  # a step down when travelled backwards: concave foot last
+    feats_wrong = detect_features(tr.centers[::-1], R, material_side="right")
+    assert _signs(feats_wrong) == "-+"  # material assumed on the wrong side: signs flip
+
+
+def test_bad_inputs():
+    c = np.zeros((50, 2))
+    c[:, 0] = np.linspace(0, 0.05, 50)
+    with pytest.raises(InvalidParameter, match="shape"):
+        detect_features(np.zeros((50, 4)), R)
+    with pytest.raises(InvalidParameter, match="tip_radius"):
+        detect_features(c, -1.0)
+    with pytest.raises(InvalidParameter, match="algorithm"):
+        detect_features(c, R, algorithm=5)
+    with pytest.raises(InvalidParameter, match="unknown setting"):
+        detect_features(c, R, smoothness=3)
+    with pytest.raises(InvalidParameter, match="needs contacts"):
+        detect_features(c, R, algorithm=1)
+    with pytest.raises(InvalidParameter, match="normals"):
+        detect_features(c, R, algorithm=2)
+    bad = c.copy()
+    bad[7, 1] = np.nan
+    with pytest.raises(InvalidParameter, match="row 7"):
+        detect_features(bad, R)
+    with pytest.raises(InvalidParameter, match="rows"):
+        detect_features(c, R, normals=np.ones((10, 2)))
+    with pytest.raises(InvalidParameter, match="at least"):
+        detect_features(c[:3], R)
+    with pytest.raises(InvalidParameter, match="material_side"):
+        detect_features(c, R, material_side="below")
