@@ -270,7 +270,13 @@ class _Search:
     def __init__(self, prob: GaitProblem):
         self.p = prob
         self.n = prob.theta.size
-        self.diag = np.arange(self.n + 1)
+        # phase 1 cannot roll further than the shortest fingertip roll length allows
+        roll = min(prob.roll["left"], prob.roll["right"])
+        arc_min = float(np.min(prob.arc)) if prob.arc.size else 0.0
+        horizon = self.n
+        if np.isfinite(roll) and arc_min > 0:
+            horizon = min(self.n, int(np.floor(roll / arc_min + 1e-9)) + 1)
+        self.diag = np.arange(horizon + 1)
 
     def p1_extent(self, k: int, i, j) -> tuple[np.ndarray, list[str]]:
         """Steps phase 1 can rotate from entries (k, i, j) (arrays), and what stops it."""

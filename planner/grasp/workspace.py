@@ -191,8 +191,16 @@ class HandReachability:
         if finger not in self.fingers:
             raise InvalidParameter(f"finger must be one of {list(self.fingers)}, got {finger!r}")
         f = self.hand.params.finger(finger)
-        c = np.asarray(contacts, dtype=float)
-        u = np.asarray(normals, dtype=float)
+        c_all = np.asarray(contacts, dtype=float)
+        u_all = np.asarray(normals, dtype=float)
+        # contacts whose fingertip point is beyond the finger's reach cannot be touched
+        pad = f.tip_radius if f.tip == "round" else f.pad_half_width
+        near = np.linalg.norm(c_all - np.asarray(f.base), axis=1) <= sum(f.lengths) + pad
+        sel = np.nonzero(near)[0]
+        out = np.zeros(c_all.shape[0], dtype=bool)
+        if sel.size == 0:
+            return out
+        c, u = c_all[sel], u_all[sel]
         m = c.shape[0]
         phi0 = np.arctan2(u[:, 1], u[:, 0]) + np.pi / 2  # fingertip axis along -u
         if f.tip == "round":
@@ -208,7 +216,17 @@ class HandReachability:
             t = np.stack([-u[:, 1], u[:, 0]], axis=-1)
             targets = c[:, None, :] - s[None, :, None] * t[:, None, :]
             phi = np.broadcast_to(phi0[:, None], (m, k))
-        q, ok = self.hand.ik_candidates(finger, targets.reshape(-1, 2), phi.reshape(-1))
+        # wrist (joint 3) must lie in the annulus reachable by links 1-2: cheap prefilter
+        tg, ph = targets.reshape(-1, 2), phi.reshape(-1)
+        l1, l2, l3 = (float(v) for v in f.lengths)
+        wx = tg[:, 0] + l3 * np.sin(ph) - f.base[0]
+        wy = tg[:, 1] - l3 * np.cos(ph) - f.base[1]
+        r2 = wx * wx + wy * wy
+        cand = np.nonzero((r2 <= (l1 + l2) ** 2 + 1e-12) & (r2 >= (l1 - l2) ** 2 - 1e-12))[0]
+        q = np.zeros((tg.shape[0], 2, 3))
+        ok = np.zeros((tg.shape[0], 2), dtype=bool)
+        if cand.size:
+            q[cand], ok[cand] = self.hand.ik_candidates(finger, tg[cand], ph[cand])
         q = q.reshape(m, k * 2, 3)
         ok = ok.reshape(m, k * 2)
         rows, cols = np.nonzero(ok)  # check collisions only where IK succeeded
@@ -219,9 +237,8 @@ class HandReachability:
         # points along the links (tip point excluded: it touches the object by design)
         lam = np.linspace(0.0, 1.0, self.link_samples, endpoint=False)
         seg = pts[:, :-1, None, :] + lam[:, None] * (pts[:, 1:, None, :] - pts[:, :-1, None, :])
-        good &= ~inside(seg.reshape(len(rows), -1, 2), rows).any(axis=-1)
-        out = np.zeros(m, dtype=bool)
-        out[rows[good]] = True
+        good &= ~inside(seg.reshape(len(rows), -1, 2), sel[rows]).any(axis=-1)
+        out[sel[rows[good]]] = True
         return out
 
 
@@ -264,17 +281,20 @@ def workspace_tables(
     place = rest_on_palm(profile, angles, x0, reach.palm_half_width)
     radial = RadialFunction(profile)
     pts, nin = profile_contacts(profile, theta)
-    R = place_R = rotation(place.angles)  # (K, 2, 2)
+    R = rotation(place.angles)  # (K, 2, 2)
     cw = np.einsum("kab,nb->kna", R, pts) + place.offsets[:, None, :]  # (K, n, 2)
     uw = -np.einsum("kab,nb->kna", R, nin)
     K, n = cw.shape[:2]
     k_of_row = np.repeat(np.arange(K), n)
+    cos_k, sin_k = np.cos(place.angles), np.sin(place.angles)
 
     def inside(points: np.ndarray, rows: np.ndarray) -> np.ndarray:
         # points (L, P, 2) in the hand frame -> object frame of each row's pose
         kk = k_of_row[rows]
-        rel = points - place.offsets[kk][:, None, :]
-        obj = np.einsum("mba,mpb->mpa", place_R[kk], rel)  # R^T (x - t)
+        rx = points[..., 0] - place.offsets[kk, 0][:, None]
+        ry = points[..., 1] - place.offsets[kk, 1][:, None]
+        c, s = cos_k[kk][:, None], sin_k[kk][:, None]
+        obj = np.stack([c * rx + s * ry, c * ry - s * rx], axis=-1)  # R^T (x - t)
         return radial.inside(obj)
 
     table = {
