@@ -21,8 +21,9 @@ from planner.errors import InvalidParameter
 
 
 def estimate_spacing(points: np.ndarray) -> float:
-    """Sample spacing: the median step when the samples are in trace order (at most 2 % of
-    steps longer than 3 median steps), else the median nearest-neighbour distance.
+    """Sample spacing: the median step when the samples are in trace order (median step at
+    most twice the median nearest-neighbour distance), else the median nearest-neighbour
+    distance (evaluated on at most 2000 evenly strided samples).
 
     Args:
         points: (M, 2) boundary samples [m], no repeated rows, M >= 2.
@@ -30,18 +31,20 @@ def estimate_spacing(points: np.ndarray) -> float:
     Returns:
         Estimated sample spacing [m] (> 0).
     """
-    step = np.hypot(*np.diff(points, axis=0).T)
-    step = step[step > 0]
-    if step.size:
-        m = float(np.median(step))
-        if np.mean(step > 3.0 * m) <= 0.02:  # samples in trace order: median step
-            return m
-    d, _ = cKDTree(points).query(points, k=2)
+    stride = max(1, len(points) // 2000)
+    d, _ = cKDTree(points).query(points[::stride], k=2)
     d = d[:, 1]
     d = d[d > 0]
     if d.size == 0:
         raise InvalidParameter("boundary: all samples coincide; cannot estimate the spacing")
-    return float(np.median(d))
+    nn = float(np.median(d))
+    step = np.hypot(*np.diff(points, axis=0).T)
+    step = step[step > 0]
+    if step.size:
+        m = float(np.median(step))
+        if m <= 2.0 * nn:
+            return m
+    return nn
 
 
 def estimate_noise(points: np.ndarray, loops: list[np.ndarray]) -> float:
