@@ -190,3 +190,19 @@ def test_conditioned_workspace_matches_appendix_c2():
     assert w.reachable.all()
     assert w.condition.max() < 7.0
     assert w.force_capacity.min() > 4.0
+
+
+def test_ik_round_trip_anywhere_in_joint_space():
+    """Targets from random non-singular configurations, not only the trapezoid (multi-start)."""
+    rng = np.random.default_rng(11)
+    done = 0
+    while done < 40:
+        th = rng.uniform(GM.joint_limits[:, 0], GM.joint_limits[:, 1])
+        try:
+            x = GM.forward_kinematics(th)
+        except SingularConfiguration:
+            continue
+        sol = GM.inverse_kinematics(x)
+        assert GM.within_limits(sol)
+        np.testing.assert_allclose(GM.forward_kinematics(sol), x, atol=1e-10)
+        done += 1

@@ -54,6 +54,7 @@ class ThreeGM:
         self._model = None
         self._center_theta: np.ndarray | None = None
         self._tau_max: np.ndarray | None = None
+        self._seed_grid: np.ndarray | None = None
 
     # ------------------------------------------------------------------ closed form
     def state(self, theta) -> cf.FiveBarState:
@@ -188,44 +189,96 @@ class ThreeGM:
 
         Damped Gauss-Newton on the closed-form FK (eqs. C.4-C.6) and Jacobian (C.7-C.9),
         iterates projected onto the joint limits, steps halved when they leave the closure
-        domain of eq. C.5.
+        domain of eq. C.5. Starts from ``theta0`` (or the workspace centre with θ3 pointing at
+        the target); when that start does not converge, up to 12 more starts are taken from a
+        precomputed grid of elbow-up configurations nearest to the target in the five-bar
+        plane.
 
         Args:
             x: (3,) target endpoint in the WCS [m].
             theta0: (3,) initial guess [rad] (default: the workspace-centre configuration).
             tol: position tolerance [m].
-            max_iter: iteration limit.
+            max_iter: iteration limit per start.
 
         Returns:
             (3,) θ within the joint limits, elbow-up [rad].
 
         Raises:
-            UnreachableTarget: no convergence to ``tol`` inside the joint limits.
+            UnreachableTarget: no start converged to ``tol`` inside the joint limits.
         """
         target = as_vector(x, 3, "x")
         lo, hi = self.joint_limits[:, 0], self.joint_limits[:, 1]
-        th = self.center_theta if theta0 is None else as_vector(theta0, 3, "theta0")
-        th = np.clip(th, lo, hi)
-        th[2] = np.clip(np.arctan2(target[1], target[0]), lo[2], hi[2]) if theta0 is None else th[2]
+        p = self.params
+        rho = float(np.hypot(target[0], target[1]))
+        r_h2 = float(np.sqrt(max(rho**2 - p["h3"] ** 2, 0.0)))  # r + h2
+        t3 = float(
+            np.clip(np.arctan2(target[1], target[0]) + np.arctan2(p["h3"], r_h2), lo[2], hi[2])
+        )
+        if theta0 is None:
+            first = (
+                self.center_theta
+                if self._center_theta is not None
+                else np.deg2rad([30.0, 45.0, 0.0])
+            )
+            first = np.array([first[0], first[1], t3])
+        else:
+            first = as_vector(theta0, 3, "theta0")
+        best = np.inf
+        for k, start in enumerate(self._starts(first, r_h2 - p["h2"], float(target[2]), t3)):
+            th, res = self._newton(target, np.clip(start, lo, hi), tol, max_iter)
+            if res <= max(tol, 1e-10):
+                return th
+            best = min(best, res)
+            if k >= 12:
+                break
+        raise UnreachableTarget(
+            f"3GM cannot reach x = {target.tolist()} m within the joint limits "
+            f"{np.rad2deg(self.joint_limits).round(1).tolist()} deg (best residual "
+            f"{best:.3g} m)"
+        )
+
+    def _starts(self, first: np.ndarray, r: float, z: float, t3: float):
+        """Initial guesses: ``first``, then grid configurations nearest to (r, z) [m]."""
+        yield first
+        if self._seed_grid is None:
+            lo, hi = self.joint_limits[:, 0], self.joint_limits[:, 1]
+            rows = []
+            for t1 in np.linspace(lo[0], hi[0], 15):
+                for t2 in np.linspace(lo[1], hi[1], 15):
+                    try:
+                        st = cf.five_bar_state(self.params, np.array([t1, t2, 0.0]))
+                    except SingularConfiguration:
+                        continue
+                    rows.append((t1, t2, st.r, st.position[2]))
+            self._seed_grid = np.array(rows)
+        g = self._seed_grid
+        order = np.argsort((g[:, 2] - r) ** 2 + (g[:, 3] - z) ** 2)
+        for i in order:
+            yield np.array([g[i, 0], g[i, 1], t3])
+
+    def _newton(
+        self, target: np.ndarray, th: np.ndarray, tol: float, max_iter: int
+    ) -> tuple[np.ndarray, float]:
+        """Projected damped Gauss-Newton from ``th``; returns (θ, residual norm [m])."""
+        lo, hi = self.joint_limits[:, 0], self.joint_limits[:, 1]
         try:
             err = target - self.forward_kinematics(th)
-        except SingularConfiguration as exc:
-            raise UnreachableTarget(
-                f"IK initial guess {th.tolist()} rad is singular: {exc}"
-            ) from None
-        lam = 1e-6
+        except SingularConfiguration:
+            return th, np.inf
+        lam = 1e-9  # Levenberg-Marquardt damping, relative to the scale of J^T J
+        J = None
         for _ in range(max_iter):
             if np.linalg.norm(err) <= tol:
-                return th
-            try:
-                J = self.jacobian(th)
-            except SingularConfiguration:
-                J = None
-            if J is None:
                 break
-            step = np.linalg.solve(J.T @ J + lam * np.eye(3), J.T @ err)
+            if J is None:
+                try:
+                    J = self.jacobian(th)
+                except SingularConfiguration:
+                    break
+            JtJ = J.T @ J
+            step = np.linalg.solve(JtJ + lam * np.trace(JtJ) * np.eye(3), J.T @ err)
             alpha, improved = 1.0, False
-            while alpha > 1e-6:
+            while alpha > 1e-3:
                 cand = np.clip(th + alpha * step, lo, hi)
                 try:
                     e2 = target - self.forward_kinematics(cand)
@@ -233,18 +286,16 @@ class ThreeGM:
                     alpha *= 0.5
                     continue
                 if np.linalg.norm(e2) < np.linalg.norm(err):
-                    th, err, improved = cand, e2, True
+                    th, err, improved, J = cand, e2, True, None
                     break
                 alpha *= 0.5
-            if not improved:
-                break
-        if np.linalg.norm(err) <= max(tol, 1e-10):
-            return th
-        raise UnreachableTarget(
-            f"3GM cannot reach x = {target.tolist()} m within the joint limits "
-            f"{np.rad2deg(self.joint_limits).round(1).tolist()} deg (residual "
-            f"{np.linalg.norm(err):.3g} m)"
-        )
+            if improved:
+                lam = max(lam * 0.1, 1e-15)
+            else:
+                lam *= 100.0
+                if lam > 1e3:
+                    break
+        return th, float(np.linalg.norm(err))
 
     # ------------------------------------------------------------------ Pinocchio
     @property
