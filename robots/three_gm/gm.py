@@ -171,14 +171,15 @@ class ThreeGM:
         J = self.jacobian(self.center_theta)
         return float(POSITION_RESOLUTION / np.max(np.linalg.norm(J, axis=0)))
 
-    def in_conditioned_workspace(self, x) -> bool:
-        """Whether ``x`` (3,) [m] lies inside the trapezoid of App. C.2.1."""
+    def in_conditioned_workspace(self, x, tol: float = 1e-9) -> bool:
+        """Whether ``x`` (3,) [m] lies inside the trapezoid of App. C.2.1 (``tol`` [m] of
+        slack on every face, for points computed on its boundary)."""
         p = as_vector(x, 3, "x")
         rho, ang = np.hypot(p[0], p[1]), np.arctan2(p[1], p[0])
         return bool(
-            WORKSPACE_RADII[0] <= rho <= WORKSPACE_RADII[1]
-            and abs(ang) <= WORKSPACE_HALF_ANGLE
-            and WORKSPACE_Z[0] <= p[2] <= WORKSPACE_Z[1]
+            WORKSPACE_RADII[0] - tol <= rho <= WORKSPACE_RADII[1] + tol
+            and abs(ang) <= WORKSPACE_HALF_ANGLE + tol / WORKSPACE_RADII[0]
+            and WORKSPACE_Z[0] - tol <= p[2] <= WORKSPACE_Z[1] + tol
         )
 
     # ------------------------------------------------------------------ inverse kinematics
