@@ -78,7 +78,7 @@ def test_unordered_and_open_traces():
 def test_spacing_and_noise_estimates():
     rng = np.random.default_rng(2)
     s, sigma = 0.0005, 0.00004
-    pts = sh.ellipse_outline(A, B, s) + rng.normal(0, sigma, (0, 2)).sum()
+    pts = sh.ellipse_outline(A, B, s)
     pts = pts + rng.normal(0, sigma, pts.shape)
     sk = feature_skeleton(pts)
     assert abs(sk.spacing - s) < 0.1 * s

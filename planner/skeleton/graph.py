@@ -111,7 +111,8 @@ def terminal_arcs(
 def prune_terminal_arcs(
     points: np.ndarray, edges: np.ndarray, min_length: float, max_rounds: int = 50
 ) -> np.ndarray:
-    """Remove terminal arcs shorter than ``min_length``, repeatedly, never emptying the graph.
+    """Remove terminal arcs shorter than ``min_length``, repeatedly; when every remaining
+    arc is a short terminal one, the longest is kept (the graph is never emptied).
 
     Implements the thesis' arc pruning (§4.4.3, Fig. 4.12): "removing the skeleton arcs which
     are smaller than a threshold length, defined using the noise present in the data".
@@ -138,10 +139,9 @@ def prune_terminal_arcs(
         drop_arc = term & (arc_len < min_length)
         if not drop_arc.any():
             break
-        drop = drop_arc[labels]
-        if drop.all():
-            break
-        keep[sub[drop]] = False
+        if drop_arc[labels].all():  # everything is short: keep the longest arc
+            drop_arc[np.argmax(np.where(drop_arc, arc_len, -np.inf))] = False
+        keep[sub[drop_arc[labels]]] = False
     return keep
 
 

@@ -45,6 +45,14 @@ class NavigationPath:
     min_clearance: float
 
 
+def _point(value: object, name: str) -> np.ndarray:
+    """A (1, 2) finite point from an (x, y) pair, or InvalidParameter."""
+    arr = check_points(np.atleast_2d(np.asarray(value, dtype=object)), name)
+    if arr.shape != (1, 2):
+        raise InvalidParameter(f"{name}: expected one (x, y) point [m], got {value!r}")
+    return arr
+
+
 def safest_path(
     gs: GlobalSkeleton, start: np.ndarray, goal: np.ndarray, tip_radius: float = 0.0
 ) -> NavigationPath:
@@ -65,10 +73,7 @@ def safest_path(
     Raises:
         InfeasibleProblem: no path along edges of sufficient clearance.
     """
-    s = check_points(np.reshape(np.asarray(start, dtype=float), (-1, 2)), "start")
-    t = check_points(np.reshape(np.asarray(goal, dtype=float), (-1, 2)), "goal")
-    if len(s) != 1 or len(t) != 1:
-        raise InvalidParameter("start, goal: expected one (x, y) point each [m]")
+    s, t = _point(start, "start"), _point(goal, "goal")
     r = check_positive(tip_radius, "tip_radius", allow_none=False, allow_zero=True)
     ok = gs.edge_clearance >= r
     edges = gs.edges[ok]
