@@ -46,7 +46,7 @@ def _hand_info() -> RobotInfo:
     p = {k: float(v) + 0.0 for k, v in p.items()}
     return RobotInfo(
         "planar_hand",
-        "planar hand: two 3-DOF fingers (left flat pad with 8x8 tactile array, right "
+        "two planar 3-DOF fingers (left flat pad with 8x8 tactile array, right "
         "2.5 cm soft round tip) and a passive palm (thesis §2.2, Fig. 2.13)",
         p,
     )
