@@ -44,14 +44,32 @@ def bench_maps(quick: bool) -> list[dict]:
     kern = ClosureKernel(n, 1.0)
     x, y, nx, ny = p[:, 0].copy(), p[:, 1].copy(), nrm[:, 0].copy(), nrm[:, 1].copy()
     t_kern = time_call(lambda: kern(x, y, nx, ny), repeat=3 if quick else 7)
-    rows.append({"benchmark": "fc map 360x360", "setting": "kernel (preallocated)",
-                 "time_ms": t_kern["median_s"] * 1e3, "target_ms": 2.0})
+    rows.append(
+        {
+            "benchmark": "fc map 360x360",
+            "setting": "kernel (preallocated)",
+            "time_ms": t_kern["median_s"] * 1e3,
+            "target_ms": 2.0,
+        }
+    )
     t_fc = time_call(lambda: grasp_map(prof, 1.0, n, epsilon=False), repeat=3 if quick else 7)
-    rows.append({"benchmark": "fc map 360x360", "setting": "grasp_map(epsilon=False)",
-                 "time_ms": t_fc["median_s"] * 1e3, "target_ms": 2.0})
+    rows.append(
+        {
+            "benchmark": "fc map 360x360",
+            "setting": "grasp_map(epsilon=False)",
+            "time_ms": t_fc["median_s"] * 1e3,
+            "target_ms": 2.0,
+        }
+    )
     t_eps = time_call(lambda: grasp_map(prof, 1.0, n), repeat=3 if quick else 5)
-    rows.append({"benchmark": "fc+eps map 360x360", "setting": "grasp_map",
-                 "time_ms": t_eps["median_s"] * 1e3, "target_ms": 50.0})
+    rows.append(
+        {
+            "benchmark": "fc+eps map 360x360",
+            "setting": "grasp_map",
+            "time_ms": t_eps["median_s"] * 1e3,
+            "target_ms": 50.0,
+        }
+    )
     # per-cell LP baseline on a random subset, extrapolated to n*n cells
     rng = np.random.default_rng(0)
     m = 50 if quick else 300
@@ -64,9 +82,15 @@ def bench_maps(quick: bool) -> list[dict]:
         agree += force_closure_lp(p[[i, j]], nrm[[i, j]], 1.0) == ref[i, j]
     per_cell = (time.perf_counter() - t0) / len(cells)
     lp_ms = per_cell * n * n * 1e3
-    rows.append({"benchmark": "fc map 360x360", "setting": "per-cell LP (osqp), extrapolated",
-                 "time_ms": lp_ms, "speedup_vs_lp": 1.0,
-                 "accuracy": f"{agree}/{len(cells)} cells agree"})
+    rows.append(
+        {
+            "benchmark": "fc map 360x360",
+            "setting": "per-cell LP (osqp), extrapolated",
+            "time_ms": lp_ms,
+            "speedup_vs_lp": 1.0,
+            "accuracy": f"{agree}/{len(cells)} cells agree",
+        }
+    )
     for r in rows[:3]:
         r["speedup_vs_lp"] = lp_ms / r["time_ms"]
     return rows
@@ -80,9 +104,14 @@ def bench_calls(quick: bool) -> list[dict]:
         t = np.linspace(0, 2 * np.pi, k, endpoint=False) + 0.3
         p, nrm = circle_contacts(t)
         for name, fn in (("force_closure", force_closure), ("epsilon_quality", epsilon_quality)):
-            tc = time_call(lambda fn=fn: fn(p, nrm, 0.5), repeat=3 if quick else 7)
-            rows.append({"benchmark": f"{name} per call", "setting": f"{k} planar contacts",
-                         "time_ms": tc["median_s"] * 1e3})
+            tc = time_call(lambda fn=fn, p=p, nrm=nrm: fn(p, nrm, 0.5), repeat=3 if quick else 7)
+            rows.append(
+                {
+                    "benchmark": f"{name} per call",
+                    "setting": f"{k} planar contacts",
+                    "time_ms": tc["median_s"] * 1e3,
+                }
+            )
     return rows
 
 
@@ -117,12 +146,16 @@ def bench_qp(quick: bool) -> list[dict]:
                 times.append(time.perf_counter() - t0)
                 ok += 1
                 errs.append(float(np.max(np.abs(d.forces - ref.solve(w, 1.0).forces))))
-            rows.append({"benchmark": "grasp-force QP per solve (3 contacts)",
-                         "setting": f"{s} {mode}" + (" (native in place)" if mode == "warm"
-                                                     and s in ("osqp", "daqp") else ""),
-                         "time_ms": statistics.median(times) * 1e3,
-                         "success": f"{ok}/{len(times)}",
-                         "accuracy": f"max |f - f_daqp| = {max(errs) if errs else float('nan'):.1e} N"})
+            rows.append(
+                {
+                    "benchmark": "grasp-force QP per solve (3 contacts)",
+                    "setting": f"{s} {mode}"
+                    + (" (native in place)" if mode == "warm" and s in ("osqp", "daqp") else ""),
+                    "time_ms": statistics.median(times) * 1e3,
+                    "success": f"{ok}/{len(times)}",
+                    "accuracy": f"max |f - f_daqp| = {max(errs) if errs else float('nan'):.1e} N",
+                }
+            )
     return rows
 
 
@@ -136,12 +169,17 @@ def gait_objects(quick: bool):
         b = 0.045 / np.sqrt(aspect)
         objs.append((f"ellipse aspect {aspect:g}", curves.ellipse(b * aspect, b)))
     for side, cr in ((0.07, 0.01), (0.08, 0.015), (0.09, 0.02), (0.08, 0.005), (0.1, 0.025)):
-        objs.append((f"rounded square {side * 1e3:.0f}mm r{cr * 1e3:.0f}",
-                     curves.rounded_rectangle(side, side, cr)))
+        objs.append(
+            (
+                f"rounded square {side * 1e3:.0f}mm r{cr * 1e3:.0f}",
+                curves.rounded_rectangle(side, side, cr),
+            )
+        )
     for k, r in ((5, 0.05), (6, 0.05), (8, 0.05), (6, 0.06), (3, 0.06)):
         a = np.linspace(0, 2 * np.pi, k, endpoint=False)[::-1] + 0.2
-        objs.append((f"polygon {k} sides R{r * 1e3:.0f}mm",
-                     curves.polygon(r * np.c_[np.cos(a), np.sin(a)])))
+        objs.append(
+            (f"polygon {k} sides R{r * 1e3:.0f}mm", curves.polygon(r * np.c_[np.cos(a), np.sin(a)]))
+        )
     return objs[::4] if quick else objs
 
 
@@ -164,16 +202,26 @@ def bench_gait(quick: bool) -> tuple[list[dict], list[str]]:
         totals.append(total)
         searches.append(search)
         successes += g.feasible
-        rows.append({"benchmark": "gait search (n=72)", "setting": name,
-                     "time_ms": total * 1e3, "search_only_ms": search * 1e3,
-                     "success": "yes" if g.feasible else "no",
-                     "accuracy": (f"{np.rad2deg(g.rotation_per_cycle):.1f} deg/cycle, "
-                                  f"min eps {g.min_epsilon:.3f}" if g.feasible
-                                  else g.reason[:70])})
-    notes = [f"gait search: {successes}/{len(totals)} objects with a gait; median total "
-             f"{statistics.median(totals) * 1e3:.1f} ms (tables + search), median search only "
-             f"{statistics.median(searches) * 1e3:.1f} ms, shifted geometric mean total "
-             f"{shifted_geometric_mean(totals) * 1e3:.1f} ms; target median <= 100 ms"]
+        rows.append(
+            {
+                "benchmark": "gait search (n=72)",
+                "setting": name,
+                "time_ms": total * 1e3,
+                "search_only_ms": search * 1e3,
+                "success": "yes" if g.feasible else "no",
+                "accuracy": (
+                    f"{np.rad2deg(g.rotation_per_cycle):.1f} deg/cycle, min eps {g.min_epsilon:.3f}"
+                    if g.feasible
+                    else g.reason[:70]
+                ),
+            }
+        )
+    notes = [
+        f"gait search: {successes}/{len(totals)} objects with a gait; median total "
+        f"{statistics.median(totals) * 1e3:.1f} ms (tables + search), median search only "
+        f"{statistics.median(searches) * 1e3:.1f} ms, shifted geometric mean total "
+        f"{shifted_geometric_mean(totals) * 1e3:.1f} ms; target median <= 100 ms"
+    ]
     return rows, notes
 
 
@@ -182,10 +230,23 @@ def main() -> None:
     rows = bench_maps(args.quick) + bench_calls(args.quick) + bench_qp(args.quick)
     grows, notes = bench_gait(args.quick)
     rows += grows
-    write_report("bench_grasp", rows, title="hapex grasp analysis and grasp-force QP",
-                 out=args.out, notes=notes,
-                 columns=["benchmark", "setting", "time_ms", "target_ms", "speedup_vs_lp",
-                          "search_only_ms", "success", "accuracy"])
+    write_report(
+        "bench_grasp",
+        rows,
+        title="hapex grasp analysis and grasp-force QP",
+        out=args.out,
+        notes=notes,
+        columns=[
+            "benchmark",
+            "setting",
+            "time_ms",
+            "target_ms",
+            "speedup_vs_lp",
+            "search_only_ms",
+            "success",
+            "accuracy",
+        ],
+    )
 
 
 if __name__ == "__main__":

@@ -87,3 +87,12 @@ def test_bad_arguments(hand):
         plan_gait(curves.circle(0.05), hand, 1.0, resolution=3)
     with pytest.raises(InvalidParameter, match="roll_length"):
         plan_gait(curves.circle(0.05), hand, 1.0, roll_length=-1.0)
+
+
+def test_min_epsilon_margin_is_respected(hand):
+    g = plan_gait(curves.circle(0.05), hand, 1.0, resolution=48, min_epsilon=0.1)
+    assert g.feasible, g.reason
+    assert g.min_epsilon > 0.1
+    assert all(p.min_epsilon > 0.1 for p in g.phases)
+    with pytest.raises(InvalidParameter, match="min_epsilon"):
+        plan_gait(curves.circle(0.05), hand, 1.0, min_epsilon=1.5)

@@ -183,8 +183,11 @@ def gait_problem(
     direction: str = "clockwise",
     x0: float = 0.0,
     roll_length: float | None = None,
+    min_epsilon: float = 0.0,
 ) -> GaitProblem:
     """Build the map-space tables of a gait search (see :func:`plan_gait` for arguments)."""
+    if not np.isfinite(min_epsilon) or not 0.0 <= min_epsilon < 1.0:
+        raise InvalidParameter(f"min_epsilon must be in [0, 1), got {min_epsilon!r}")
     if direction not in ("clockwise", "counterclockwise"):
         raise InvalidParameter(
             f"direction must be 'clockwise' or 'counterclockwise', got {direction!r}"
@@ -222,6 +225,9 @@ def gait_problem(
     else:
         rl = getattr(reach, "roll_length", None)
         roll = {f: (float(rl(f)) if rl else np.inf) for f in ("left", "right")}
+    if min_epsilon > 0:  # a grasp must also keep a robustness margin (Ferrari–Canny ε)
+        fc_lr = fc_lr & (eps_lr > min_epsilon)
+        fcs = [fc & (e > min_epsilon) for fc, e in zip(fcs, epss, strict=True)]
     return GaitProblem(
         theta,
         sign,
@@ -383,6 +389,7 @@ def plan_gait(
     direction: str = "clockwise",
     x0: float = 0.0,
     roll_length: float | None = None,
+    min_epsilon: float = 0.0,
     max_starts: int = 12,
     max_nodes: int = 400,
 ) -> Gait:
@@ -399,6 +406,8 @@ def plan_gait(
         x0: x position of the object origin on the palm [m].
         roll_length: rolling travel limit per phase 1 on each fingertip [m] (default: from
             the hand, e.g. ``2 r_f max_tip_contact_angle``; inf when the model has none).
+        min_epsilon: a holding grasp must also have ε above this margin, in [0, 1) (0: force
+            closure suffices).
         max_starts: phase-1 start grasps tried before giving up (>= 1).
         max_nodes: phase-1 entries expanded by the depth-first search, over all starts.
 
@@ -418,6 +427,7 @@ def plan_gait(
         direction=direction,
         x0=x0,
         roll_length=roll_length,
+        min_epsilon=min_epsilon,
     )
     return search_gait(prob, max_starts=max_starts, max_nodes=max_nodes)
 

@@ -18,6 +18,7 @@ Keys (SI units)::
     direction: clockwise         # object rotation of the gait
     object_x: 0.0                # x of the object origin on the palm [m]
     roll_length: null            # fingertip rolling travel per phase 1 [m] (default: hand)
+    min_epsilon: 0.0             # ε margin every holding grasp of the gait must keep
     require_gait: true           # no gait -> status "failed" (exit 1) with the reason
     hand: {left_tip: flat, right_tip: round, tip_radius: 0.025,
            max_tip_contact_angle_deg: 60}
@@ -107,6 +108,9 @@ class Config(ScenarioBase):
     )
     object_x: float = Field(0.0, ge=-0.1, le=0.1, description="object origin x on the palm [m]")
     roll_length: float | None = Field(None, gt=0, description="rolling travel per phase 1 [m]")
+    min_epsilon: float = Field(
+        0.0, ge=0, lt=1, description="ε margin every holding grasp of the gait must keep [-]"
+    )
     require_gait: bool = Field(True, description="fail the run when no gait exists")
     hand: HandConfig = Field(default_factory=HandConfig)
 
@@ -157,6 +161,7 @@ def run(config: Config, ctx):
             direction=config.direction,
             x0=config.object_x,
             roll_length=config.roll_length,
+            min_epsilon=config.min_epsilon,
         )
         gait = search_gait(prob)
     ctx.log(f"gait feasible={gait.feasible} {gait.reason}")
