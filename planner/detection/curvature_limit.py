@@ -61,17 +61,17 @@ def curvature_limit_smoothing(
     scale = positive("smoothing_scale", smoothing_scale or default_scale(c, r, 3))
     prep = _prepare(c, r, scale, material_side, None, None)
     o = prep.orientation
+    raw, _ = P.block_means(prep.frame.to_plane(c), prep.block)
     kt = -o * P.signed_curvature(prep.dc, prep.ddc)
-    keep = kt <= 1.0 / r
-    cs, dc, ddc = P.gaussian_derivatives(prep.centers[keep], 1.0)
+    keep = kt <= 1.0 / r  # the fingertip centre cannot curve more than 1/r_f
+    cs, dc, ddc = P.gaussian_derivatives(raw[keep], prep.sigma)
     kt2 = -o * P.signed_curvature(dc, ddc)
     nrm = o * P.left_normals(dc)
     est = cs - r * nrm  # eq. (3.11)
-    _, de, dde = P.gaussian_derivatives(est, 1.0)
-    ke = -o * P.signed_curvature(de, dde)
-    keep_e = ke >= -1.0 / r
+    ke = -o * P.curvature_by_arclength(est, prep.spacing)
+    keep_e = ke >= -1.0 / r  # the estimated surface cannot curve below -1/r_f
     es, de2, dde2 = P.gaussian_derivatives(est[keep_e], 1.0)
-    ke2 = -o * P.signed_curvature(de2, dde2)
+    ke2 = -o * P.curvature_by_arclength(es, prep.spacing)
     return CurvatureLimited(
         traced=prep.frame.from_plane(cs),
         traced_curvature=kt2,

@@ -110,7 +110,7 @@ def noise_analysis(t, x, bins: int = 8, confidence: float = 0.95, degree: int = 
     coef = np.polynomial.polynomial.polyfit(u, xx, degree)
     res = xx - np.polynomial.polynomial.polyval(u, coef)
     mean, sigma = float(res.mean()), float(res.std(ddof=1))
-    if not sigma > 0:
+    if not sigma > 1e-10 * float(np.max(np.abs(xx))):
         raise InvalidParameter(
             "x: the residual after detrending is constant; there is no noise to analyse"
         )

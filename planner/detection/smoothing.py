@@ -48,6 +48,19 @@ def gaussian_kernel(window: int, sigma: float) -> np.ndarray:
     return w / w.sum()
 
 
+def _even_gaussian(window: int, sigma: float) -> np.ndarray:
+    """A centred (window + 1)-tap Gaussian whose end taps are halved (an even window)."""
+    if not np.isfinite(sigma) or sigma <= 0:
+        raise InvalidParameter(
+            f"sigma: expected a positive standard deviation [samples], got {sigma!r}"
+        )
+    u = np.arange(window + 1) - window / 2.0
+    w = np.exp(-0.5 * (u / sigma) ** 2)
+    w[0] *= 0.5
+    w[-1] *= 0.5
+    return w / w.sum()
+
+
 def dual_point(points: np.ndarray, iterations: int = 1) -> np.ndarray:
     """Dual-point (corner-cutting) smoothing of a polyline (App. B.3).
 
@@ -59,7 +72,7 @@ def dual_point(points: np.ndarray, iterations: int = 1) -> np.ndarray:
         iterations: number of passes k (>= 1); the cost is O(2^k N).
 
     Returns:
-        (2^k (N - 1) + 2, D)-ish array of smoothed vertices.
+        (2^k N, D) array of smoothed vertices (each pass maps n to 2(n - 1) + 2).
     """
     iterations = _check_window(iterations, "dual_point")
     p = np.asarray(points, dtype=float)
@@ -84,7 +97,9 @@ def smooth(x, method: str = "gaussian", window: int = 25, sigma: float | None = 
             resampled back to N samples by index), ``"gaussian"`` (``window`` taps,
             standard deviation ``sigma``), ``"wiener"`` (``scipy.signal.wiener`` on the linearly
             detrended signal, noise power estimated from the data).
-        window: filter length [samples] (odd lengths are centred exactly).
+        window: filter length [samples]. Even windows are centred by using window + 1
+            taps (the two end taps at half weight for average and Gaussian; median and
+            Wiener round up to the next odd length).
         sigma: Gaussian standard deviation [samples]; default ``window / 4``.
 
     Returns:
@@ -115,15 +130,20 @@ def smooth(x, method: str = "gaussian", window: int = 25, sigma: float | None = 
         )
         return res[:, 0] if one_d else res
     ap, pad = _pad(a, window)
+    odd = window + 1 - window % 2  # even windows get one more tap so they stay centred
     if method == "average":
-        res = ndimage.uniform_filter1d(ap, window, axis=0, mode="nearest")
+        k = np.ones(odd)
+        if odd != window:
+            k[0] = k[-1] = 0.5
+        res = ndimage.correlate1d(ap, k / k.sum(), axis=0, mode="nearest")
     elif method == "median":
-        res = ndimage.median_filter(ap, size=(window, 1), mode="nearest")
+        res = ndimage.median_filter(ap, size=(odd, 1), mode="nearest")
     elif method == "gaussian":
-        k = gaussian_kernel(window, window / 4.0 if sigma is None else float(sigma))
-        res = ndimage.convolve1d(ap, k, axis=0, mode="nearest")
+        sg = window / 4.0 if sigma is None else float(sigma)
+        k = gaussian_kernel(window, sg) if odd == window else _even_gaussian(window, sg)
+        res = ndimage.correlate1d(ap, k, axis=0, mode="nearest")
     else:  # wiener
-        res = np.column_stack([_wiener(ap[:, j], window) for j in range(ap.shape[1])])
+        res = np.column_stack([_wiener(ap[:, j], odd) for j in range(ap.shape[1])])
     res = res[pad : pad + n]
     return res[:, 0] if one_d else res
 
