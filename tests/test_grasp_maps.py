@@ -90,3 +90,19 @@ def test_bad_inputs():
         grasp_map(object(), 1.0)
     with pytest.raises(InvalidParameter, match="PlanarHand"):
         workspace_map(curves.circle(0.05), hand="not a hand", resolution=36)
+
+
+def test_hand_grasp_maps_three_pairs():
+    from planner.grasp import hand_grasp_maps
+
+    maps = hand_grasp_maps(curves.circle(0.05), 1.0, 72, mu_palm=0.4)
+    assert set(maps) == {("left", "right"), ("left", "palm"), ("right", "palm")}
+    sep = np.abs(
+        np.angle(
+            np.exp(1j * (maps["left", "palm"].theta[:, None] - maps["left", "palm"].theta[None, :]))
+        )
+    )
+    # mixed friction: each contact's cone half-angle limits its own side
+    bound = np.pi - np.arctan(1.0) - np.arctan(0.4)
+    clear = np.abs(sep - bound) > 1e-9
+    assert np.array_equal(maps["left", "palm"].force_closure[clear], (sep > bound)[clear])

@@ -15,7 +15,9 @@ from planner.scenario import load_scenario, scenario_from_dict
 ROOT = Path(__file__).resolve().parents[1] / "scenarios"
 
 
-@pytest.mark.parametrize("name", ["circle_grasp_map", "square_grasp_map", "ellipse_grasp_map"])
+@pytest.mark.parametrize(
+    "name", ["circle_grasp_map", "square_grasp_map", "ellipse_grasp_map", "hexagon_grasp_map"]
+)
 def test_bundled_scenarios_find_a_gait(name, tmp_path):
     out = execute(load_scenario(ROOT / f"{name}.yaml"), out_dir=tmp_path / "run", quick=True)
     res = out.result

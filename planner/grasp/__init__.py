@@ -22,7 +22,13 @@ from planner.grasp.cones import (
 )
 from planner.grasp.gait import Gait, GaitPhase, plan_gait
 from planner.grasp.grasp_matrix import grasp_matrix, hand_jacobian, joint_torques
-from planner.grasp.maps import GraspMap, contact_angles, grasp_map, shift_diagonal
+from planner.grasp.maps import (
+    GraspMap,
+    contact_angles,
+    grasp_map,
+    hand_grasp_maps,
+    shift_diagonal,
+)
 from planner.grasp.quality import epsilon_quality, epsilon_two_planar
 from planner.grasp.stability import TwoContactStability, two_contact_stability
 from planner.grasp.workspace import (
@@ -50,6 +56,7 @@ __all__ = [
     "force_closure_two_planar",
     "grasp_map",
     "grasp_matrix",
+    "hand_grasp_maps",
     "hand_jacobian",
     "joint_torques",
     "plan_gait",

@@ -104,6 +104,14 @@ def _polar_from_samples(profile, theta: np.ndarray) -> tuple[np.ndarray, np.ndar
     """
     smp = profile.sample(profile.length / 8192.0)
     P, N = smp.points, smp.normals
+    if np.any(np.hypot(P[:, 0], P[:, 1]) < 1e-12):
+        raise InvalidParameter("profile passes through its origin: not star-shaped about it")
+    turn = np.diff(np.unwrap(np.arctan2(P[:, 1], P[:, 0])))
+    if not (np.all(turn <= 1e-12) or np.all(turn >= -1e-12)):
+        raise InvalidParameter(
+            "profile is not star-shaped about its origin (its polar angle "
+            "is not monotonic along the outline)"
+        )
     phi = np.mod(np.arctan2(P[:, 1], P[:, 0]), 2 * np.pi)
     order = np.argsort(phi, kind="stable")
     phi, P, N = phi[order], P[order], N[order]
@@ -213,6 +221,29 @@ def grasp_map(
     else:
         eps = np.full(fc.shape, np.nan)
     return GraspMap(theta, pts, nrm, fc, eps, mu, mu2)
+
+
+def hand_grasp_maps(
+    profile, mu: float, resolution: int = 360, *, mu_palm: float | None = None, epsilon: bool = True
+) -> dict[tuple[str, str], GraspMap]:
+    """Grasp maps of the three contact pairs of a two-finger hand with a palm.
+
+    Args:
+        profile: closed star-shaped profile.
+        mu: finger–object friction (>= 0); mu_palm: palm–object friction (default ``mu``).
+        resolution: contact angles per axis; epsilon: also compute ε.
+
+    Returns:
+        ``{("left", "right"): map, ("left", "palm"): map, ("right", "palm"): map}``; the
+        first axis of each map is the first contact of the pair.
+    """
+    lr = grasp_map(profile, mu, resolution, epsilon=epsilon)
+    fp = (
+        lr
+        if mu_palm is None or mu_palm == mu
+        else grasp_map(profile, mu, resolution, mu2=mu_palm, epsilon=epsilon)
+    )
+    return {("left", "right"): lr, ("left", "palm"): fp, ("right", "palm"): fp}
 
 
 def shift_diagonal(values: np.ndarray, steps: int) -> np.ndarray:

@@ -64,6 +64,13 @@ class ObjectConfig(StrictModel):
             self.width, self.height
         ):
             raise ValueError("corner_radius must be at most half of width and height")
+        from planner.errors import InvalidParameter
+        from planner.grasp.maps import profile_contacts
+
+        try:  # the profile must exist and be star-shaped about its origin
+            profile_contacts(self.profile(), [0.0, 2.0, 4.0])
+        except InvalidParameter as exc:
+            raise ValueError(str(exc)) from None
         return self
 
     def profile(self):
