@@ -347,7 +347,7 @@ def detect_features(
                 traced in +x with material below; for 3-D data without normals, below in
                 world z), ``"right"`` or ``"left"``.
             merge_gap: same-sign regions closer than this are merged [m]
-                (default ``smoothing_scale``).
+                (default ``2 * smoothing_scale``: noise dips inside one feature).
             upper, lower: override the convex/concave thresholds of the signal [1/m].
             normal_arclength: algorithm 2 only: differentiate the normal with respect to the
                 arclength of the fingertip-centre path (``"center"``, default) or of the
@@ -364,7 +364,7 @@ def detect_features(
     """
     sig = curvature_signal(centers, tip_radius, algorithm, normals, contacts, **settings)
     gap = settings.get("merge_gap")
-    gap = sig.scale if gap is None else float(gap)
+    gap = 2 * sig.scale if gap is None else float(gap)
     return features_from_signal(sig, gap, float(tip_radius))
 
 

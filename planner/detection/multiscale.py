@@ -30,7 +30,9 @@ def detect_multiscale(
     The estimated surface (eq. 3.11 from the smoothed traced curve, with traced points of
     ``k_t > 1/r_f`` deleted, §3.3.3) is traced again by a circle of radius r_i (envelope of
     circles, :func:`planner.geometry.envelope.offset_envelope`), and algorithm 3 runs on that
-    virtual traced curve with ``tip_radius = r_i``.
+    virtual traced curve with ``tip_radius = r_i``. Same-sign regions closer than ``r_i/2``
+    are one feature at that scale (the end of the r_f fillet of an interference point can
+    otherwise show as a weak extra convex region).
 
     Args:
         centers: (N, 2) or (N, 3) fingertip-centre positions [m].
@@ -82,6 +84,7 @@ def detect_multiscale(
             3,
             material_side="right" if o > 0 else "left",
             smoothing_scale=max(scale, default_scale(pts, ri, 3)),
+            merge_gap=ri / 2,
         )
         res = []
         for f in feats:
