@@ -213,11 +213,12 @@ def grasp_map(
     mu2 = mu if mu2 is None else check_mu(mu2)
     pts, nrm = profile_contacts(profile, theta)
     fc = ClosureKernel(theta.size, mu, mu2)(pts[:, 0], pts[:, 1], nrm[:, 0], nrm[:, 1]).copy()
-    if epsilon:
-        eps = epsilon_two_planar(
-            pts[:, None, :], nrm[:, None, :], pts[None, :, :], nrm[None, :, :], mu, mu2
-        )
-        eps = np.where(fc, eps, 0.0)
+    if epsilon:  # only on force-closure cells (ε = 0 elsewhere), one triangle when symmetric
+        eps = np.zeros(fc.shape)
+        ii, jj = np.nonzero(np.triu(fc, 1) if mu == mu2 else fc)
+        eps[ii, jj] = epsilon_two_planar(pts[ii], nrm[ii], pts[jj], nrm[jj], mu, mu2)
+        if mu == mu2:
+            eps[jj, ii] = eps[ii, jj]
     else:
         eps = np.full(fc.shape, np.nan)
     return GraspMap(theta, pts, nrm, fc, eps, mu, mu2)
