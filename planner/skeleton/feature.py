@@ -11,17 +11,24 @@ Ogniewicz):
 3. Edge-length pruning (Fig. 4.11): drop Voronoi edges longer than ``max_edge_length``.
    Medial-axis edges of a boundary sampled every ``s`` are at most about ``s`` long, and
    noise of standard deviation ``sigma`` moves a Voronoi vertex of medial radius ``r`` by
-   about ``sigma r / s``, so the default threshold is local: ``2 s + 4 sigma (1 + r / s)``
-   (``r`` the larger radius at the edge's ends); the skeleton stays connected. Then drop
-   edges whose two generating samples are closer than ``min_generator_distance`` (default
-   ``1.5 s + 2 sigma``: neighbours on the same side of the boundary) or subtend less than
-   ``min_angle_deg`` (default 45 degrees) seen from the edge's end of larger radius (noise
-   spurs pointing from the axis to the boundary; Attali's theta-regular medial axis; a
-   right-angle corner's branch subtends 90 degrees).
+   about ``sigma r / s``, so the default threshold is ``2 s + 4 sigma (1 + r / s)``, with
+   ``s`` the *local* spacing at the edge's two generating samples (the longer of their
+   steps along the boundary: finger speed varies) and ``r`` the larger radius at the edge's
+   ends; the skeleton stays connected. Then drop edges whose two generating samples are
+   closer than ``min_generator_distance`` (default ``1.5 s + 2 sigma``, local: neighbours on
+   the same side of the boundary) or subtend less than ``min_angle_deg`` (default 45
+   degrees) seen from the edge's end of larger radius (noise spurs pointing from the axis
+   to the boundary; Attali's theta-regular medial axis; a right-angle corner's branch
+   subtends 90 degrees).
 4. Keep the connected skeleton with the most edges (Fig. 4.13, sharply turning features).
 5. Remove terminal arcs shorter than ``min_branch_length`` (Fig. 4.12; default
-   ``2 s + 4 sigma``); with ``branching=False`` keep only the longest path (or, when
-   the skeleton has loops, the loops and the paths between them).
+   ``2 s_90 + 4 sigma`` with ``s_90`` the 90th percentile of the spacing); with
+   ``branching=False`` keep only the longest path (or, when the skeleton has loops, the
+   loops and the paths between them).
+
+The spacing ``s`` defaults to the median step (or nearest-neighbour distance for unordered
+samples) and the noise ``sigma`` to a robust estimate from second differences along the
+boundary (:mod:`planner.skeleton.region`).
 
 Each skeleton point carries its medial radius: the distance to its generating (= nearest)
 boundary samples, so ``(points, radii)`` is the medial axis transform (MAT).
@@ -40,8 +47,9 @@ from planner.skeleton._checks import check_points, check_positive, dedupe
 from planner.skeleton.region import (
     boundary_loops,
     estimate_noise,
-    estimate_spacing,
+    local_spacing,
     region_polygon,
+    sampling_profile,
 )
 
 
@@ -72,8 +80,13 @@ class SkeletonSettings:
     branching: bool = True
     link_factor: float = 3.0
 
-    def resolved(self, spacing: float, noise: float) -> SkeletonSettings:
-        """These settings with every ``None`` threshold replaced by its default [m]."""
+    def resolved(
+        self, spacing: float, noise: float, spacing_high: float | None = None
+    ) -> SkeletonSettings:
+        """These settings with every ``None`` threshold replaced by its default at the
+        typical ``spacing`` [m] (``feature_skeleton`` applies the edge thresholds with the
+        local spacing of each edge); ``spacing_high``: spacing of the sparse parts [m]."""
+        s_hi = spacing if spacing_high is None else max(spacing, spacing_high)
         return replace(
             self,
             max_edge_length=(
@@ -87,7 +100,7 @@ class SkeletonSettings:
                 else self.min_generator_distance
             ),
             min_branch_length=(
-                2.0 * spacing + 4.0 * noise
+                2.0 * s_hi + 4.0 * noise
                 if self.min_branch_length is None
                 else self.min_branch_length
             ),
@@ -257,13 +270,18 @@ def feature_skeleton(
 
     vor = voronoi(pts)
     pairs = np.asarray(vor.ridge_points, dtype=np.int64)
+    profile = sampling_profile(pts)
     if spacing is None:
-        spacing = estimate_spacing(pts)
-    loops = boundary_loops(pts, spacing, base.link_factor, pairs)
+        spacing = profile.spacing
+    loops = boundary_loops(pts, spacing, base.link_factor, pairs, profile)
     region = region_polygon(pts, loops)
     if noise is None:
         noise = estimate_noise(pts, list(loops.loops))
-    s = base.resolved(spacing, noise)
+    s_high = max(spacing, profile.spacing_high)
+    s = base.resolved(spacing, noise, s_high)
+    # local spacing of each Voronoi edge: the sparser of its two generating samples
+    s_loc = local_spacing(pts, loops, spacing, 2.0 * s_high)
+    s_edge = np.maximum(s_loc[pairs[:, 0]], s_loc[pairs[:, 1]])
 
     verts = vor.vertices
     rv = np.asarray(vor.ridge_vertices, dtype=np.int64).reshape(-1, 2)
@@ -282,10 +300,14 @@ def feature_skeleton(
         np.hypot(*(verts[rv[keep, 1]] - pts[pairs[keep, 0]]).T),
     )
     if base.max_edge_length is None:  # local threshold: noise moves vertices by ~noise*r/s
-        max_len = s.max_edge_length + 4.0 * noise * r_max / spacing
+        max_len = 2.0 * s_edge + 4.0 * noise * (1.0 + r_max / s_edge)
     else:
         max_len = s.max_edge_length
-    keep &= (e_len <= max_len) & (gen >= s.min_generator_distance)
+    if base.min_generator_distance is None:
+        min_gen = 1.5 * s_edge + 2.0 * noise
+    else:
+        min_gen = s.min_generator_distance
+    keep &= (e_len <= max_len) & (gen >= min_gen)
     if s.min_angle_deg > 0:
         keep &= gen >= 2.0 * r_max * np.sin(np.deg2rad(s.min_angle_deg) / 2)
     stages["length"] = int(keep.sum())

@@ -47,6 +47,52 @@ def estimate_spacing(points: np.ndarray) -> float:
     return nn
 
 
+@dataclass(frozen=True)
+class SamplingProfile:
+    """How the boundary samples are spaced.
+
+    Attributes:
+        ordered: samples are in trace order (median step <= 2 median neighbour distances).
+        spacing: typical spacing: median step (ordered) or median neighbour distance [m].
+        spacing_high: 90th percentile of the steps (ordered) or of the distance to the
+            second-nearest sample (unordered): the spacing of the sparse parts [m].
+    """
+
+    ordered: bool
+    spacing: float
+    spacing_high: float
+
+
+def sampling_profile(points: np.ndarray) -> SamplingProfile:
+    """Measure the spacing of (M, 2) boundary samples [m] (no repeated rows, M >= 3)."""
+    stride = max(1, len(points) // 2000)
+    d, _ = cKDTree(points).query(points[::stride], k=3)
+    nn = d[:, 1][d[:, 1] > 0]
+    if nn.size == 0:
+        raise InvalidParameter("boundary: all samples coincide; cannot estimate the spacing")
+    nn_med = float(np.median(nn))
+    step = np.hypot(*np.diff(points, axis=0).T)
+    step = step[step > 0]
+    if step.size and float(np.median(step)) <= 2.0 * nn_med:
+        return SamplingProfile(True, float(np.median(step)), float(np.quantile(step, 0.9)))
+    return SamplingProfile(False, nn_med, float(np.quantile(d[:, 2], 0.9)))
+
+
+def local_spacing(
+    points: np.ndarray, loops: BoundaryLoops, default: float, cap: float
+) -> np.ndarray:
+    """(M,) spacing at each sample: the longer of its two steps along its loop [m].
+
+    Samples outside every loop get ``default``; values are clipped to ``[default, cap]``.
+    """
+    out = np.full(len(points), default)
+    for loop in loops.loops:
+        p = points[loop]
+        nxt = np.hypot(*(np.roll(p, -1, axis=0) - p).T)
+        out[loop] = np.maximum(nxt, np.roll(nxt, 1))
+    return np.clip(out, default, max(cap, default))
+
+
 def estimate_noise(points: np.ndarray, loops: list[np.ndarray]) -> float:
     """Robust estimate of the boundary noise standard deviation from ordered loops.
 
@@ -81,12 +127,10 @@ def estimate_noise(points: np.ndarray, loops: list[np.ndarray]) -> float:
     return float(1.4826 * mad / np.sqrt(6.0))
 
 
-def _ordered_chains(points: np.ndarray, link: float) -> list[np.ndarray] | None:
-    """Split samples given in trace order at gaps longer than ``link``; None if unordered."""
+def _ordered_chains(points: np.ndarray, link: float) -> list[np.ndarray]:
+    """Split samples given in trace order at steps longer than ``link``."""
     step = np.hypot(*np.diff(points, axis=0).T)
     gaps = np.flatnonzero(step > link)
-    if gaps.size > max(2, 0.02 * len(points)):
-        return None
     bounds = np.concatenate([[0], gaps + 1, [len(points)]])
     return [np.arange(a, b) for a, b in zip(bounds[:-1], bounds[1:], strict=True) if b > a]
 
@@ -125,37 +169,45 @@ class BoundaryLoops:
     Attributes:
         loops: index arrays into the samples, each an ordered closed contour.
         ordered: whether the input order was used (else an MST ordering was built).
+        link: the link distance used [m].
     """
 
     loops: tuple[np.ndarray, ...]
     ordered: bool
+    link: float = 0.0
 
 
 def boundary_loops(
-    points: np.ndarray, spacing: float, link_factor: float = 3.0, pairs: np.ndarray | None = None
+    points: np.ndarray,
+    spacing: float,
+    link_factor: float = 3.0,
+    pairs: np.ndarray | None = None,
+    profile: SamplingProfile | None = None,
 ) -> BoundaryLoops:
     """Group boundary samples into closed loops.
 
-    Samples given in trace order (at most 2 % of steps longer than ``link_factor *
-    spacing``) are split at the long steps; a piece whose ends are within the link distance
-    is a closed contour on its own (e.g. each contour of a ring), the other pieces are joined
-    in order into one contour (a trace with gaps, or one that is not closed). Unordered
-    samples are ordered per connected component of the graph of sample pairs closer than the
-    link distance, along the longest path of its minimum spanning tree.
+    Samples in trace order are split at steps longer than the link distance
+    ``link_factor * max(spacing, spacing_high)``; a piece whose ends are within the link
+    distance is a closed contour on its own (e.g. each contour of a ring), the other pieces
+    are joined in order into one contour (a trace with gaps, or one that is not closed).
+    Unordered samples are ordered per connected component of the graph of sample pairs
+    closer than the link distance, along the longest path of its minimum spanning tree.
 
     Args:
         points: (M, 2) boundary samples [m].
         spacing: sample spacing [m].
-        link_factor: samples closer than ``link_factor * spacing`` are neighbours on a contour.
+        link_factor: samples closer than the link distance are neighbours on a contour [-].
         pairs: optional (P, 2) candidate neighbour pairs (e.g. Delaunay edges).
+        profile: the samples' :class:`SamplingProfile` (measured when None).
 
     Returns:
         The loops (pieces with fewer than 3 samples are left out).
     """
-    link = link_factor * spacing
-    chains = _ordered_chains(points, link)
-    ordered = chains is not None
-    if chains is None:
+    profile = profile or sampling_profile(points)
+    link = link_factor * max(spacing, profile.spacing_high)
+    if profile.ordered:
+        chains = _ordered_chains(points, link)
+    else:
         chains = _mst_chains(points, link, pairs)
     closed, open_ = [], []
     for c in chains:
@@ -163,11 +215,11 @@ def boundary_loops(
             continue
         gap = np.hypot(*(points[c[0]] - points[c[-1]]))
         (closed if gap <= link else open_).append(c)
-    if ordered and open_:
+    if profile.ordered and open_:
         closed.append(np.concatenate(open_))
     else:
         closed.extend(open_)
-    return BoundaryLoops(tuple(closed), ordered)
+    return BoundaryLoops(tuple(closed), profile.ordered, link)
 
 
 def region_polygon(points: np.ndarray, loops: BoundaryLoops | list[np.ndarray]) -> shapely.Geometry:
@@ -210,5 +262,8 @@ __all__ = [
     "boundary_loops",
     "estimate_noise",
     "estimate_spacing",
+    "local_spacing",
+    "sampling_profile",
+    "SamplingProfile",
     "region_polygon",
 ]
