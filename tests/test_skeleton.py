@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial import cKDTree
@@ -164,3 +165,19 @@ def test_bad_settings_raise():
         feature_skeleton(pts, min_angle_deg=200)
     with pytest.raises(InvalidParameter, match="min_branch_length"):
         feature_skeleton(pts, min_branch_length=float("nan"))
+
+
+def test_non_uniform_sampling_and_wrong_spacing_hint():
+    # finger speed varies: steps between 0.3 and 1.5 mm along the outline
+    t = np.linspace(0, 2 * np.pi, 4096, endpoint=False)
+    ring = shapely.Polygon(np.column_stack([A * np.cos(t), B * np.sin(t)])).exterior
+    pos = [0.0]
+    while pos[-1] < ring.length - 0.0015:
+        pos.append(pos[-1] + 0.0009 + 0.0006 * np.sin(6 * np.pi * pos[-1] / ring.length))
+    pts = shapely.get_coordinates(shapely.line_interpolate_point(ring, np.array(pos)))
+    truth = sh.ellipse_medial_axis(A, B)
+    for hint in (None, 0.0002, 0.003):  # estimated, too small, too large
+        sk = feature_skeleton(pts, hint)
+        assert sk.n_components == 1 and len(sk.end_points) == 2
+        assert len(sk.branch_points) == 0
+        assert hausdorff(sk.points, truth) < 0.002
