@@ -175,5 +175,5 @@ def _figure(config, scores, windows, sigmas):
         ax2.set_xlabel("Gaussian window [samples]")
         ax2.set_ylabel("Gaussian sigma [samples]")
         ax2.set_title("Gaussian filter (thesis best: window 25-40, sigma 5-10)", fontsize=9)
-    fig.tight_layout()
+    fig.subplots_adjust(left=0.07, right=0.97, bottom=0.12, top=0.92, wspace=0.25)
     return fig

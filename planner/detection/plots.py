@@ -38,6 +38,8 @@ def trace_figure(
     fig = Figure(figsize=(12, 5.5))
     axes = [fig.add_subplot(1, 2, 1), fig.add_subplot(1, 2, 2)]
     mm = 1e3
+    step = max(1, len(centers) // 3000)  # enough points to see the noise, fast to draw
+    centers = centers[::step]
     pts = [np.asarray(f.position)[:2] for fs in features.values() for f in fs]
     pts += [np.asarray(f.position)[:2] for f in truth or []]
     for ax in axes:
@@ -100,7 +102,7 @@ def trace_figure(
         axes[1].set_ylim(c[1] - half, c[1] + half)
         axes[1].set_aspect("equal", adjustable="box")
     axes[1].set_title("zoom on the features", fontsize=10)
-    fig.tight_layout()
+    fig.subplots_adjust(left=0.06, right=0.98, bottom=0.1, top=0.93, wspace=0.18)
     return fig
 
 
@@ -117,8 +119,9 @@ def signal_figure(
     fig = Figure(figsize=(8, 2.2 * n + 0.6))
     axes = [fig.add_subplot(n, 1, i + 1) for i in range(n)]
     for ax, (alg, sig) in zip(axes, signals.items(), strict=False):
-        s = sig.s * 1e3
-        k = np.clip(sig.curvature, -20 * sig.upper, 20 * sig.upper)
+        step = max(1, sig.s.size // 4000)
+        s = sig.s[::step] * 1e3
+        k = np.clip(sig.curvature[::step], -20 * sig.upper, 20 * sig.upper)
         ax.plot(s, k, "-", lw=0.8, color=_COLORS[alg])
         ax.axhline(sig.upper, color="k", ls="--", lw=0.7)
         ax.axhline(sig.lower, color="k", ls=":", lw=0.7)
@@ -138,7 +141,13 @@ def signal_figure(
         ax.grid(True, lw=0.3)
     axes[-1].set_xlabel("arclength along the fingertip-centre path [mm]")
     fig.suptitle(title)
-    fig.tight_layout()
+    fig.subplots_adjust(
+        left=0.1,
+        right=0.97,
+        bottom=0.6 / fig.get_figheight(),
+        top=1 - 0.5 / fig.get_figheight(),
+        hspace=0.45,
+    )
     return fig
 
 
