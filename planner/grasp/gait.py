@@ -284,8 +284,9 @@ class _Search:
             horizon = min(self.n, int(np.floor(roll / arc_min + 1e-9)) + 1)
         self.diag = np.arange(horizon + 1)
 
-    def p1_extent(self, k: int, i, j) -> tuple[np.ndarray, list[str]]:
-        """Steps phase 1 can rotate from entries (k, i, j) (arrays), and what stops it."""
+    def p1_extent(self, k: int, i, j, explain: bool = False) -> tuple[np.ndarray, list[str]]:
+        """Steps phase 1 can rotate from entries (k, i, j) (arrays), and (``explain``) what
+        stops it."""
         p, n, s = self.p, self.n, self.p.sign
         i = np.atleast_1d(i)[:, None]
         j = np.atleast_1d(j)[:, None]
@@ -298,9 +299,9 @@ class _Search:
         cum_r = np.concatenate([np.zeros((jj.shape[0], 1)), np.cumsum(p.arc[jj[:, :-1]], 1)], 1)
         roll = (cum_l <= p.roll["left"] + 1e-12) & (cum_r <= p.roll["right"] + 1e-12)
         valid = fc & rl & rr & roll
-        ext = np.where(valid.all(1), n, np.argmin(valid, axis=1) - 1)
-        stops = []
-        for r in range(ii.shape[0]):
+        ext = np.where(valid.all(1), min(n, t.shape[1] - 1), np.argmin(valid, axis=1) - 1)
+        stops: list[str] = []
+        for r in range(ii.shape[0] if explain else 0):
             e = ext[r]
             if e >= n or e < 0:
                 stops.append("none" if e >= n else "start grasp infeasible")
@@ -515,7 +516,7 @@ def _walk(srch: _Search, k: int, i: int, j: int, budget: list[int]):
             if budget[0] <= 0:
                 break
             budget[0] -= 1
-            ext, stops = srch.p1_extent(node[0], node[1], node[2])
+            ext, stops = srch.p1_extent(node[0], node[1], node[2], explain=True)
             m = int(min(ext[0], n))
             if m < 1:
                 reason = reason or (

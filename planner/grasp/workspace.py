@@ -64,7 +64,7 @@ class ReachabilityModel(Protocol):
 class RadialFunction:
     """Radius of a star-shaped closed profile as a function of the polar angle (table)."""
 
-    def __init__(self, profile, samples: int = 4096):
+    def __init__(self, profile, samples: int = 2048):
         self.alpha = contact_angles(samples)
         pts, _ = profile_contacts(profile, self.alpha)
         self.radius = np.hypot(pts[:, 0], pts[:, 1])
@@ -104,7 +104,7 @@ class Placement:
 
 
 def rest_on_palm(
-    profile, angles, x0: float = 0.0, palm_half_width: float = np.inf, samples: int = 4096
+    profile, angles, x0: float = 0.0, palm_half_width: float = np.inf, samples: int = 2048
 ) -> Placement:
     """Place the object on the palm for each rotation (lowest point at ``y = 0``).
 
