@@ -13,6 +13,7 @@ import math
 from collections.abc import Callable
 
 import casadi as ca
+import numpy as np
 
 from planner.errors import InvalidParameter
 from planner.geometry.surfaces.parametric import ParametricSurface
@@ -116,7 +117,16 @@ def _bump(a: float, sign: float, name: str) -> ParametricSurface:
         ((-1.0, 1.0), (0.0, math.pi)),
         orientation=lambda u, v: ca.sign(u),
         name=f"{name}(a={a:g})",
+        inverse=_polar_inverse,
     )
+
+
+def _polar_inverse(x, y):
+    """``(x, y) -> (u, v)`` for ``(u cos v, u sin v)`` with ``0 <= v < π``, ``u`` signed."""
+    r = np.hypot(x, y)
+    ang = np.arctan2(y, x)
+    upper = ang >= 0
+    return np.where(upper, r, -r), np.where(upper, ang, ang + np.pi)
 
 
 def swept_profile(
@@ -126,6 +136,7 @@ def swept_profile(
     bend_radius: float | None = None,
     length: float = INF,
     name: str = "swept",
+    graph: bool = False,
 ) -> ParametricSurface:
     """A profile curve ``(X(u), Z(u))`` swept along the ``y`` axis or a circular arc.
 
@@ -141,7 +152,9 @@ def swept_profile(
             must exceed ``-X`` everywhere.
         length: extent of the sweep in ``v`` [m] (default unbounded; at most ``2πρ`` bent).
         name: label.
+        graph: the profile is a graph, ``X(u) = u``: enables the ``(x, y) -> (u, v)`` inverse.
     """
+    inverse = None
     if bend_radius is None:
 
         def smap(u, v):
@@ -149,6 +162,8 @@ def swept_profile(
             return [x, v, z]
 
         half = _positive("length", length, True) / 2
+        if graph:
+            inverse = _identity_inverse
     else:
         rho = _positive("bend_radius", bend_radius)
         half = min(_positive("length", length, True), 2 * math.pi * rho) / 2
@@ -157,7 +172,16 @@ def swept_profile(
             x, z = profile(u)
             return [(rho + x) * ca.cos(v / rho), (rho + x) * ca.sin(v / rho), z]
 
-    return ParametricSurface(smap, (tuple(u_range), (-half, half)), name=name)
+        if graph:
+
+            def inverse(x, y):
+                return np.hypot(x, y) - rho, rho * np.arctan2(y, x)
+
+    return ParametricSurface(smap, (tuple(u_range), (-half, half)), name=name, inverse=inverse)
+
+
+def _identity_inverse(x, y):
+    return np.asarray(x, float), np.asarray(y, float)
 
 
 def ridge(
@@ -200,6 +224,7 @@ def _gauss_profile(height, width, sign, bend_radius, half_span, name) -> Paramet
         (-span, span),
         bend_radius=bend_radius,
         name=f"{name}(h={h:g}, w={w:g})",
+        graph=True,
     )
 
 
@@ -217,7 +242,10 @@ def step(
     w = _positive("width", width)
     span = 6 * w if half_span is None else _positive("half_span", half_span)
     return swept_profile(
-        lambda u: (u, h * (1 + ca.tanh(u / w)) / 2), (-span, span), name=f"step(h={h:g}, w={w:g})"
+        lambda u: (u, h * (1 + ca.tanh(u / w)) / 2),
+        (-span, span),
+        name=f"step(h={h:g}, w={w:g})",
+        graph=True,
     )
 
 
@@ -241,6 +269,7 @@ def cusp(
         lambda u: (u, -s * (ca.sqrt(u**2 + rho**2) - rho)),
         (-span, span),
         name=f"cusp(s={s:g}, rho={rho:g})",
+        graph=True,
     )
 
 

@@ -143,6 +143,11 @@ class HeightField:
         self.domain = np.array([[self.x[0], self.x[-1]], [self.y[0], self.y[-1]]])
         self.name = name
 
+    @staticmethod
+    def inverse(x, y) -> tuple[np.ndarray, np.ndarray]:
+        """``(x, y) -> (u, v)``: the identity (a height field is parametrized by x, y)."""
+        return np.asarray(x, float), np.asarray(y, float)
+
     def _derivs(self, u, v):
         try:
             uu, vv = np.broadcast_arrays(np.asarray(u, float), np.asarray(v, float))

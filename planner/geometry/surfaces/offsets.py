@@ -33,6 +33,7 @@ class OffsetSurfaces:
     Attributes:
         x: (nx,) grid abscissae [m]; y: (ny,) ordinates [m].
         tip_radius: ``r`` [m].
+        height: (nx, ny) the original heights [m].
         traced: (nx, ny) height of the fingertip centre (traced surface) [m].
         estimated: (nx, ny) estimated surface, the closing of the heights by the ball [m].
         unobservable: (nx, ny) bool, the ball never touches the true surface there.
@@ -42,6 +43,7 @@ class OffsetSurfaces:
     x: np.ndarray
     y: np.ndarray
     tip_radius: float
+    height: np.ndarray
     traced: np.ndarray
     estimated: np.ndarray
     unobservable: np.ndarray
@@ -116,7 +118,7 @@ def offset_surfaces(
     interior[a : -a or None, b : -b or None] = True
     unobservable = (estimated - z > tol) & interior
     return OffsetSurfaces(
-        x, y, r, traced, estimated, unobservable, _interference(estimated, unobservable, x, y, r)
+        x, y, r, z, traced, estimated, unobservable, _interference(estimated, unobservable, x, y, r)
     )
 
 

@@ -122,6 +122,9 @@ class ParametricSurface:
             inward one, or a callable ``(u, v) -> SX`` giving that sign pointwise (e.g. the
             bump of eq. 3.13, whose ``f_u × f_v`` flips at ``u = 0``).
         name: a label used in messages and plots.
+        inverse: for a surface that is a graph ``z = h(x, y)``, a numpy function
+            ``(x, y) -> (u, v)`` giving the parameters of the point above ``(x, y)``; lets
+            maps be evaluated exactly on an ``(x, y)`` raster (optional).
 
     Evaluation methods take scalars or arrays ``u, v`` (broadcast together) and return arrays
     whose leading shape is the broadcast shape, e.g. ``gauss_frame(u, v)`` is ``(3, 3)`` for
@@ -136,6 +139,7 @@ class ParametricSurface:
         *,
         orientation: int | Callable[[ca.SX, ca.SX], ca.SX] = 1,
         name: str = "surface",
+        inverse: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]] | None = None,
     ):
         try:
             dom = np.asarray(domain, dtype=float)
@@ -153,6 +157,7 @@ class ParametricSurface:
         self.domain = dom
         self.orientation = orientation
         self.name = name
+        self.inverse = inverse
         self._np: dict[str, Callable] = {}
 
     # ----------------------------------------------------------------- symbolic layer

@@ -1,0 +1,96 @@
+"""Tests of the ``surface`` scenario kind and its bundled scenarios."""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from planner.errors import ScenarioError
+from planner.runner import execute
+from planner.scenario import load_scenario
+
+SCENARIOS = Path(__file__).parent.parent / "scenarios"
+
+
+def run(path, tmp_path, quick=True, overrides=()):
+    out = tmp_path / "run"
+    execute(load_scenario(path, overrides), out_dir=out, quick=quick)
+    result = json.loads((out / "result.json").read_text())
+    return result, out
+
+
+def test_bump_features_reproduces_fig_3_7(tmp_path):
+    result, out = run(SCENARIOS / "bump_features.yaml", tmp_path)
+    m = result["metrics"]
+    assert result["status"] == "ok"
+    assert m["slice_pattern"] == "-+-" and m["slice_macro_kinds"] == ["bump"]
+    assert m["macro_kinds"] == ["bump"] and m["map_positive"] == 1 and m["map_negative"] == 1
+    feats = json.loads((out / "features.json").read_text())["slice"]["features"]
+    # analytic boundaries of eq. 3.17 (a = 15, r_f = 1): |u| = 0.0905 (+), 0.2987-0.6865 (-)
+    assert feats[1]["u_end"] == pytest.approx(0.0905, abs=0.01)
+    assert feats[2]["u_start"] == pytest.approx(0.2987, abs=0.01)
+    assert feats[2]["u_end"] == pytest.approx(0.6865, abs=0.01)
+    assert feats[1]["peak_curvature"] == pytest.approx(30.0, rel=1e-3)
+    arrays = np.load(out / "trajectory.npz")
+    assert arrays["map_k1"].shape == arrays["map_positive"].shape
+    assert {p.name for p in (out / "plots").iterdir()} >= {
+        "k1_slice.png",
+        "feature_map.png",
+        "surface.png",
+        "offsets.png",
+    }
+
+
+def test_wire_on_plane_is_a_ridge(tmp_path):
+    result, _ = run(SCENARIOS / "wire_on_plane_features.yaml", tmp_path)
+    m = result["metrics"]
+    assert m["slice_pattern"] == "-+-" and m["macro_kinds"] == ["ridge"]
+    assert m["k1_max"] == pytest.approx(1 / 0.000325, rel=1e-6)
+    assert m["graph"] is False
+
+
+def test_ravine_multiscale(tmp_path):
+    result, _ = run(SCENARIOS / "ravine_multiscale.yaml", tmp_path)
+    m = result["metrics"]
+    assert m["slice_pattern"] == "+-+" and m["macro_kinds"] == ["ravine"]
+    assert m["unobservable_fraction"] > 0 and m["interference_cells"] > 0
+    assert len(m["multiscale_regions"]) == 2
+
+
+def test_height_field_file(tmp_path):
+    x = np.linspace(-1, 1, 61)
+    gx, gy = np.meshgrid(x, x, indexing="ij")
+    np.savez(tmp_path / "hf.npz", x=x, y=x, z=1 / (1 + 15 * (gx**2 + gy**2)))
+    (tmp_path / "hf.yaml").write_text(
+        "kind: surface\ntip_radius: 1.0\nsurface: {type: height_field, file: hf.npz}\n"
+        "grid_size: 61\n"
+    )
+    out = tmp_path / "out"
+    execute(load_scenario(tmp_path / "hf.yaml"), out_dir=out, quick=True, base_dir=tmp_path)
+    m = json.loads((out / "result.json").read_text())["metrics"]
+    assert m["macro_kinds"] == ["bump"]
+    (tmp_path / "missing.yaml").write_text(
+        "kind: surface\ntip_radius: 1.0\nsurface: {type: height_field, file: nope.npz}\n"
+    )
+    with pytest.raises(ScenarioError, match="nope.npz"):
+        execute(
+            load_scenario(tmp_path / "missing.yaml"),
+            out_dir=tmp_path / "o2",
+            quick=True,
+            base_dir=tmp_path,
+        )
+    assert not (tmp_path / "o2").exists()
+
+
+def test_bad_input_is_reported(tmp_path):
+    (tmp_path / "bad.yaml").write_text(
+        "kind: surface\ntip_radius: -1\nsurface: {type: bump, a: -3, colour: red}\n"
+    )
+    with pytest.raises(ScenarioError) as info:
+        load_scenario(tmp_path / "bad.yaml")
+    text = str(info.value)
+    assert "tip_radius" in text and "surface.a" in text and "colour" in text
+    (tmp_path / "bad2.yaml").write_text("kind: surface\ntip_radius: 1\nsurface: {type: blob}\n")
+    with pytest.raises(ScenarioError, match="surface"):
+        load_scenario(tmp_path / "bad2.yaml")
