@@ -241,3 +241,38 @@ def test_bad_inputs_raise_invalid_parameter():
         epsilon_quality(p, n, 1.0, torque_scale=0.0)
     with pytest.raises(InvalidParameter, match="facets"):
         pyramid_cone_edges([[0, 0, 1.0]], 0.5, facets=2)
+
+
+def test_contact_models_of_fig_2_5():
+    # two spatial point contacts cannot resist a torque about their line; soft fingers can
+    p = np.array([[0.05, 0.0, 0.0], [-0.05, 0.0, 0.0]])
+    n = -p / 0.05
+    assert not force_closure(p, n, 0.8)
+    assert force_closure(p, n, 0.8, contact="soft_finger", torsion_length=0.005)
+    e_small = epsilon_quality(p, n, 0.8, contact="soft_finger", torsion_length=0.001)
+    e_large = epsilon_quality(p, n, 0.8, contact="soft_finger", torsion_length=0.01)
+    assert 0 < e_small < e_large
+    # frictionless contacts ignore mu
+    t = np.array([0.0, 2.1, 4.2])
+    q = np.c_[np.cos(t), np.sin(t)]
+    assert force_closure(q, -q, 0.5) and not force_closure(q, -q, 0.5, contact="frictionless")
+    with pytest.raises(InvalidParameter, match="contact must be one of"):
+        force_closure(q, -q, 0.5, contact="sticky")
+    with pytest.raises(InvalidParameter, match="torsion_length"):
+        force_closure(p, n, 0.5, contact="soft_finger")
+
+
+def test_hand_jacobian_of_the_planar_hand_by_finite_differences():
+    from robots.planar_hand import PlanarHand
+
+    hand = PlanarHand()
+    q = hand.neutral()
+    Jh = hand_jacobian([hand.jacobian(q, "left"), hand.jacobian(q, "right")])
+    dq = np.random.default_rng(0).normal(size=6)
+    h = 1e-7
+    tips0, tips1 = hand.fingertip_positions(q), hand.fingertip_positions(q + h * dq)
+    xdot = np.concatenate([(tips1[f] - tips0[f]) / h for f in ("left", "right")])
+    assert np.allclose(Jh @ dq, xdot, atol=1e-5)  # eq. 2.5
+    f = np.array([[0.3, -0.1], [-0.2, 0.4]])
+    tau = joint_torques([hand.jacobian(q, "left"), hand.jacobian(q, "right")], f)
+    assert tau @ dq == pytest.approx(f.ravel() @ (Jh @ dq))  # virtual work

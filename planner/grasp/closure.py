@@ -73,8 +73,16 @@ def _hull_offsets(w: np.ndarray) -> np.ndarray | None:
     return hull.equations[:, -1]
 
 
-def force_closure(points, normals, mu: float, *, facets: int = 8) -> bool:
-    """Whether point contacts with friction hold the object in force closure.
+def force_closure(
+    points,
+    normals,
+    mu: float,
+    *,
+    facets: int = 8,
+    contact: str = "point_with_friction",
+    torsion_length: float = 0.0,
+) -> bool:
+    """Whether the contacts hold the object in force closure.
 
     Args:
         points: (k, 2) planar or (k, 3) spatial contact points [m], k >= 2.
@@ -82,6 +90,10 @@ def force_closure(points, normals, mu: float, *, facets: int = 8) -> bool:
             normalized here).
         mu: Coulomb friction coefficient (>= 0), the same at every contact.
         facets: spatial only: edges of the inscribed friction pyramids (>= 3).
+        contact: contact model of Fig. 2.5: ``"point_with_friction"`` (default),
+            ``"frictionless"`` or ``"soft_finger"`` (see
+            :func:`planner.grasp.wrenches.primitive_wrenches`).
+        torsion_length: soft-finger torsional friction length ``e_n`` [m].
 
     Returns:
         True iff every object wrench can be resisted by contact forces inside the cones.
@@ -93,9 +105,13 @@ def force_closure(points, normals, mu: float, *, facets: int = 8) -> bool:
     """
     p, n = check_contacts(points, normals, 2)
     mu = check_mu(mu)
+    w = primitive_wrenches(
+        p, n, mu, facets=facets, contact=contact, torsion_length=torsion_length
+    )  # validates the contact model
     if p.shape[1] == 2 and p.shape[0] == 2:
+        mu = 0.0 if getattr(contact, "value", contact) == "frictionless" else mu
         return bool(force_closure_two_planar(p[0], n[0], p[1], n[1], mu))
-    offsets = _hull_offsets(primitive_wrenches(p, n, mu, facets=facets))
+    offsets = _hull_offsets(w)
     return offsets is not None and bool(np.all(offsets < -HULL_TOL))
 
 

@@ -101,7 +101,15 @@ def epsilon_two_planar(p1, n1, p2, n2, mu: float, mu2: float | None = None) -> n
 
 
 def epsilon_quality(
-    points, normals, mu: float, *, torque_reference=None, torque_scale=None, facets: int = 8
+    points,
+    normals,
+    mu: float,
+    *,
+    torque_reference=None,
+    torque_scale=None,
+    facets: int = 8,
+    contact: str = "point_with_friction",
+    torsion_length: float = 0.0,
 ) -> float:
     """Ferrari–Canny ε quality (L1: unit-bounded sum of contact forces).
 
@@ -114,6 +122,9 @@ def epsilon_quality(
         torque_scale: length ``ρ`` dividing torques [m] (default: the largest distance of a
             contact from the torque reference).
         facets: spatial only: pyramid edges per friction cone.
+        contact: contact model (``"point_with_friction"``, ``"frictionless"``,
+            ``"soft_finger"``; see :func:`planner.grasp.wrenches.primitive_wrenches`).
+        torsion_length: soft-finger torsional friction length ``e_n`` [m].
 
     Returns:
         ε in [0, 1]: radius of the largest origin-centred ball in the grasp wrench space of
@@ -121,11 +132,19 @@ def epsilon_quality(
     """
     p, n = check_contacts(points, normals, 2)
     mu = check_mu(mu)
-    if p.shape == (2, 2) and torque_reference is None and torque_scale is None:
-        return float(epsilon_two_planar(p[0], n[0], p[1], n[1], mu))
     w = primitive_wrenches(
-        p, n, mu, torque_reference=torque_reference, torque_scale=torque_scale, facets=facets
+        p,
+        n,
+        mu,
+        torque_reference=torque_reference,
+        torque_scale=torque_scale,
+        facets=facets,
+        contact=contact,
+        torsion_length=torsion_length,
     )
+    if p.shape == (2, 2) and torque_reference is None and torque_scale is None:
+        mu = 0.0 if getattr(contact, "value", contact) == "frictionless" else mu
+        return float(epsilon_two_planar(p[0], n[0], p[1], n[1], mu))
     offsets = _hull_offsets(w)
     if offsets is None or not np.all(offsets < -HULL_TOL):
         return 0.0

@@ -55,9 +55,17 @@ def torque_frame(
 
 
 def primitive_wrenches(
-    points, normals, mu: float, *, torque_reference=None, torque_scale=None, facets: int = 8
+    points,
+    normals,
+    mu: float,
+    *,
+    torque_reference=None,
+    torque_scale=None,
+    facets: int = 8,
+    contact: str = "point_with_friction",
+    torsion_length: float = 0.0,
 ) -> np.ndarray:
-    """Primitive wrenches of point contacts with friction.
+    """Primitive wrenches of the contacts (contact models of Fig. 2.5).
 
     Args:
         points: (k, 2) or (k, 3) contact points [m].
@@ -66,6 +74,12 @@ def primitive_wrenches(
         torque_reference: (d,) torque reference point [m] (default: contact centroid).
         torque_scale: torque length ``rho`` [m] (default: max contact distance from it).
         facets: pyramid edges per contact in 3-D (>= 3).
+        contact: ``"point_with_friction"`` (default), ``"frictionless"`` (normal force only,
+            ``mu`` ignored) or ``"soft_finger"`` (spatial: adds moments about the normal up to
+            ``torsion_length`` per unit normal force, elliptic limit surface of eq. 2.2,
+            linearized; planar: same as a point with friction, the extra moment being out of
+            the plane).
+        torsion_length: soft finger ``e_n`` [m] (> 0 for ``"soft_finger"`` in 3-D).
 
     Returns:
         Planar: (2k, 3) rows ``(f_x, f_y, tau_z / rho)`` (k rows if ``mu == 0``).
@@ -73,12 +87,32 @@ def primitive_wrenches(
     """
     p, n = check_contacts(points, normals, 1)
     mu = check_mu(mu)
+    kinds = ("point_with_friction", "frictionless", "soft_finger")
+    contact = getattr(contact, "value", contact)
+    if contact not in kinds:
+        raise InvalidParameter(f"contact must be one of {list(kinds)}, got {contact!r}")
+    if contact == "frictionless":
+        mu = 0.0
     c, rho = torque_frame(p, torque_reference, torque_scale)
     r = (p - c) / rho
     if p.shape[1] == 2:
         f = n[:, None, :] if mu == 0 else planar_cone_edges(n, mu)
         tau = r[:, None, 0] * f[..., 1] - r[:, None, 1] * f[..., 0]
         return np.concatenate([f, tau[..., None]], axis=-1).reshape(-1, 3)
+    if contact == "soft_finger":
+        from planner.grasp.cones import soft_finger_generators
+
+        e = float(torsion_length)
+        if not np.isfinite(e) or e <= 0:
+            raise InvalidParameter(
+                f"soft_finger contacts need torsion_length > 0 [m], got {torsion_length!r}"
+            )
+        g = soft_finger_generators(n, mu, e, facets)  # (k, m, 6): unit normal force
+        f, m = g[..., :3], g[..., 3:]
+        scale = 1.0 / np.linalg.norm(f, axis=-1, keepdims=True)  # unit-norm forces (L1)
+        f, m = f * scale, m * scale
+        tau = np.cross(np.broadcast_to(r[:, None, :], f.shape), f) + m / rho
+        return np.concatenate([f, tau], axis=-1).reshape(-1, 6)
     f = n[:, None, :] if mu == 0 else pyramid_cone_edges(n, mu, facets, reference=-r)
     tau = np.cross(np.broadcast_to(r[:, None, :], f.shape), f)
     return np.concatenate([f, tau], axis=-1).reshape(-1, 6)
