@@ -255,8 +255,10 @@ def _concave_position(sig: CurvatureSignal, p: int, tip_radius: float) -> np.nda
     most likely is: the true corner lies in the unobservable region between the two contacts
     ``a`` (before) and ``b`` (after), ``a = c - r_f n_a`` (eq. 3.11) just outside the smoothed
     corner. If both sides are flat, the corner is where their tangent lines meet (exact for a
-    V-groove); otherwise the contact on the more convex side (a wire, the top edge of a step)
-    is projected onto the tangent line of the flatter side (exact for a step)."""
+    V-groove); if both are convex (a bridged pit), the fillet point under the interference
+    point (eq. 3.11), the deepest point reached; otherwise the contact on the more convex
+    side (a wire, the top edge of a step) is projected onto the tangent line of the flatter
+    side (exact for a step)."""
     m = max(2, int(np.ceil(3 * sig.scale / max(np.median(np.diff(sig.s)), 1e-300))))
     n = sig.s.size
     i, j = max(p - m, 0), min(p + m, n - 1)
@@ -278,6 +280,10 @@ def _concave_position(sig: CurvatureSignal, p: int, tip_radius: float) -> np.nda
     na = basis @ (sig.traced[i] - a3) / tip_radius
     nb = basis @ (sig.traced[j] - b3) / tip_radius
     ka, kb = sig.curvature[i], sig.curvature[j]
+    if min(ka, kb) >= 1.0 / (4 * tip_radius):
+        # convex on both sides (the fingertip bridges a pit or a narrow groove): nothing of
+        # the inside was touched; the deepest point the fingertip reached is the best bound
+        return sig.surface[p].copy()
     if max(ka, kb) < 1.0 / (4 * tip_radius):
         mat = np.array([na, nb])
         if abs(np.linalg.det(mat)) < 1e-6:
@@ -347,7 +353,7 @@ def detect_features(
                 traced in +x with material below; for 3-D data without normals, below in
                 world z), ``"right"`` or ``"left"``.
             merge_gap: same-sign regions closer than this are merged [m]
-                (default ``2 * smoothing_scale``: noise dips inside one feature).
+                (default ``smoothing_scale``: noise dips inside one feature).
             upper, lower: override the convex/concave thresholds of the signal [1/m].
             normal_arclength: algorithm 2 only: differentiate the normal with respect to the
                 arclength of the fingertip-centre path (``"center"``, default) or of the
@@ -364,7 +370,7 @@ def detect_features(
     """
     sig = curvature_signal(centers, tip_radius, algorithm, normals, contacts, **settings)
     gap = settings.get("merge_gap")
-    gap = 2 * sig.scale if gap is None else float(gap)
+    gap = sig.scale if gap is None else float(gap)
     return features_from_signal(sig, gap, float(tip_radius))
 
 

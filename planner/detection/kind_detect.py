@@ -88,7 +88,7 @@ def run_detect(config, ctx) -> RunResult:
                 events.append(Event("skipped", "algorithm 2 needs normals or contacts"))
                 continue
             sig = curvature_signal(centers, r, alg, normals=normals, contacts=contacts, **settings)
-            fs = features_from_signal(sig, 2 * sig.scale, r)
+            fs = features_from_signal(sig, sig.scale, r)
             macros = macro_features(fs, r)
             signals[alg], feats[alg] = sig, fs
             key = f"alg{alg}"

@@ -104,11 +104,24 @@ def block_means(arr: np.ndarray, block: int) -> tuple[np.ndarray, np.ndarray]:
     return sums / counts.reshape(shape), starts + (counts - 1) / 2.0
 
 
-def _odd_pad(x: np.ndarray, pad: int) -> np.ndarray:
-    """Pad (N, ...) along axis 0 by point reflection about each end (keeps linear trends)."""
-    pad = min(pad, x.shape[0] - 1)
-    head = 2 * x[:1] - x[pad:0:-1]
-    tail = 2 * x[-1:] - x[-2 : -pad - 2 : -1]
+def _odd_pad(x: np.ndarray, pad: int) -> tuple[np.ndarray, int]:
+    """Pad (N, ...) along axis 0 by point reflection about each end (keeps linear trends).
+
+    The centre of reflection is the end value of a straight-line fit over the last ``pad``
+    samples rather than the noisy end sample itself, so that the padding does not turn the
+    end sample's noise into a kink (a spurious curvature peak at the ends of a trace).
+    """
+    n = x.shape[0]
+    pad = min(pad, n - 1)
+    m = min(max(pad, 2), n)
+    u = np.arange(m, dtype=float)
+    flat = x.reshape(n, -1)
+    c0 = np.polynomial.polynomial.polyfit(u, flat[:m], 1)
+    c1 = np.polynomial.polynomial.polyfit(u, flat[n - m :][::-1], 1)
+    a0 = c0[0].reshape(x.shape[1:])
+    a1 = c1[0].reshape(x.shape[1:])
+    head = 2 * a0 - x[pad:0:-1]
+    tail = 2 * a1 - x[-2 : -pad - 2 : -1]
     return np.concatenate([head, x, tail], axis=0), pad
 
 

@@ -145,7 +145,7 @@ def signal_figure(
         left=0.1,
         right=0.97,
         bottom=0.6 / fig.get_figheight(),
-        top=1 - 0.5 / fig.get_figheight(),
+        top=1 - 0.8 / fig.get_figheight(),
         hspace=0.45,
     )
     return fig

@@ -128,7 +128,8 @@ class SyntheticTrace:
             ``start/end/peak`` are coordinates along the plane [m]).
         observable: the ground truth as a fingertip can know it: same-sign features inside
             one unobservable region (a gap of the contact locus, between the two contacts of
-            an interference point) count as one, at their mean position.
+            an interference point), or passed by the fingertip within r_f/4 of path length,
+            count as one, at their mean position.
         observable_index: (K,) sample index at which the fingertip passes each observable
             feature (its contact point crosses the feature), for scoring in time.
         profile: (K, 2) dense points of the object profile [m].
@@ -236,6 +237,7 @@ def simulate(
     i0 = np.searchsorted(cx, xs, side="left")
     i1 = np.searchsorted(cx, xs, side="right")
     obs_idx = np.clip((i0 + np.maximum(i1 - 1, i0)) // 2, 0, len(cx) - 1)
+    observable, obs_idx = _merge_passed_together(observable, obs_idx, s, r / 4)
     prof = np.column_stack([x, f]) @ rot.T
     return SyntheticTrace(
         t=s / speed,
@@ -252,6 +254,28 @@ def simulate(
         profile=prof,
         tip_radius=r,
     )
+
+
+def _merge_passed_together(feats, idx, s, gap):
+    """Same-sign features the fingertip passes within ``gap`` of path length count once
+    (e.g. the two bottom corners of a groove it only just touches)."""
+    out, out_idx = [], []
+    for f, i in zip(feats, idx, strict=True):
+        if out and out[-1].sign == f.sign and s[i] - s[out_idx[-1]] < gap:
+            prev = out.pop()
+            j = out_idx.pop()
+            pos = 0.5 * (np.asarray(prev.position) + np.asarray(f.position))
+            f = CurvatureFeature(
+                sign=f.sign,
+                start=prev.start,
+                end=f.end,
+                peak=0.5 * (prev.peak + f.peak),
+                position=pos,
+            )
+            i = (i + j) // 2
+        out.append(f)
+        out_idx.append(i)
+    return tuple(out), np.array(out_idx, dtype=int)
 
 
 def _observable(truth, local, contact_x: np.ndarray, gap: float) -> tuple:
