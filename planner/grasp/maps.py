@@ -15,6 +15,7 @@ see :func:`shift_diagonal`.
 
 from __future__ import annotations
 
+import threading
 from dataclasses import dataclass
 
 import numpy as np
@@ -192,6 +193,24 @@ class ClosureKernel:
         return ok
 
 
+_KERNELS = threading.local()
+
+
+def closure_kernel(n: int, mu: float, mu2: float | None = None) -> ClosureKernel:
+    """A cached :class:`ClosureKernel` (per thread, a few most recent sizes/frictions), so that
+    repeated maps reuse their buffers instead of touching fresh memory."""
+    cache = getattr(_KERNELS, "cache", None)
+    if cache is None:
+        cache = _KERNELS.cache = {}
+    key = (int(n), float(mu), float(mu if mu2 is None else mu2))
+    k = cache.get(key)
+    if k is None:
+        if len(cache) >= 4:
+            cache.pop(next(iter(cache)))
+        k = cache[key] = ClosureKernel(*key)
+    return k
+
+
 def grasp_map(
     profile, mu: float, resolution: int = 360, *, mu2: float | None = None, epsilon: bool = True
 ) -> GraspMap:
@@ -212,7 +231,7 @@ def grasp_map(
     mu = check_mu(mu)
     mu2 = mu if mu2 is None else check_mu(mu2)
     pts, nrm = profile_contacts(profile, theta)
-    fc = ClosureKernel(theta.size, mu, mu2)(pts[:, 0], pts[:, 1], nrm[:, 0], nrm[:, 1]).copy()
+    fc = closure_kernel(theta.size, mu, mu2)(pts[:, 0], pts[:, 1], nrm[:, 0], nrm[:, 1]).copy()
     if epsilon:  # only on force-closure cells (ε = 0 elsewhere), one triangle when symmetric
         eps = np.zeros(fc.shape)
         ii, jj = np.nonzero(np.triu(fc, 1) if mu == mu2 else fc)
