@@ -30,11 +30,19 @@ class PlanarFrame:
 
     def to_plane(self, pts: np.ndarray) -> np.ndarray:
         """(N, D) points -> (N, 2) in-plane coordinates [m]."""
-        return (pts - self.origin) @ self.axes.T
+        if pts.shape[1] == 2 and not self.origin.any() and (self.axes == np.eye(2)).all():
+            return pts
+        return self.vectors_to_plane(pts - self.origin)
 
     def vectors_to_plane(self, vec: np.ndarray) -> np.ndarray:
         """(N, D) vectors -> (N, 2) in-plane components."""
-        return vec @ self.axes.T
+        if vec.shape[1] == 2 and (self.axes == np.eye(2)).all():
+            return vec
+        # column sums instead of a matmul with a tiny inner dimension (much faster)
+        out = np.empty((vec.shape[0], 2))
+        for k in range(2):
+            out[:, k] = sum(vec[:, j] * self.axes[k, j] for j in range(vec.shape[1]))
+        return out
 
     def from_plane(self, uv: np.ndarray) -> np.ndarray:
         """(N, 2) in-plane coordinates -> (N, D) points [m]."""
