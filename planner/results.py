@@ -35,8 +35,18 @@ import yaml
 from planner.errors import HapexError
 
 SCHEMA_VERSION = 1
-_VERSIONED = ("hapex", "pin", "casadi", "numpy", "scipy", "shapely", "qpsolvers", "osqp",
-              "pydantic", "matplotlib")
+_VERSIONED = (
+    "hapex",
+    "pin",
+    "casadi",
+    "numpy",
+    "scipy",
+    "shapely",
+    "qpsolvers",
+    "osqp",
+    "pydantic",
+    "matplotlib",
+)
 
 
 @dataclass(frozen=True)
@@ -168,8 +178,9 @@ def write_run_directory(
         with open(tmp / "scenario.yaml", "w") as fh:
             yaml.safe_dump(to_jsonable(dict(resolved_scenario)), fh, sort_keys=False)
         if result.arrays:
-            np.savez_compressed(tmp / "trajectory.npz",
-                                **{k: np.asarray(v) for k, v in result.arrays.items()})
+            np.savez_compressed(
+                tmp / "trajectory.npz", **{k: np.asarray(v) for k, v in result.arrays.items()}
+            )
             files["trajectory"] = "trajectory.npz"
         if result.figures:
             import matplotlib.pyplot as plt
@@ -179,8 +190,9 @@ def write_run_directory(
                 for fmt in plot_formats:
                     rel = f"plots/{fig_name}.{fmt}"
                     fig.savefig(tmp / rel, dpi=dpi, bbox_inches="tight")
-                    files[f"plot:{fig_name}" if fmt == plot_formats[0] else
-                          f"plot:{fig_name}:{fmt}"] = rel
+                    files[
+                        f"plot:{fig_name}" if fmt == plot_formats[0] else f"plot:{fig_name}:{fmt}"
+                    ] = rel
                 plt.close(fig)
         for fname, text in result.files.items():
             target = tmp / fname

@@ -49,13 +49,13 @@ class RunContext:
         finally:
             self.timings_s[stage] = self.timings_s.get(stage, 0.0) + time.perf_counter() - t0
 
-    def progress(self, iterable: Iterable[T], desc: str = "", total: int | None = None
-                 ) -> Iterable[T]:
+    def progress(
+        self, iterable: Iterable[T], desc: str = "", total: int | None = None
+    ) -> Iterable[T]:
         """Wrap a long loop in a tqdm progress bar (shown on a terminal only)."""
         from tqdm.auto import tqdm
 
-        return tqdm(iterable, desc=desc, total=total, leave=False,
-                    disable=not sys.stderr.isatty())
+        return tqdm(iterable, desc=desc, total=total, leave=False, disable=not sys.stderr.isatty())
 
     def log(self, message: str) -> None:
         """Print a progress message on stderr when ``-v`` was given."""

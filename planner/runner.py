@@ -20,8 +20,14 @@ class RunOutcome:
     out_dir: Path | None
 
 
-def run_config(config: ScenarioBase, *, plots: bool | None = None, quick: bool = False,
-               base_dir: Path | None = None, verbose: bool = False) -> tuple[RunResult, dict]:
+def run_config(
+    config: ScenarioBase,
+    *,
+    plots: bool | None = None,
+    quick: bool = False,
+    base_dir: Path | None = None,
+    verbose: bool = False,
+) -> tuple[RunResult, dict]:
     """Run a validated scenario in memory.
 
     Args:
@@ -51,8 +57,11 @@ def run_config(config: ScenarioBase, *, plots: bool | None = None, quick: bool =
     except ScenarioError:
         raise
     except HapexError as exc:
-        result = RunResult(status="failed", reason=f"{type(exc).__name__}: {exc}",
-                           events=[Event("error", str(exc))])
+        result = RunResult(
+            status="failed",
+            reason=f"{type(exc).__name__}: {exc}",
+            events=[Event("error", str(exc))],
+        )
     timings = dict(ctx.timings_s)
     timings["total"] = time.perf_counter() - t0
     return result, timings
@@ -64,17 +73,32 @@ def default_out_dir(config: ScenarioBase) -> Path:
     return Path("runs") / f"{config.name}-{stamp}"
 
 
-def execute(config: ScenarioBase, out_dir: Path | None = None, *, plots: bool | None = None,
-            quick: bool = False, base_dir: Path | None = None, verbose: bool = False
-            ) -> RunOutcome:
+def execute(
+    config: ScenarioBase,
+    out_dir: Path | None = None,
+    *,
+    plots: bool | None = None,
+    quick: bool = False,
+    base_dir: Path | None = None,
+    verbose: bool = False,
+) -> RunOutcome:
     """Run a scenario and write its run directory (atomically)."""
-    result, timings = run_config(config, plots=plots, quick=quick, base_dir=base_dir,
-                                 verbose=verbose)
+    result, timings = run_config(
+        config, plots=plots, quick=quick, base_dir=base_dir, verbose=verbose
+    )
     out = Path(out_dir) if out_dir is not None else default_out_dir(config)
     resolved = config.model_dump(mode="json")
-    write_run_directory(out, result, name=config.name, kind=config.kind, seed=config.seed,
-                        resolved_scenario=resolved, timings_s=timings,
-                        plot_formats=tuple(config.output.formats), dpi=config.output.dpi)
+    write_run_directory(
+        out,
+        result,
+        name=config.name,
+        kind=config.kind,
+        seed=config.seed,
+        resolved_scenario=resolved,
+        timings_s=timings,
+        plot_formats=tuple(config.output.formats),
+        dpi=config.output.dpi,
+    )
     return RunOutcome(result, out)
 
 

@@ -44,15 +44,20 @@ class OutputSettings(StrictModel):
 
     plots: bool = Field(True, description="write figures to plots/")
     formats: tuple[Literal["png", "svg", "pdf"], ...] = Field(
-        ("png",), min_length=1, description="figure file formats")
+        ("png",), min_length=1, description="figure file formats"
+    )
     dpi: int = Field(120, ge=30, le=600, description="raster figure resolution [dpi]")
 
 
 class ScenarioBase(StrictModel):
     """Keys common to every scenario kind."""
 
-    name: str = Field(..., pattern=r"^[A-Za-z0-9_.-]+$", max_length=100,
-                      description="identifier of the scenario (default: the file name stem)")
+    name: str = Field(
+        ...,
+        pattern=r"^[A-Za-z0-9_.-]+$",
+        max_length=100,
+        description="identifier of the scenario (default: the file name stem)",
+    )
     kind: str
     description: str = Field("", description="one-line description")
     seed: int = Field(0, ge=0, description="seed of numpy.random.default_rng")
@@ -141,11 +146,20 @@ def read_yaml(path: str | Path) -> SourceDoc:
         problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
         raise ScenarioError([InputIssue(src, line, ROOT, f"not valid YAML: {problem}")]) from None
     if node is None:
-        raise ScenarioError([InputIssue(src, 1, ROOT, "file is empty; expected a mapping "
-                                        "with at least 'kind'")])
+        raise ScenarioError(
+            [InputIssue(src, 1, ROOT, "file is empty; expected a mapping with at least 'kind'")]
+        )
     if not isinstance(data, dict):
-        raise ScenarioError([InputIssue(src, node.start_mark.line + 1, ROOT,
-                                        f"expected a mapping of keys, got {type(data).__name__}")])
+        raise ScenarioError(
+            [
+                InputIssue(
+                    src,
+                    node.start_mark.line + 1,
+                    ROOT,
+                    f"expected a mapping of keys, got {type(data).__name__}",
+                )
+            ]
+        )
     return SourceDoc(data, src, _line_map(node), {})
 
 
@@ -184,8 +198,14 @@ def apply_overrides(doc: SourceDoc, overrides: Sequence[str]) -> SourceDoc:
             if nxt is None and isinstance(cur, dict):
                 nxt = cur[p] = {}
             if not isinstance(nxt, dict):
-                issues.append(InputIssue(f"--set:{i}", 0, ".".join(parts[: depth + 1]),
-                                         "is not a mapping; cannot set a key inside it"))
+                issues.append(
+                    InputIssue(
+                        f"--set:{i}",
+                        0,
+                        ".".join(parts[: depth + 1]),
+                        "is not a mapping; cannot set a key inside it",
+                    )
+                )
                 ok = False
                 break
             cur = nxt
@@ -245,8 +265,7 @@ def _message(err: Mapping[str, Any]) -> str:
         return "required key is missing"
     if kind == "union_tag_invalid":
         ctx = err.get("ctx", {})
-        return (f"unknown kind {ctx.get('tag')!r}; expected one of "
-                f"{ctx.get('expected_tags')}")
+        return f"unknown kind {ctx.get('tag')!r}; expected one of {ctx.get('expected_tags')}"
     if kind == "union_tag_not_found":
         return f"missing key {err.get('ctx', {}).get('discriminator', 'kind')}"
     return str(err.get("msg", "invalid value"))
@@ -262,14 +281,28 @@ def validate(doc: SourceDoc) -> ScenarioBase:
     if "name" not in data and doc.source not in ("", "(input)"):
         data["name"] = Path(doc.source).stem
     if "kind" not in data:
-        raise ScenarioError([InputIssue(doc.source, 1, "kind",
-                                        f"required key is missing; expected one of "
-                                        f"{sorted(kinds())}")])
+        raise ScenarioError(
+            [
+                InputIssue(
+                    doc.source,
+                    1,
+                    "kind",
+                    f"required key is missing; expected one of {sorted(kinds())}",
+                )
+            ]
+        )
     if not isinstance(data["kind"], str) or data["kind"] not in kinds():
         src, line, path = _locate(doc, ("kind",))
-        raise ScenarioError([InputIssue(src, line, "kind",
-                                        f"unknown kind {data['kind']!r}; expected one of "
-                                        f"{sorted(kinds())}")])
+        raise ScenarioError(
+            [
+                InputIssue(
+                    src,
+                    line,
+                    "kind",
+                    f"unknown kind {data['kind']!r}; expected one of {sorted(kinds())}",
+                )
+            ]
+        )
     doc = SourceDoc(data, doc.source, doc.lines, doc.origins)
     model = kinds()[data["kind"]].config
     try:
@@ -283,12 +316,15 @@ def validate(doc: SourceDoc) -> ScenarioBase:
             if str(issue) not in seen:
                 seen.add(str(issue))
                 issues.append(issue)
-        raise ScenarioError(sorted(issues, key=lambda i: (i.source != doc.source, i.line)))
-        # sorted: file errors in line order, then override errors
+        # file errors in line order, then override errors
+        raise ScenarioError(
+            sorted(issues, key=lambda i: (i.source != doc.source, i.line))
+        ) from None
 
 
-def load_scenario(path: str | Path, overrides: Sequence[str] = (),
-                  seed: int | None = None) -> ScenarioBase:
+def load_scenario(
+    path: str | Path, overrides: Sequence[str] = (), seed: int | None = None
+) -> ScenarioBase:
     """Read, override and validate a scenario file.
 
     Args:

@@ -1,0 +1,226 @@
+"""The ``hapex`` command line (contract in DESIGN.md).
+
+::
+
+    hapex run SCENARIO.yaml [--out DIR] [--seed N] [--set key.path=value ...] [--no-plots]
+                            [--quick] [-v]
+    hapex validate SCENARIO.yaml ...
+    hapex list [scenarios|robots|kinds]
+    hapex --version
+
+Exit codes: 0 success; 1 the scenario ran but its task failed; 2 bad input. Errors are one
+line each on stderr, ``FILE:LINE: key.path: message``, all at once; no traceback unless -v.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import traceback
+from collections.abc import Sequence
+from pathlib import Path
+
+EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = 0, 1, 2
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse that reports usage errors as one line and exit code 2."""
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        print(f"hapex: error: {message} (see 'hapex --help')", file=sys.stderr)
+        raise SystemExit(EXIT_BAD_INPUT)
+
+
+def _parser() -> argparse.ArgumentParser:
+    from planner import __version__
+
+    p = _Parser(
+        prog="hapex",
+        description="Haptic exploration of unknown objects: run "
+        "scenario files, validate them, list what is bundled.",
+    )
+    p.add_argument("--version", action="version", version=f"hapex {__version__}")
+    sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    r = sub.add_parser("run", help="run a scenario and write a run directory")
+    r.add_argument("scenario", type=Path, help="scenario YAML file")
+    r.add_argument(
+        "--out",
+        type=Path,
+        default=None,
+        help="run directory to write (default: runs/<name>-<timestamp>)",
+    )
+    r.add_argument("--seed", type=int, default=None, help="override the scenario's seed")
+    r.add_argument(
+        "--set",
+        dest="overrides",
+        action="append",
+        default=[],
+        metavar="KEY.PATH=VALUE",
+        help="override a scenario key (repeatable)",
+    )
+    r.add_argument("--no-plots", action="store_true", help="do not draw figures")
+    r.add_argument(
+        "--quick",
+        action="store_true",
+        help="short smoke-test run (reduced horizons and resolutions)",
+    )
+    r.add_argument(
+        "-v", "--verbose", action="store_true", help="progress messages, and tracebacks on errors"
+    )
+
+    v = sub.add_parser("validate", help="check scenario files without running them")
+    v.add_argument("scenarios", type=Path, nargs="+", help="scenario YAML files")
+    v.add_argument(
+        "--set",
+        dest="overrides",
+        action="append",
+        default=[],
+        metavar="KEY.PATH=VALUE",
+        help="override a scenario key (repeatable)",
+    )
+    v.add_argument("-v", "--verbose", action="store_true")
+
+    ls = sub.add_parser("list", help="list bundled scenarios, robots, or scenario kinds")
+    ls.add_argument(
+        "what", nargs="?", default="scenarios", choices=("scenarios", "robots", "kinds")
+    )
+    ls.add_argument("-v", "--verbose", action="store_true")
+    return p
+
+
+def scenario_dirs() -> list[Path]:
+    """Folders searched for bundled scenarios: ``./scenarios`` and the source tree's."""
+    here = Path(__file__).resolve().parent.parent / "scenarios"
+    out = []
+    for d in (Path.cwd() / "scenarios", here):
+        if d.is_dir() and d.resolve() not in [o.resolve() for o in out]:
+            out.append(d)
+    return out
+
+
+def _print_issues(exc) -> None:
+    for issue in exc.issues:
+        print(str(issue), file=sys.stderr)
+
+
+def _cmd_run(args) -> int:
+    from planner.runner import execute
+    from planner.scenario import load_scenario
+
+    if args.seed is not None and args.seed < 0:
+        print(f"--seed: {args.seed}: must be >= 0", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    config = load_scenario(args.scenario, args.overrides, seed=args.seed)
+    outcome = execute(
+        config,
+        args.out,
+        plots=not args.no_plots,
+        quick=args.quick,
+        base_dir=args.scenario.resolve().parent,
+        verbose=args.verbose,
+    )
+    res = outcome.result
+    print(f"{config.name}: {res.status}{' - ' + res.reason if res.reason else ''}")
+    print(f"run directory: {outcome.out_dir}")
+    return EXIT_OK if res.status == "ok" else EXIT_FAILED
+
+
+def _cmd_validate(args) -> int:
+    from planner.errors import ScenarioError
+    from planner.scenario import load_scenario
+
+    bad = 0
+    for path in args.scenarios:
+        try:
+            cfg = load_scenario(path, args.overrides)
+        except ScenarioError as exc:
+            _print_issues(exc)
+            bad += 1
+        else:
+            print(f"{path}: ok ({cfg.kind})")
+    return EXIT_BAD_INPUT if bad else EXIT_OK
+
+
+def _cmd_list(args) -> int:
+    if args.what == "kinds":
+        from planner.scenario import kinds
+
+        for name, spec in kinds().items():
+            doc = (spec.config.__doc__ or "").strip().splitlines()
+            print(f"{name:14s} {doc[0] if doc else ''}")
+        return EXIT_OK
+    if args.what == "robots":
+        import robots
+
+        catalogue = getattr(robots, "catalogue", None)
+        if catalogue is None:
+            print("no robot catalogue available in this installation", file=sys.stderr)
+            return EXIT_FAILED
+        for info in catalogue():
+            print(f"{info.name}: {info.description}")
+            for key, value in info.params.items():
+                print(f"    {key} = {value}")
+        return EXIT_OK
+    from planner.errors import ScenarioError
+    from planner.scenario import read_yaml
+
+    rows = []
+    for d in scenario_dirs():
+        for path in sorted(d.glob("*.yaml")):
+            try:
+                data = read_yaml(path).data
+            except ScenarioError:
+                rows.append((path.stem, "?", "(unreadable)"))
+                continue
+            rows.append(
+                (
+                    str(data.get("name", path.stem)),
+                    str(data.get("kind", "?")),
+                    str(data.get("description", "")).strip().splitlines()[0]
+                    if data.get("description")
+                    else "",
+                )
+            )
+    if not rows:
+        print(
+            "no bundled scenarios found (looked in ./scenarios and the source tree)",
+            file=sys.stderr,
+        )
+        return EXIT_FAILED
+    width = max(len(r[0]) for r in rows)
+    kwidth = max(len(r[1]) for r in rows)
+    for name, kind, desc in rows:
+        print(f"{name:{width}s}  {kind:{kwidth}s}  {desc}")
+    return EXIT_OK
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``hapex`` script. Returns the exit code."""
+    os.environ.setdefault("MPLBACKEND", "Agg")
+    args = _parser().parse_args(argv)
+    from planner.errors import HapexError, ScenarioError
+
+    verbose = getattr(args, "verbose", False)
+    handlers = {"run": _cmd_run, "validate": _cmd_validate, "list": _cmd_list}
+    try:
+        return handlers[args.command](args)
+    except ScenarioError as exc:
+        if verbose:
+            traceback.print_exc()
+        _print_issues(exc)
+        return EXIT_BAD_INPUT
+    except HapexError as exc:
+        if verbose:
+            traceback.print_exc()
+        where = getattr(args, "scenario", None) or "hapex"
+        print(f"{where}:0: (root): {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except KeyboardInterrupt:
+        print("interrupted; no run directory was written", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

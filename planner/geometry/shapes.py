@@ -1,0 +1,389 @@
+"""The catalogue of 2-D profiles (thesis §3.2.2-3.4: steps, wires, ridges, ravines, bumps,
+pits, cusps; closed objects for grasping, §2.2.1).
+
+Open profiles are centred on ``x0`` and span ``length`` [m] along x (default 0.06 m, several
+fingertip radii), run in +x with the material below (y < surface). Closed profiles are
+centred on the origin and run clockwise. All sizes in metres, angles in radians.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from planner.errors import InvalidParameter
+from planner.geometry.primitives import Arc, Line, Parametric, turn_angle
+from planner.geometry.profiles import Profile
+
+DEFAULT_LENGTH = 0.06
+
+
+def _positive(name: str, value: float) -> float:
+    if not np.isfinite(value) or not value > 0:
+        raise InvalidParameter(f"{name} must be a finite number > 0 [m], got {value!r}")
+    return float(value)
+
+
+def _chain(points: np.ndarray, radii: np.ndarray | None = None, closed: bool = False) -> list:
+    """Pieces of a polyline through ``points`` (n, 2), with optional corner fillets.
+
+    ``radii[i]`` rounds the corner at vertex i with a tangent circular arc of that radius
+    (0 keeps it sharp). Fillets must fit in the adjacent segments.
+    """
+    P = np.asarray(points, float)
+    n = len(P)
+    if radii is None:
+        radii = np.zeros(n)
+    # per vertex: (entry point, arc or None, exit point)
+    entry = [P[i].copy() for i in range(n)]
+    exitp = [P[i].copy() for i in range(n)]
+    arcs: list = [None] * n
+    idx = range(n) if closed else range(1, n - 1)
+    for i in idx:
+        rho = radii[i]
+        if rho <= 0:
+            continue
+        a, b, c = P[i - 1], P[i], P[(i + 1) % n]
+        t1 = (b - a) / np.linalg.norm(b - a)
+        t2 = (c - b) / np.linalg.norm(c - b)
+        turn = turn_angle(t1, t2)
+        if abs(turn) < 1e-12:
+            continue
+        d = rho * np.tan(abs(turn) / 2)
+        if d > np.linalg.norm(b - a) / 2 + 1e-12 or d > np.linalg.norm(c - b) / 2 + 1e-12:
+            raise InvalidParameter(
+                f"corner radius {rho} does not fit at vertex {i} "
+                f"({P[i].tolist()}): needs {d:.4g} m of each side"
+            )
+        e0, e1 = b - d * t1, b + d * t2
+        side = np.array([-t1[1], t1[0]]) * np.sign(turn)  # toward the centre
+        centre = e0 + rho * side
+        phi0 = np.arctan2(*(e0 - centre)[::-1])
+        arcs[i] = Arc(tuple(centre), rho, float(phi0), float(turn))
+        entry[i], exitp[i] = e0, e1
+    pieces = []
+    last = n if closed else n - 1
+    for i in range(last):
+        j = (i + 1) % n
+        if arcs[i] is not None:
+            pieces.append(arcs[i])
+        if np.linalg.norm(entry[j] - exitp[i]) > 1e-15:
+            pieces.append(Line(tuple(exitp[i]), tuple(entry[j])))
+    if closed and arcs[0] is not None:
+        pieces = [arcs[0], *pieces]
+        pieces = pieces[1:] + pieces[:1]
+    return pieces
+
+
+def _signed_area(P: np.ndarray) -> float:
+    x, y = P[:, 0], P[:, 1]
+    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+
+
+def plane(angle: float = 0.0, length: float = DEFAULT_LENGTH, x0: float = 0.0) -> Profile:
+    """A straight surface through (x0, 0), inclined by ``angle`` [rad] about that point."""
+    L = _positive("length", length)
+    base = Profile((Line((-L / 2, 0.0), (L / 2, 0.0)),), name="plane")
+    return base.transformed(angle, (x0, 0.0))
+
+
+def step(height: float, x0: float = 0.0, length: float = DEFAULT_LENGTH) -> Profile:
+    """A sharp step of ``height`` [m] at ``x0`` (positive: up in +x; negative: down)."""
+    if not np.isfinite(height) or height == 0:
+        raise InvalidParameter(f"step height must be a non-zero finite number [m], got {height!r}")
+    L = _positive("length", length)
+    pts = [(x0 - L / 2, 0.0), (x0, 0.0), (x0, height), (x0 + L / 2, height)]
+    return Profile(tuple(_chain(np.array(pts))), name=f"step({height:g})")
+
+
+def ridge(
+    width: float,
+    height: float,
+    corner_radius: float = 0.0,
+    x0: float = 0.0,
+    length: float = DEFAULT_LENGTH,
+) -> Profile:
+    """A rectangular ridge of ``width`` x ``height`` [m] centred at ``x0``; its two top
+    (convex) corners are rounded with ``corner_radius`` [m] (0: sharp); the base corners are
+    sharp and concave."""
+    w, h = _positive("width", width), _positive("height", height)
+    L = _positive("length", length)
+    if corner_radius < 0:
+        raise InvalidParameter(f"corner_radius must be >= 0 [m], got {corner_radius!r}")
+    pts = np.array(
+        [
+            (x0 - L / 2, 0),
+            (x0 - w / 2, 0),
+            (x0 - w / 2, h),
+            (x0 + w / 2, h),
+            (x0 + w / 2, 0),
+            (x0 + L / 2, 0),
+        ],
+        float,
+    )
+    radii = np.array([0, 0, corner_radius, corner_radius, 0, 0], float)
+    return Profile(tuple(_chain(pts, radii)), name="ridge")
+
+
+def ravine(
+    width: float,
+    depth: float,
+    corner_radius: float = 0.0,
+    x0: float = 0.0,
+    length: float = DEFAULT_LENGTH,
+) -> Profile:
+    """A rectangular groove of ``width`` x ``depth`` [m] centred at ``x0``; its two rim
+    (convex) corners are rounded with ``corner_radius`` [m]; the bottom corners are sharp."""
+    w, d = _positive("width", width), _positive("depth", depth)
+    L = _positive("length", length)
+    if corner_radius < 0:
+        raise InvalidParameter(f"corner_radius must be >= 0 [m], got {corner_radius!r}")
+    pts = np.array(
+        [
+            (x0 - L / 2, 0),
+            (x0 - w / 2, 0),
+            (x0 - w / 2, -d),
+            (x0 + w / 2, -d),
+            (x0 + w / 2, 0),
+            (x0 + L / 2, 0),
+        ],
+        float,
+    )
+    radii = np.array([0, corner_radius, 0, 0, corner_radius, 0], float)
+    return Profile(tuple(_chain(pts, radii)), name="ravine")
+
+
+def _gaussian_piece(height: float, sigma: float, x0: float, L: float) -> Parametric:
+    h, s = height, sigma
+
+    def f(u):
+        return np.stack([u, h * np.exp(-((u - x0) ** 2) / (2 * s * s))], axis=-1)
+
+    def df(u):
+        g = np.exp(-((u - x0) ** 2) / (2 * s * s))
+        return np.stack([np.ones_like(u), -h * (u - x0) / s**2 * g], axis=-1)
+
+    def ddf(u):
+        g = np.exp(-((u - x0) ** 2) / (2 * s * s))
+        return np.stack([np.zeros_like(u), h * ((u - x0) ** 2 / s**4 - 1 / s**2) * g], axis=-1)
+
+    return Parametric(f, df, ddf, x0 - L / 2, x0 + L / 2, table=20001)
+
+
+def bump(
+    height: float, width: float, shape: str = "arc", x0: float = 0.0, length: float = DEFAULT_LENGTH
+) -> Profile:
+    """A bump on a plane, centred at ``x0``.
+
+    Args:
+        height: peak height [m] (> 0; use :func:`pit` for depressions).
+        width: base width for ``"arc"`` and ``"parabolic"``; standard deviation of the
+            Gaussian for ``"gaussian"`` [m].
+        shape: ``"arc"`` (circular cap meeting the plane at sharp concave corners),
+            ``"parabolic"`` (y = h (1 - (2(x-x0)/w)^2), sharp base corners) or
+            ``"gaussian"`` (y = h exp(-(x-x0)^2 / (2 w^2)), smooth everywhere).
+    """
+    return _bump(height, width, shape, x0, length, sign=1.0)
+
+
+def pit(
+    depth: float, width: float, shape: str = "arc", x0: float = 0.0, length: float = DEFAULT_LENGTH
+) -> Profile:
+    """A depression of ``depth`` [m]: the mirror image of :func:`bump` (same shapes)."""
+    return _bump(depth, width, shape, x0, length, sign=-1.0)
+
+
+def _bump(h, w, shape, x0, length, sign) -> Profile:
+    h, w, L = _positive("height", h), _positive("width", w), _positive("length", length)
+    name = "bump" if sign > 0 else "pit"
+    if shape == "gaussian":
+        return Profile((_gaussian_piece(sign * h, w, x0, L),), name=name)
+    if w >= L:
+        raise InvalidParameter(f"width {w} must be smaller than the profile length {L}")
+    left, right = (x0 - L / 2, 0.0), (x0 + L / 2, 0.0)
+    a, b = (x0 - w / 2, 0.0), (x0 + w / 2, 0.0)
+    if shape == "arc":
+        R = (w * w / 4 + h * h) / (2 * h)
+        cy = sign * (h - R)
+        phi_a = np.arctan2(-cy, -w / 2)
+        phi_b = np.arctan2(-cy, w / 2)
+        sweep = (
+            (phi_b - phi_a) % (2 * np.pi) - 2 * np.pi if sign > 0 else (phi_b - phi_a) % (2 * np.pi)
+        )
+        mid = Arc((x0, cy), R, float(phi_a), float(sweep))
+    elif shape == "parabolic":
+        c = sign * h
+
+        def f(u):
+            return np.stack([u, c * (1 - (2 * (u - x0) / w) ** 2)], axis=-1)
+
+        def df(u):
+            return np.stack([np.ones_like(u), -8 * c * (u - x0) / w**2], axis=-1)
+
+        def ddf(u):
+            return np.stack([np.zeros_like(u), np.full_like(u, -8 * c / w**2)], axis=-1)
+
+        mid = Parametric(f, df, ddf, a[0], b[0])
+    else:
+        raise InvalidParameter(
+            f"unknown bump shape {shape!r}; expected one of 'arc', 'parabolic', 'gaussian'"
+        )
+    return Profile((Line(left, a), mid, Line(b, right)), name=name)
+
+
+def wire_on_plane(
+    diameter: float, angle: float = 0.0, x0: float = 0.0, length: float = DEFAULT_LENGTH
+) -> Profile:
+    """A round wire of ``diameter`` [m] lying on a plane inclined by ``angle`` [rad], touching
+    it at distance ``x0`` [m] along the plane from the origin (thesis §3.4.2, Fig. 3.12).
+
+    The profile is the outline of plane ∪ wire: the plane up to the contact point, once around
+    the wire (convex), and the plane again; the two wedges between wire and plane are concave
+    cusps (turning angle π).
+    """
+    d, L = _positive("diameter", diameter), _positive("length", length)
+    a = d / 2
+    pieces = (
+        Line((x0 - L / 2, 0.0), (x0, 0.0)),
+        Arc((x0, a), a, -np.pi / 2, -2 * np.pi),
+        Line((x0, 0.0), (x0 + L / 2, 0.0)),
+    )
+    return Profile(pieces, name="wire").transformed(angle, (0.0, 0.0))
+
+
+def cusp(angle: float, x0: float = 0.0, length: float = DEFAULT_LENGTH) -> Profile:
+    """A convex roof-shaped corner at (x0, 0) with interior angle ``angle`` [rad] in (0, π)."""
+    if not 0 < angle < np.pi:
+        raise InvalidParameter(f"cusp angle must be in (0, pi) [rad], got {angle!r}")
+    L = _positive("length", length)
+    slope = 1.0 / np.tan(angle / 2)
+    pts = np.array([(x0 - L / 2, -slope * L / 2), (x0, 0.0), (x0 + L / 2, -slope * L / 2)])
+    return Profile(tuple(_chain(pts)), name="cusp")
+
+
+def circle(radius: float) -> Profile:
+    """A circle of ``radius`` [m] about the origin (closed, clockwise from (radius, 0))."""
+    R = _positive("radius", radius)
+
+    def polar(theta):
+        u = np.stack([np.cos(theta), np.sin(theta)], axis=-1)
+        return R * u, u
+
+    return Profile(
+        (Arc((0.0, 0.0), R, 0.0, -2 * np.pi),), closed=True, name="circle", exact_polar=polar
+    )
+
+
+def ellipse(a: float, b: float) -> Profile:
+    """An ellipse with semi-axes ``a`` (along x) and ``b`` (along y) [m] (closed)."""
+    a, b = _positive("a", a), _positive("b", b)
+
+    def f(u):
+        return np.stack([a * np.cos(u), b * np.sin(u)], axis=-1)
+
+    def df(u):
+        return np.stack([-a * np.sin(u), b * np.cos(u)], axis=-1)
+
+    def ddf(u):
+        return np.stack([-a * np.cos(u), -b * np.sin(u)], axis=-1)
+
+    def polar(theta):
+        r = a * b / np.hypot(b * np.cos(theta), a * np.sin(theta))
+        p = np.stack([r * np.cos(theta), r * np.sin(theta)], axis=-1)
+        n = np.stack([p[:, 0] / a**2, p[:, 1] / b**2], axis=-1)
+        return p, n / np.linalg.norm(n, axis=1, keepdims=True)
+
+    return Profile(
+        (Parametric(f, df, ddf, 0.0, -2 * np.pi, table=20001),),
+        closed=True,
+        name="ellipse",
+        exact_polar=polar,
+    )
+
+
+def rounded_rectangle(width: float, height: float, corner_radius: float = 0.0) -> Profile:
+    """A ``width`` x ``height`` [m] rectangle about the origin with corners rounded by
+    ``corner_radius`` [m] (closed; corner_radius = min(w, h)/2 gives a stadium)."""
+    w, h = _positive("width", width), _positive("height", height)
+    if not 0 <= corner_radius <= min(w, h) / 2:
+        raise InvalidParameter(
+            f"corner_radius must be in [0, {min(w, h) / 2:g}] [m], got {corner_radius!r}"
+        )
+    pts = np.array(
+        [(w / 2, 0.0), (w / 2, -h / 2), (-w / 2, -h / 2), (-w / 2, h / 2), (w / 2, h / 2)]
+    )
+    radii = np.array([0, corner_radius, corner_radius, corner_radius, corner_radius])
+    radii = np.where(radii >= min(w, h) / 2 - 1e-15, radii * (1 - 1e-9), radii)
+    return Profile(tuple(_chain(pts, radii, closed=True)), closed=True, name="rounded_rectangle")
+
+
+def _check_points(points, minimum: int) -> np.ndarray:
+    P = np.asarray(points, float)
+    if P.ndim != 2 or P.shape[1] != 2:
+        raise InvalidParameter(f"points must have shape (N, 2) [m], got {P.shape}")
+    if len(P) < minimum:
+        raise InvalidParameter(f"need at least {minimum} points, got {len(P)}")
+    if not np.all(np.isfinite(P)):
+        raise InvalidParameter("points contain NaN or infinite values")
+    if np.any(np.linalg.norm(np.diff(P, axis=0), axis=1) == 0):
+        raise InvalidParameter("points contain consecutive duplicates")
+    return P
+
+
+def polyline(points) -> Profile:
+    """An open polyline through ``points`` (N, 2) [m], N >= 2, material on the right of
+    travel (for a left-to-right surface: below)."""
+    P = _check_points(points, 2)
+    return Profile(tuple(_chain(P)), name="polyline")
+
+
+def polygon(points) -> Profile:
+    """A closed polygon through ``points`` (N, 2) [m], N >= 3 (reordered clockwise)."""
+    P = _check_points(points, 3)
+    if np.allclose(P[0], P[-1]):
+        P = P[:-1]
+    if _signed_area(P) > 0:
+        P = P[::-1]
+    return Profile(tuple(_chain(P, closed=True)), closed=True, name="polygon")
+
+
+def spline(points, closed: bool = False) -> Profile:
+    """A C² cubic spline through ``points`` (N, 2) [m] (chord-length parametrized; periodic
+    when ``closed``, then reordered clockwise)."""
+    from scipy.interpolate import CubicSpline
+
+    P = _check_points(points, 3 if closed else 2)
+    if closed:
+        if not np.allclose(P[0], P[-1]):
+            P = np.vstack([P, P[:1]])
+        if _signed_area(P[:-1]) > 0:
+            P = P[::-1]
+    u = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(P, axis=0), axis=1))])
+    cs = CubicSpline(u, P, bc_type="periodic" if closed else "natural", axis=0)
+    d1, d2 = cs.derivative(1), cs.derivative(2)
+    piece = Parametric(
+        lambda x: cs(x),
+        lambda x: d1(x),
+        lambda x: d2(x),
+        0.0,
+        float(u[-1]),
+        table=max(4097, 64 * len(P) + 1),
+    )
+    return Profile((piece,), closed=closed, name="spline")
+
+
+__all__ = [
+    "bump",
+    "circle",
+    "cusp",
+    "ellipse",
+    "pit",
+    "plane",
+    "polygon",
+    "polyline",
+    "ravine",
+    "ridge",
+    "rounded_rectangle",
+    "spline",
+    "step",
+    "wire_on_plane",
+]
