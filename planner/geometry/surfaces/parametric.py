@@ -24,6 +24,9 @@ Conventions (thesis App. A, Montana 1988):
 * Curvature sign: convex positive with the outward normal (sphere: ``K = I/R``, eq. A.10).
   ``K`` is symmetric; its eigenvalues are the principal curvatures ``k1, k2`` ordered
   ``|k1| >= |k2|`` and its eigenvectors the principal directions (eqs. 3.5-3.8).
+  :meth:`ParametricSurface.principal_curvatures` evaluates the same values from the first and
+  second fundamental forms (``k = H ± sqrt(H^2 - K_G)``, the root taken from the Weingarten
+  map so that umbilics stay exact), a graph half the size of ``K``'s.
 
 Removable coordinate singularities (the bump's apex ``u = 0``, where ``f_v = 0``) are
 evaluated as the mean of the one-sided values at ``u ± δ``; a point where these disagree (a
@@ -187,9 +190,21 @@ class ParametricSurface:
         minv = ca.inv(metric)
         kmat = frame2.T @ ca.jacobian(z, uv) @ minv
         tors = y.T @ ca.jacobian(x, uv) @ minv
-        a, d = kmat[0, 0], kmat[1, 1]
-        mean = 0.5 * (a + d)
-        disc = ca.sqrt((0.5 * (a - d)) ** 2 + (0.5 * (kmat[0, 1] + kmat[1, 0])) ** 2)
+        # principal curvatures from the fundamental forms (valid for any parametrization):
+        # I = [[E, F], [F, G]], II = [[L, M], [M, N]] with the convex-positive sign
+        hess_u = ca.jacobian(fu, uv)
+        fvv = ca.jacobian(fv, v)
+        nn = ca.norm_2(n)
+        e_, f_, g_ = ca.dot(fu, fu), ca.dot(fu, fv), ca.dot(fv, fv)
+        l_, m_ = -ca.dot(hess_u[:, 0], n) / nn, -ca.dot(hess_u[:, 1], n) / nn
+        n_ = -ca.dot(fvv, n) / nn
+        det = e_ * g_ - f_**2
+        mean = (e_ * n_ - 2 * f_ * m_ + g_ * l_) / (2 * det)
+        # sqrt(H^2 - K_G) from the Weingarten map W = I^-1 II without the cancellation of
+        # H^2 - K_G at umbilics: ((W11 - W22)/2)^2 + W12 W21
+        half_diff = (g_ * l_ - e_ * n_) / (2 * det)
+        cross = (g_ * m_ - f_ * n_) * (e_ * m_ - f_ * l_) / det**2
+        disc = ca.sqrt(ca.fmax(half_diff**2 + cross, 0))
         k1 = ca.if_else(mean >= 0, mean + disc, mean - disc)
         return {
             "point": f,
