@@ -40,6 +40,9 @@ from planner.grasp.gait_result import (
 )
 from planner.grasp.gait_tables import GaitProblem, gait_problem, infeasible_reason
 
+#: ε margins tried in order by :func:`plan_gait` before plain force closure (robust first).
+PREFERRED_MARGINS = (0.05, 0.02)
+
 
 class _Search:
     """Greedy forward-gait walk with transition 4 (see the module docstring)."""
@@ -174,8 +177,9 @@ def plan_gait(
         x0: x position of the object origin on the palm [m].
         roll_length: rolling travel limit per phase 1 on each fingertip [m] (default: from
             the hand, e.g. ``2 r_f max_tip_contact_angle``; inf when the model has none).
-        min_epsilon: a holding grasp must also have ε above this margin, in [0, 1) (0: force
-            closure suffices).
+        min_epsilon: a holding grasp must also have ε above this margin, in [0, 1). With 0
+            (default) force closure suffices, but gaits keeping ε above
+            :data:`PREFERRED_MARGINS` (tried in order) are preferred.
         max_starts: phase-1 start grasps tried before giving up (>= 1).
         max_nodes: phase-1 entries expanded by the depth-first search, over all starts.
 
@@ -197,7 +201,26 @@ def plan_gait(
         roll_length=roll_length,
         min_epsilon=min_epsilon,
     )
+    if min_epsilon > 0:
+        return search_gait(prob, max_starts=max_starts, max_nodes=max_nodes)
+    # prefer robust gaits: try ε margins first, fall back to plain force closure
+    for margin in PREFERRED_MARGINS:
+        gait = search_gait(with_margin(prob, margin), max_starts=max_starts, max_nodes=max_nodes)
+        if gait.feasible:
+            return gait
     return search_gait(prob, max_starts=max_starts, max_nodes=max_nodes)
+
+
+def with_margin(prob: GaitProblem, margin: float) -> GaitProblem:
+    """The same tables with grasps of ε <= ``margin`` treated as infeasible."""
+    from dataclasses import replace
+
+    return replace(
+        prob,
+        fc_lr=prob.fc_lr & (prob.eps_lr > margin),
+        fc_lp=prob.fc_lp & (prob.eps_lp > margin),
+        fc_rp=prob.fc_rp & (prob.eps_rp > margin),
+    )
 
 
 def search_gait(prob: GaitProblem, max_starts: int = 12, max_nodes: int = 400) -> Gait:
@@ -298,10 +321,12 @@ def _walk(srch: _Search, k: int, i: int, j: int, budget: list[int]):
 
 __all__ = [
     "PHASE_NAMES",
+    "PREFERRED_MARGINS",
     "Gait",
     "GaitPhase",
     "GaitProblem",
     "gait_problem",
     "plan_gait",
     "search_gait",
+    "with_margin",
 ]
