@@ -195,3 +195,13 @@ def test_friction_margins():
         soft_finger_margin([0, 0], 0, 1, 0.5, 0.0)
     with pytest.raises(InvalidParameter, match="mu"):
         point_contact_margin([0, 0], 1, -0.1)
+
+
+def test_rolling_on_a_height_field():
+    x = np.linspace(-1, 1, 21)
+    floor = S.HeightField(x, x, np.zeros((21, 21)))
+    tr = integrate_contact(
+        S.sphere(0.1), floor, [0.3, 0.0], [0.0, 0.0], 0.0, ([0, 0, 0], [0.0, 1.0, 0.0]), 1.0, 100
+    )
+    assert tr.path_length2 == pytest.approx(0.1, rel=1e-9)
+    assert tr.residual.max() < 1e-9

@@ -235,3 +235,17 @@ def test_feature_catalogue_profiles():
 def test_bad_input(make, match):
     with pytest.raises(InvalidParameter, match=match):
         make()
+
+
+def test_casadi_functions_are_symbolic_and_match_numeric():
+    b = S.bump(4.0)
+    u, v = ca.SX.sym("u"), ca.SX.sym("v")
+    k = b.functions["curvature_matrix"](u, v)
+    dk = ca.Function("dk", [u, v], [ca.jacobian(k[0, 0], u)])  # usable in optimization
+    h = 1e-6
+    fd = (b.curvature_matrix(0.3 + h, 1.0)[0, 0] - b.curvature_matrix(0.3 - h, 1.0)[0, 0]) / (2 * h)
+    assert float(dk(0.3, 1.0)) == pytest.approx(fd, rel=1e-5)
+    g = b.local_geometry(0.3, 1.0)
+    np.testing.assert_allclose(g.curvature_matrix, b.curvature_matrix(0.3, 1.0), atol=1e-12)
+    np.testing.assert_allclose(g.torsion, b.torsion(0.3, 1.0), atol=1e-12)
+    np.testing.assert_allclose(g.gauss_frame, b.gauss_frame(0.3, 1.0), atol=1e-12)
