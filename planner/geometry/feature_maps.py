@@ -101,16 +101,20 @@ def _regions(mask, sign, k_sel, k_other, u, v, cell, dirs, ndimage):
     labels, n = ndimage.label(mask, structure=structure)
     if n == 0:
         return labels, []
-    idx = np.arange(1, n + 1)
     flat = labels.ravel()
     sizes = np.bincount(flat, minlength=n + 1)[1:]
     uu, vv = np.meshgrid(u, v, indexing="ij")
     cu = np.bincount(flat, uu.ravel(), minlength=n + 1)[1:] / sizes
     cv = np.bincount(flat, vv.ravel(), minlength=n + 1)[1:] / sizes
-    if sign > 0:
-        peaks = ndimage.maximum_position(k_sel, labels, idx)
-    else:
-        peaks = ndimage.minimum_position(k_sel, labels, idx)
+    # peak of each region in O(N): per-label maximum of sign*k, then its first sample
+    flat_idx = np.flatnonzero(flat)
+    lab = flat[flat_idx]
+    val = sign * k_sel.ravel()[flat_idx]
+    best = np.full(n + 1, -np.inf)
+    np.maximum.at(best, lab, val)
+    cand = flat_idx[val == best[lab]]
+    _, first = np.unique(flat[cand], return_index=True)
+    peaks = zip(*np.unravel_index(cand[first], labels.shape), strict=True)
     out = []
     for i, (pi, pj) in enumerate(peaks):
         direction = None if dirs is None else np.asarray(dirs[pi, pj], float)
