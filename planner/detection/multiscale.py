@@ -38,7 +38,8 @@ def detect_multiscale(
         centers: (N, 2) or (N, 3) fingertip-centre positions [m].
         tip_radius: radius r_f of the real fingertip [m].
         radii: virtual radii r_i [m], each >= ``tip_radius``.
-        smoothing_scale: smoothing of the real data [m] (default: from its noise).
+        smoothing_scale: smoothing of the real data [m] (default: 1.5 times the
+            ``detect_features`` default: re-tracing the estimated surface amplifies noise).
         material_side: ``"auto"``, ``"right"`` or ``"left"``.
 
     Returns:
@@ -57,7 +58,7 @@ def detect_multiscale(
                 f"radii: {ri!r} is smaller than tip_radius {r!r}; "
                 f"only r_i >= r_f can be simulated (§3.2.2)"
             )
-    scale = positive("smoothing_scale", smoothing_scale or default_scale(c, r, 3))
+    scale = positive("smoothing_scale", smoothing_scale or 1.5 * default_scale(c, r, 3))
     prep = _prepare(c, r, scale, material_side, None, None)
     o = prep.orientation
     kt = -o * P.signed_curvature(prep.dc, prep.ddc)

@@ -198,7 +198,7 @@ def arclength(points: np.ndarray, start: float = 0.0) -> np.ndarray:
 
 #: expected false alarms: the default smoothing makes the noise of the curvature signal this
 #: many times smaller than the detection threshold
-NOISE_MARGIN = 8.0
+NOISE_MARGIN = 5.0
 
 
 def noise_sigma(values: np.ndarray) -> float:
