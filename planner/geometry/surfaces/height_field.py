@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from planner.errors import InvalidParameter
-from planner.geometry.surfaces.parametric import SurfaceGeometry, principal_from_k
+from planner.geometry.surfaces.forms import SurfaceGeometry, principal_from_k
 
 
 def _check_grid(x, y, z) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
