@@ -249,3 +249,15 @@ def test_casadi_functions_are_symbolic_and_match_numeric():
     np.testing.assert_allclose(g.curvature_matrix, b.curvature_matrix(0.3, 1.0), atol=1e-12)
     np.testing.assert_allclose(g.torsion, b.torsion(0.3, 1.0), atol=1e-12)
     np.testing.assert_allclose(g.gauss_frame, b.gauss_frame(0.3, 1.0), atol=1e-12)
+
+
+def test_bump_parallel_surface_eq_3_18_corrected():
+    # eq. 3.18 as OCR'd carries a stray "sin v" in the y row; from eq. 3.10 and 3.14 both
+    # horizontal rows are (u + 2 a r u / (d^2 c)) (cos v, sin v)
+    a, r = 15.0, 1.0
+    u, v = np.array([-0.6, 0.3, 0.8]), 0.7
+    d = 1 + a * u**2
+    c = np.sqrt(1 + 4 * a**2 * u**2 / d**4)
+    rho = u + 2 * a * r * u / (d**2 * c)
+    expected = np.stack([rho * np.cos(v), rho * np.sin(v), 1 / d + r / c], -1)
+    np.testing.assert_allclose(S.bump(a).parallel(r).point(u, v), expected, atol=1e-12)
