@@ -220,7 +220,8 @@ def traced_curve(profile: Profile, tip_radius: float, spacing: float | None = No
 
 def _unobserved_length(smp: CurveSamples, removed: np.ndarray) -> float:
     ds = np.diff(smp.s)
-    return float(np.sum(ds[removed[1:] | removed[:-1]]))
+    weight = 0.5 * (removed[1:].astype(float) + removed[:-1])
+    return float(np.sum(ds * weight))
 
 
 def estimated_curve(

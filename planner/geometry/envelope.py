@@ -249,7 +249,14 @@ def offset_envelope(
     n = len(P)
     seg = np.linalg.norm(np.diff(P, axis=0), axis=1)
     h = float(np.median(seg[seg > 0])) if np.any(seg > 0) else r
+    hmax = float(seg.max()) if len(seg) else 0.0
+    tol = hmax * hmax / (4 * r) + 1e-12 * r  # sagitta of the chords: never remove a true tie
     removed = _ball_removed(Q, P, r, h)
+    todo = ~removed
+    if exclude is not None:
+        todo &= ~exclude
+    if todo.any():
+        removed[todo] = polyline_distance(Q[todo], P, closed) < r - tol
     if exclude is not None:
         removed |= exclude
     keep = ~removed

@@ -1,0 +1,206 @@
+"""Scenario kind ``trace``: a spherical fingertip over a 2-D profile (§3.2.1, §3.4.1, Fig. 3.9).
+
+The fingertip-centre path (traced curve) is simulated exactly, sampled at equal arclength,
+corrupted with Gaussian noise, smoothed, and turned back into an estimate of the object
+surface (eq. 3.11). Metrics compare the estimate with the true profile over the part of it the
+fingertip can touch.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import numpy as np
+from pydantic import Field, model_validator
+
+from planner.kinds._profiles import ProfileSpec, build_profile
+from planner.results import Event, RunResult
+from planner.scenario import ScenarioBase, StrictModel
+
+
+class Sampling(StrictModel):
+    """Where the fingertip centre is sampled: give ``spacing``, or ``samples``, or
+    ``speed`` with ``rate``."""
+
+    spacing: float | None = Field(None, gt=0, description="along the traced curve [m]")
+    samples: int | None = Field(None, ge=2, description="number of samples over the trace")
+    speed: float | None = Field(None, gt=0, description="finger speed [m/s]")
+    rate: float | None = Field(None, gt=0, description="sample rate [Hz]")
+
+    @model_validator(mode="after")
+    def _one_way(self):
+        ways = [
+            self.spacing is not None,
+            self.samples is not None,
+            self.speed is not None or self.rate is not None,
+        ]
+        if sum(ways) > 1:
+            raise ValueError("give only one of spacing, samples, or speed+rate")
+        if ways[2] and (self.speed is None or self.rate is None):
+            raise ValueError("speed and rate go together")
+        return self
+
+
+class Noise(StrictModel):
+    """Gaussian measurement noise (standard deviations)."""
+
+    center_sigma: float = Field(0.0, ge=0, description="fingertip centre, per axis [m]")
+    contact_sigma: float = Field(0.0, ge=0, description="contact point, per axis [m]")
+    normal_sigma_deg: float = Field(0.0, ge=0, le=90, description="contact normal [deg]")
+
+
+class Smoothing(StrictModel):
+    """Gaussian smoothing of the measured centres against sample index (App. B)."""
+
+    sigma_samples: float = Field(8.0, ge=0, description="Gaussian sigma [samples]; 0: none")
+
+
+class Config(ScenarioBase):
+    """A fingertip tracing a 2-D profile: traced, estimated curves and their errors."""
+
+    kind: Literal["trace"]
+    profile: ProfileSpec
+    tip_radius: float = Field(..., gt=0, description="fingertip radius r_f [m]")
+    sampling: Sampling = Field(default_factory=Sampling)
+    noise: Noise = Field(default_factory=Noise)
+    smoothing: Smoothing = Field(default_factory=Smoothing)
+
+    @model_validator(mode="after")
+    def _buildable(self):
+        from planner.errors import HapexError
+
+        try:
+            build_profile(self.profile)
+        except HapexError as exc:
+            raise ValueError(f"profile: {exc}") from None
+        return self
+
+
+def _spacing(cfg: Config, traced_length: float) -> float:
+    s = cfg.sampling
+    if s.spacing is not None:
+        return s.spacing
+    if s.samples is not None:
+        return traced_length / (s.samples - 1)
+    if s.speed is not None:
+        return s.speed / s.rate
+    return cfg.tip_radius / 100.0
+
+
+def run(cfg: Config, ctx) -> RunResult:
+    from scipy.ndimage import gaussian_filter1d
+
+    from planner.geometry import curves
+    from planner.geometry.measurement import simulate_trace
+
+    r = cfg.tip_radius
+    profile = build_profile(cfg.profile)
+    with ctx.timer("curves"):
+        parallel = curves.parallel_curve(profile, r)
+        traced = curves.traced_curve(profile, r)
+        estimated = curves.estimated_curve(traced, r)
+    spacing = _spacing(cfg, float(traced.s[-1]))
+    n_expected = traced.s[-1] / spacing + 1
+    if n_expected < 2:
+        from planner.errors import InputIssue, ScenarioError
+
+        raise ScenarioError(
+            [
+                InputIssue(
+                    "(scenario)",
+                    0,
+                    "sampling",
+                    f"gives {n_expected:.1f} samples over a "
+                    f"{traced.s[-1]:.4g} m trace; need at least 2",
+                )
+            ]
+        )
+    if ctx.quick:
+        spacing = max(spacing, traced.s[-1] / 2000)
+    with ctx.timer("measurement"):
+        meas = simulate_trace(
+            profile,
+            r,
+            spacing=spacing,
+            center_sigma=cfg.noise.center_sigma,
+            contact_sigma=cfg.noise.contact_sigma,
+            normal_sigma=np.deg2rad(cfg.noise.normal_sigma_deg),
+            speed=cfg.sampling.speed,
+            rng=ctx.rng,
+        )
+    with ctx.timer("estimation"):
+        sig = cfg.smoothing.sigma_samples
+        smooth = (
+            gaussian_filter1d(meas.centers, sig, axis=0, mode="nearest")
+            if sig > 0
+            else meas.centers
+        )
+        est_meas = curves.estimated_curve(smooth, r, closed=profile.closed)
+        obs = ~estimated.unobservable
+        err_exact = curves.distance_to_profile(estimated.points[obs], profile)
+        obs_m = ~est_meas.unobservable
+        err_meas = curves.distance_to_profile(est_meas.points[obs_m], profile)
+        err_traced = np.linalg.norm(meas.centers - meas.true_centers, axis=1)
+    features = profile.curvature_features(r)
+    metrics = {
+        "samples": len(meas.t),
+        "spacing_m": spacing,
+        "duration_s": float(meas.t[-1]),
+        "profile_length_m": profile.length,
+        "traced_length_m": float(traced.s[-1]),
+        "interference_points": traced.interference_points.tolist(),
+        "interference_count": len(traced.interference_points),
+        "caustic_count": len(parallel.caustic_points),
+        "unobservable_length_m": traced.unobservable_length,
+        "estimated_unobservable_length_m": estimated.unobservable_length,
+        "rms_error_exact_m": float(np.sqrt(np.mean(err_exact**2))) if len(err_exact) else 0.0,
+        "rms_error_m": float(np.sqrt(np.mean(err_meas**2))) if len(err_meas) else 0.0,
+        "max_error_m": float(err_meas.max()) if len(err_meas) else 0.0,
+        "center_noise_rms_m": float(np.sqrt(np.mean(err_traced**2))),
+        "curvature_features": [
+            {"sign": f.sign, "start_m": f.start, "end_m": f.end, "position": list(f.position)}
+            for f in features
+        ],
+    }
+    events = [
+        Event(
+            "interference",
+            f"interference point at {p.round(6).tolist()} m",
+            data={"point": p.tolist()},
+        )
+        for p in traced.interference_points
+    ]
+    smp = profile.sample(profile.length / 4000.0)
+    arrays = {
+        "profile_points": smp.points,
+        "profile_curvature": smp.curvature,
+        "parallel_points": parallel.points,
+        "caustic_points": parallel.caustic_points,
+        "traced_points": traced.points,
+        "interference_points": traced.interference_points,
+        "estimated_points": estimated.points,
+        "estimated_unobservable": estimated.unobservable,
+        "t": meas.t,
+        "centers": meas.centers,
+        "true_centers": meas.true_centers,
+        "contacts": meas.contacts,
+        "normals": meas.normals,
+        "centers_smoothed": smooth,
+        "estimated_measured_points": est_meas.points,
+    }
+    figures = {}
+    if ctx.plots:
+        from planner.kinds._trace_plots import curves_figure, trace_figure
+
+        figures["trace"] = trace_figure(
+            cfg.name,
+            smp.points,
+            meas.centers,
+            smooth,
+            est_meas.points,
+            r,
+            profile.closed,
+            meas.true_centers[len(meas.t) // 3],
+        )
+        figures["curves"] = curves_figure(cfg.name, smp.points, parallel, traced, estimated)
+    return RunResult(status="ok", metrics=metrics, arrays=arrays, events=events, figures=figures)

@@ -1,0 +1,203 @@
+"""The command line through a subprocess: exit codes, one line per error, nothing left."""
+
+from __future__ import annotations
+
+import json
+import textwrap
+
+import numpy as np
+import pytest
+from conftest import ROOT, run_cli
+
+GOOD = textwrap.dedent("""\
+    name: tiny_step
+    kind: trace
+    description: a small step
+    seed: 7
+    profile:
+      type: step
+      height: 0.004
+      length: 0.03
+    tip_radius: 0.005
+    sampling:
+      spacing: 2.0e-4
+    noise:
+      center_sigma: 1.0e-4
+    """)
+
+
+def write(tmp_path, text, name="s.yaml"):
+    p = tmp_path / name
+    p.write_text(text)
+    return p
+
+
+def assert_bad_input(proc, *fragments):
+    assert proc.returncode == 2, proc.stderr
+    assert "Traceback" not in proc.stderr
+    lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
+    for frag in fragments:
+        assert any(frag in ln for ln in lines), (frag, proc.stderr)
+    return lines
+
+
+def test_version_and_help():
+    proc = run_cli("--version")
+    assert proc.returncode == 0 and proc.stdout.startswith("hapex ")
+    assert run_cli("--help").returncode == 0
+
+
+def test_run_writes_complete_run_directory(tmp_path):
+    out = tmp_path / "run"
+    proc = run_cli("run", str(write(tmp_path, GOOD)), "--out", str(out))
+    assert proc.returncode == 0, proc.stderr
+    doc = json.loads((out / "result.json").read_text())
+    assert doc["schema"] == 1 and doc["status"] == "ok" and doc["kind"] == "trace"
+    assert doc["name"] == "tiny_step" and doc["seed"] == 7
+    assert {"hapex", "pin", "casadi", "numpy"} <= set(doc["versions"])
+    assert doc["timings_s"]["total"] > 0
+    for rel in doc["files"].values():
+        assert (out / rel).is_file(), rel
+    assert (out / "scenario.yaml").is_file() and (out / "plots" / "trace.png").is_file()
+    with np.load(out / "trajectory.npz") as z:
+        assert z["interference_points"].shape == (1, 2)
+    # no temporary siblings left behind
+    assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == []
+
+
+def test_seed_and_set_overrides_are_resolved(tmp_path):
+    out = tmp_path / "run"
+    proc = run_cli(
+        "run",
+        str(write(tmp_path, GOOD)),
+        "--out",
+        str(out),
+        "--seed",
+        "11",
+        "--set",
+        "tip_radius=0.006",
+        "--set",
+        "profile.height=0.003",
+        "--no-plots",
+    )
+    assert proc.returncode == 0, proc.stderr
+    import yaml
+
+    resolved = yaml.safe_load((out / "scenario.yaml").read_text())
+    assert resolved["seed"] == 11 and resolved["tip_radius"] == 0.006
+    assert resolved["profile"]["height"] == 0.003
+    assert resolved["output"]["formats"] == ["png"]  # defaults filled in
+    assert not (out / "plots").exists()
+
+
+def test_same_seed_same_numbers(tmp_path):
+    s = write(tmp_path, GOOD)
+    for name in ("a", "b"):
+        assert run_cli("run", str(s), "--out", str(tmp_path / name), "--no-plots").returncode == 0
+    with (
+        np.load(tmp_path / "a" / "trajectory.npz") as a,
+        np.load(tmp_path / "b" / "trajectory.npz") as b,
+    ):
+        np.testing.assert_array_equal(a["centers"], b["centers"])
+
+
+def test_all_errors_at_once_with_lines(tmp_path):
+    bad = GOOD.replace("tip_radius: 0.005", "tip_radius: -0.005").replace(
+        "  center_sigma: 1.0e-4", "  center_sigma: -1.0\n  colour: red"
+    )
+    s = write(tmp_path, bad)
+    out = tmp_path / "out"
+    proc = run_cli("run", str(s), "--out", str(out))
+    lines = assert_bad_input(proc, "tip_radius", "noise.center_sigma", "noise.colour")
+    assert len(lines) == 3
+    assert any(ln.startswith(f"{s}:9: tip_radius:") for ln in lines), lines
+    assert any(ln.startswith(f"{s}:14: noise.colour: unknown key") for ln in lines), lines
+    assert not out.exists()
+
+
+@pytest.mark.parametrize(
+    "text, key",
+    [
+        ("kind: nope\n", "kind"),
+        ("name: x\n", "kind"),
+        (GOOD.replace("type: step", "type: stair"), "profile"),
+        (GOOD.replace("spacing: 2.0e-4", "samples: 1"), "sampling.samples"),
+        (GOOD.replace("height: 0.004", "height: 0"), "profile"),
+        (GOOD.replace("seed: 7", "seed: -1"), "seed"),
+        (GOOD.replace("tip_radius: 0.005", "tip_radius: abc"), "tip_radius"),
+        ("- a\n- b\n", "(root)"),
+        ("kind: [trace\n", "(root)"),
+        ("", "(root)"),
+    ],
+)
+def test_bad_scenarios(tmp_path, text, key):
+    s = write(tmp_path, text)
+    out = tmp_path / "out"
+    proc = run_cli("run", str(s), "--out", str(out))
+    lines = assert_bad_input(proc, f": {key}")
+    assert all(ln.startswith(f"{s}:") for ln in lines)
+    assert not out.exists()
+
+
+def test_missing_file_and_bad_set(tmp_path):
+    proc = run_cli("run", str(tmp_path / "missing.yaml"))
+    assert_bad_input(proc, "missing.yaml:0: (root): file not found")
+    s = write(tmp_path, GOOD)
+    out = tmp_path / "out"
+    proc = run_cli("run", str(s), "--out", str(out), "--set", "tip_radiuss=1")
+    assert_bad_input(proc, "--set:1:0: tip_radiuss: unknown key")
+    proc = run_cli("run", str(s), "--out", str(out), "--set", "noequals")
+    assert_bad_input(proc, "--set:1")
+    proc = run_cli("run", str(s), "--out", str(out), "--set", "tip_radius.x=1")
+    assert_bad_input(proc, "tip_radius")
+    assert not out.exists()
+
+
+def test_bad_options():
+    assert_bad_input(run_cli("run"), "hapex: error")
+    assert_bad_input(run_cli("frobnicate"), "hapex: error")
+    assert_bad_input(run_cli("list", "everything"), "hapex: error")
+
+
+def test_refuses_foreign_out_directory(tmp_path):
+    out = tmp_path / "precious"
+    out.mkdir()
+    (out / "thesis.tex").write_text("keep me")
+    proc = run_cli("run", str(write(tmp_path, GOOD)), "--out", str(out))
+    assert_bad_input(proc, "not a hapex run directory")
+    assert (out / "thesis.tex").read_text() == "keep me"
+
+
+def test_rerun_replaces_previous_run(tmp_path):
+    s = write(tmp_path, GOOD)
+    out = tmp_path / "run"
+    assert run_cli("run", str(s), "--out", str(out), "--no-plots").returncode == 0
+    assert run_cli("run", str(s), "--out", str(out), "--no-plots", "--seed", "3").returncode == 0
+    assert json.loads((out / "result.json").read_text())["seed"] == 3
+
+
+def test_verbose_shows_traceback(tmp_path):
+    proc = run_cli("run", str(write(tmp_path, "kind: nope\n")), "-v")
+    assert proc.returncode == 2 and "Traceback" in proc.stderr
+
+
+def test_validate_many_reports_each(tmp_path):
+    good = write(tmp_path, GOOD, "good.yaml")
+    bad = write(tmp_path, GOOD.replace("tip_radius: 0.005", "tip_radius: 0"), "bad.yaml")
+    proc = run_cli("validate", str(good), str(bad))
+    assert proc.returncode == 2
+    assert "good.yaml: ok (trace)" in proc.stdout
+    assert f"{bad}:9: tip_radius:" in proc.stderr
+    assert run_cli("validate", str(good)).returncode == 0
+
+
+def test_list_scenarios_kinds_robots():
+    proc = run_cli("list")
+    assert proc.returncode == 0
+    names = {ln.split()[0] for ln in proc.stdout.splitlines()}
+    bundled = {p.stem for p in (ROOT / "scenarios").glob("*.yaml")}
+    assert bundled <= names
+    kinds = run_cli("list", "kinds")
+    assert kinds.returncode == 0 and "trace" in kinds.stdout
+    robots = run_cli("list", "robots")
+    assert robots.returncode == 0 and robots.stdout.strip()

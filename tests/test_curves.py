@@ -1,0 +1,209 @@
+"""Profiles and their parallel/traced/estimated curves against closed forms (§3.2.1)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from planner.errors import InvalidParameter
+from planner.geometry import curves as c
+
+
+def rot(a):
+    return np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+
+
+@settings(max_examples=25, deadline=None)
+@given(r=st.floats(0.002, 0.02), ratio=st.floats(1.0, 4.0), x0=st.floats(-0.01, 0.01))
+def test_tall_step_interference_at_x0_minus_r(r, ratio, x0):
+    tc = c.traced_curve(c.step(ratio * r, x0=x0, length=0.1), r)
+    np.testing.assert_allclose(tc.interference_points, [[x0 - r, r]], atol=1e-9)
+
+
+@settings(max_examples=25, deadline=None)
+@given(r=st.floats(0.002, 0.02), ratio=st.floats(0.05, 0.99))
+def test_low_step_interference_on_corner_circle(r, ratio):
+    h = ratio * r
+    tc = c.traced_curve(c.step(h, length=0.1), r)
+    np.testing.assert_allclose(
+        tc.interference_points, [[-np.sqrt(r * r - (r - h) ** 2), r]], atol=1e-9
+    )
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    r=st.floats(0.003, 0.02),
+    d=st.floats(0.0003, 0.003),
+    angle=st.floats(-1.0, 1.0),
+    x0=st.floats(-0.005, 0.005),
+)
+def test_wire_on_plane_two_interference_points(r, d, angle, x0):
+    a = d / 2
+    tc = c.traced_curve(c.wire_on_plane(d, angle, x0=x0, length=0.08), r)
+    local = tc.interference_points @ rot(angle)  # into the plane's frame
+    expect = [[x0 - 2 * np.sqrt(r * a), r], [x0 + 2 * np.sqrt(r * a), r]]
+    np.testing.assert_allclose(local, expect, atol=1e-9)
+
+
+@pytest.mark.parametrize("width", [0.004, 0.01, 0.016])
+def test_narrow_ravine_is_bridged(width):
+    r = 0.01
+    tc = c.traced_curve(c.ravine(width, 0.02), r)
+    np.testing.assert_allclose(
+        tc.interference_points, [[0.0, np.sqrt(r * r - width * width / 4)]], atol=1e-9
+    )
+    # the whole groove is unobservable: walls (2 x 20 mm) + bottom
+    assert tc.unobservable_length == pytest.approx(0.04 + width, abs=2e-4)
+
+
+def test_wide_ravine_touches_bottom():
+    r = 0.005
+    tc = c.traced_curve(c.ravine(0.03, 0.02), r)
+    # concave bottom corners at (+-0.015, -0.02): interference at (+-(0.015 - r), -0.02 + r)
+    np.testing.assert_allclose(
+        tc.interference_points, [[-0.015 + r, -0.02 + r], [0.015 - r, -0.02 + r]], atol=1e-9
+    )
+
+
+@settings(max_examples=20, deadline=None)
+@given(R=st.floats(0.01, 0.2), r=st.floats(0.001, 0.05))
+def test_circle_traced_and_estimated(R, r):
+    tc = c.traced_curve(c.circle(R), r)
+    np.testing.assert_allclose(np.linalg.norm(tc.points, axis=1), R + r, atol=1e-12)
+    assert len(tc.interference_points) == 0 and tc.closed
+    est = c.estimated_curve(tc, r)
+    np.testing.assert_allclose(np.linalg.norm(est.points, axis=1), R, atol=1e-9 * R + 1e-12)
+    assert not est.unobservable.any()
+
+
+def test_estimated_step_is_profile_plus_fingertip_arc():
+    r, h = 0.01, 0.02
+    tc = c.traced_curve(c.step(h), r)
+    est = c.estimated_curve(tc, r)
+    obs = ~est.unobservable
+    # exact on the faces; at the convex corner the traced fan is a polyline, whose bisector
+    # normals are off by O(spacing^2 / r) = 1e-6 m at the default spacing r/100
+    d = c.distance_to_profile(est.points[obs], c.step(h))
+    assert np.median(d) < 1e-12 and d.max() < 1e-6
+    # the unobservable region is a quarter circle of radius r about the interference point
+    U = est.points[est.unobservable]
+    np.testing.assert_allclose(np.linalg.norm(U - [-r, r], axis=1), r, atol=1e-9)
+    assert est.unobservable_length == pytest.approx(np.pi / 2 * r, rel=1e-3)
+
+
+def test_estimated_from_plain_points_matches():
+    r = 0.01
+    tc = c.traced_curve(c.step(0.02), r)
+    a = c.estimated_curve(tc, r)
+    b = c.estimated_curve(tc.points, r)
+    np.testing.assert_allclose(a.points, b.points)
+
+
+def test_parallel_curve_caustics_of_ellipse():
+    # Fig. 3.1: ellipse a = 5, b = 2; offsets beyond -b^2/a = -0.8 have caustics.
+    e = c.ellipse(5.0, 2.0)
+    assert len(c.parallel_curve(e, -0.5).caustic_points) == 0
+    P = c.parallel_curve(e, -1.0)
+    assert len(P.caustic_points) == 4
+    # caustics where the radius of curvature equals 1: ρ(t) = (a²s² + b²c²)^1.5 / (ab)
+    t = np.linspace(0, 2 * np.pi, 200001)
+    rho = (25 * np.sin(t) ** 2 + 4 * np.cos(t) ** 2) ** 1.5 / 10
+    cross = np.flatnonzero(np.diff(np.sign(rho - 1.0)))
+    pts = np.stack([5 * np.cos(t[cross]), 2 * np.sin(t[cross])], axis=-1)
+    nrm = np.stack([2 * np.cos(t[cross]), 5 * np.sin(t[cross])], axis=-1)
+    expect = pts - nrm / np.linalg.norm(nrm, axis=1, keepdims=True)
+    for q in P.caustic_points:
+        assert np.min(np.linalg.norm(expect - q, axis=1)) < 1e-3
+
+
+@pytest.mark.parametrize(
+    "profile",
+    [
+        c.step(0.005),
+        c.ridge(0.006, 0.003, 0.001),
+        c.ravine(0.008, 0.004, 0.0005),
+        c.bump(0.002, 0.006),
+        c.pit(0.002, 0.004, "gaussian"),
+        c.cusp(np.pi / 2),
+        c.rounded_rectangle(0.08, 0.05, 0.01),
+        c.ellipse(0.05, 0.03),
+        c.polygon([[0, 0], [0.05, 0], [0.02, 0.04]]),
+        c.spline([[0, 0], [0.01, 0.003], [0.02, 0]]),
+        c.wire_on_plane(0.001, 0.3),
+    ],
+)
+def test_traced_points_keep_exactly_tip_radius_from_profile(profile):
+    r = 0.004
+    tc = c.traced_curve(profile, r)
+    d = c.distance_to_profile(tc.points, profile, spacing=profile.length / 200000)
+    assert d.min() >= r - 2e-6 and d.max() <= r + 2e-6
+    np.testing.assert_allclose(np.linalg.norm(tc.normals, axis=1), 1.0)
+    assert np.all(np.diff(tc.s) >= 0)
+
+
+def test_profile_curvature_and_normals():
+    smp = c.circle(0.05).sample(0.001)
+    np.testing.assert_allclose(smp.curvature, 20.0)
+    np.testing.assert_allclose(np.einsum("ij,ij->i", smp.normals, smp.points) / 0.05, 1.0)
+    pit = c.bump(0.002, 0.01).sample(1e-4)
+    assert np.nanmax(pit.curvature[np.isfinite(pit.curvature)]) > 0
+    e = c.ellipse(0.05, 0.02)
+    smp = e.sample(1e-4)
+    k_exact = (
+        0.05
+        * 0.02
+        / (
+            0.02**2 * smp.points[:, 0] ** 2 / 0.05**2 * 0.05**2 / 0.05**2 * 0
+            + (0.02 * smp.points[:, 0] / 0.05) ** 2
+            + (0.05 * smp.points[:, 1] / 0.02) ** 2
+        )
+        ** 1.5
+    )
+    np.testing.assert_allclose(smp.curvature, k_exact, rtol=1e-6)
+
+
+def test_ground_truth_features_of_a_wire():
+    f = c.wire_on_plane(0.00065, 0.0).curvature_features(0.01)
+    assert [x.sign for x in f] == [-1, 1, -1]  # a bump pattern, Table 3.1
+    assert f[1].end - f[1].start == pytest.approx(np.pi * 0.00065, rel=1e-9)
+
+
+@settings(max_examples=30, deadline=None)
+@given(theta=st.floats(0, 2 * np.pi), a=st.floats(0.01, 0.1), b=st.floats(0.01, 0.1))
+def test_polar_angle_lookup(theta, a, b):
+    for prof in (c.ellipse(a, b), c.rounded_rectangle(2 * a, 2 * b, 0.3 * min(a, b))):
+        p, n = prof.point_at_polar_angle(np.array([theta]))
+        assert np.arctan2(p[0, 1], p[0, 0]) % (2 * np.pi) == pytest.approx(
+            theta % (2 * np.pi), abs=1e-3
+        )
+        assert n @ p[0] > 0  # outward
+
+
+def test_resample_equal_arclength():
+    pts = np.array([[0, 0], [1, 0], [1, 1]], float)
+    q = c.resample_equal_arclength(pts, 0.25)
+    assert len(q) == 9
+    np.testing.assert_allclose(np.linalg.norm(np.diff(q, axis=0), axis=1), 0.25)
+
+
+@pytest.mark.parametrize(
+    "call, match",
+    [
+        (lambda: c.step(0.0), "non-zero"),
+        (lambda: c.circle(-1), "radius"),
+        (lambda: c.traced_curve(c.step(0.01), -0.01), "tip_radius"),
+        (lambda: c.traced_curve(c.step(0.01), float("nan")), "tip_radius"),
+        (lambda: c.polyline([[0, 0]]), "at least 2"),
+        (lambda: c.polyline([[0, 0], [0, 0]]), "duplicates"),
+        (lambda: c.rounded_rectangle(0.1, 0.05, 0.04), "corner_radius"),
+        (lambda: c.bump(0.001, 0.01, "square"), "shape"),
+        (lambda: c.estimated_curve(np.zeros((3, 3)), 0.01), "shape"),
+        (lambda: c.resample_equal_arclength(np.zeros((5, 2)), 0.0), "spacing"),
+        (lambda: c.step(0.01).point_at_polar_angle(0.0), "closed"),
+    ],
+)
+def test_bad_arguments(call, match):
+    with pytest.raises(InvalidParameter, match=match):
+        call()
