@@ -53,6 +53,11 @@ def test_csv_data_file(tmp_path):
     assert res.metrics["alg3_signs"] == "-+-"
     assert res.metrics["n_samples"] > 500
     assert "alg3_f1" not in res.metrics  # no ground truth for a user's log
+    # App. B.1 on the longest feature-free stretch: the log was made with 0.1 mm noise
+    for axis in "xy":
+        assert res.metrics[f"noise_{axis}_sigma_m"] == pytest.approx(1e-4, rel=0.3)
+        assert res.metrics[f"noise_{axis}_chi2"] >= 0
+        assert isinstance(res.metrics[f"noise_{axis}_normal"], bool)
 
 
 def test_config_errors(tmp_path):

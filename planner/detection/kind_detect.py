@@ -13,6 +13,7 @@ from planner.detection.macro import macro_features
 from planner.detection.multiscale import detect_multiscale
 from planner.detection.scoring import score_features
 from planner.detection.synthetic import Shape, simulate
+from planner.errors import HapexError
 from planner.results import Event, RunResult
 
 
@@ -47,6 +48,43 @@ def _load(config, ctx):
         path = Path(ctx.base_dir) / path
     data = read_trace_file(path)
     return data.t, data.centers, data.contacts, data.normals, data
+
+
+def _noise_table(t, centers, signals, feats, r) -> dict:
+    """App. B.1 noise analysis (Table B.1) of each coordinate of the fingertip centres over
+    the longest stretch at least r_f away from every detected feature."""
+    from planner.detection.noise import noise_analysis
+
+    alg = 3 if 3 in signals else next(iter(signals))
+    sig = signals[alg]
+    blocked = [(f.start - r, f.end + r) for fs in feats.values() for f in fs]
+    s_raw = np.interp(np.arange(len(t)), sig.index, sig.s)
+    free = np.ones(len(t), dtype=bool)
+    for a, b in blocked:
+        free &= ~((s_raw >= a) & (s_raw <= b))
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], free.astype(np.int8), [0]])))
+    runs = list(zip(edges[::2], edges[1::2], strict=True))
+    if not runs:
+        return {}
+    i0, i1 = max(runs, key=lambda ab: ab[1] - ab[0])
+    if i1 - i0 < 40:
+        return {}
+    out: dict = {"noise_stretch_samples": int(i1 - i0)}
+    for k, name in enumerate("xyz"[: centers.shape[1]]):
+        try:
+            na = noise_analysis(t[i0:i1], centers[i0:i1, k])
+        except HapexError:
+            continue
+        out.update(
+            {
+                f"noise_{name}_mean_m": na.mean,
+                f"noise_{name}_sigma_m": na.sigma,
+                f"noise_{name}_chi2": na.chi2,
+                f"noise_{name}_critical": na.critical,
+                f"noise_{name}_normal": na.normal,
+            }
+        )
+    return out
 
 
 def run_detect(config, ctx) -> RunResult:
@@ -142,6 +180,9 @@ def run_detect(config, ctx) -> RunResult:
         metrics["truth_signs"] = _signs(truth)
         arrays["truth_positions"] = np.array([f.position for f in truth]).reshape(-1, 2)
         arrays["truth_signs"] = np.array([f.sign for f in truth])
+    if signals:
+        with ctx.timer("noise"):
+            metrics.update(_noise_table(t, centers, signals, feats, r))
     if config.multiscale_radii:
         with ctx.timer("multiscale"):
             ms = detect_multiscale(centers, r, config.multiscale_radii, **settings)
