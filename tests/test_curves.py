@@ -207,3 +207,16 @@ def test_resample_equal_arclength():
 def test_bad_arguments(call, match):
     with pytest.raises(InvalidParameter, match=match):
         call()
+
+
+def test_polygon_polar_lookup_at_sharp_corners():
+    square = c.polygon([[0.05, 0], [0, 0.05], [-0.05, 0], [0, -0.05]])
+    p, n = square.point_at_polar_angle(np.array([0.0, np.pi / 4, np.pi / 2]))
+    np.testing.assert_allclose(p, [[0.05, 0], [0.025, 0.025], [0, 0.05]], atol=1e-9)
+    np.testing.assert_allclose(n, [[1, 0], [np.sqrt(0.5), np.sqrt(0.5)], [0, 1]], atol=1e-9)
+
+
+@pytest.mark.parametrize("w, h, rc", [(0.1, 0.01, 0.004), (0.1, 0.01, 0.005), (0.04, 0.04, 0.02)])
+def test_rounded_rectangle_perimeter(w, h, rc):
+    prof = c.rounded_rectangle(w, h, rc)
+    assert prof.length == pytest.approx(2 * (w + h) - 8 * rc + 2 * np.pi * rc, rel=1e-12)

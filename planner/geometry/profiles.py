@@ -299,8 +299,15 @@ class Profile:
             return self.exact_polar(theta)
         if "polar" not in self._cache:
             smp = self.sample(self.length / 20000.0)
-            keep = ~smp.corner
-            P, N = smp.points[keep], smp.normals[keep]
+            # one sample per point: a sharp corner gets the bisector of its fan's normals
+            P, N = smp.points, smp.normals
+            new = np.ones(len(P), bool)
+            new[1:] = np.any(P[1:] != P[:-1], axis=1)
+            grp = np.cumsum(new) - 1
+            Nsum = np.zeros((int(grp[-1]) + 1, 2))
+            np.add.at(Nsum, grp, N)
+            P = P[new]
+            N = Nsum / np.linalg.norm(Nsum, axis=1, keepdims=True)
             phi = np.unwrap(np.arctan2(P[:, 1], P[:, 0]))
             if phi[-1] > phi[0]:
                 raise InvalidParameter("profile is not traversed clockwise")

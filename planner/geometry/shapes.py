@@ -37,6 +37,8 @@ def _chain(points: np.ndarray, radii: np.ndarray | None = None, closed: bool = F
     entry = [P[i].copy() for i in range(n)]
     exitp = [P[i].copy() for i in range(n)]
     arcs: list = [None] * n
+    cut = np.zeros(n)  # length each fillet takes from the two adjacent segments
+    geo = {}
     idx = range(n) if closed else range(1, n - 1)
     for i in idx:
         rho = radii[i]
@@ -48,12 +50,20 @@ def _chain(points: np.ndarray, radii: np.ndarray | None = None, closed: bool = F
         turn = turn_angle(t1, t2)
         if abs(turn) < 1e-12:
             continue
-        d = rho * np.tan(abs(turn) / 2)
-        if d > np.linalg.norm(b - a) / 2 + 1e-12 or d > np.linalg.norm(c - b) / 2 + 1e-12:
+        cut[i] = rho * np.tan(abs(turn) / 2)
+        geo[i] = (b, t1, t2, turn, rho)
+    segs = range(n) if closed else range(n - 1)
+    for i in segs:
+        j = (i + 1) % n
+        length = np.linalg.norm(P[j] - P[i])
+        if cut[i] + cut[j] > length * (1 + 1e-9):
             raise InvalidParameter(
-                f"corner radius {rho} does not fit at vertex {i} "
-                f"({P[i].tolist()}): needs {d:.4g} m of each side"
+                f"corner radii at vertices {i} and {j} do not fit on the side between "
+                f"{P[i].tolist()} and {P[j].tolist()} ({length:.4g} m long; they need "
+                f"{cut[i] + cut[j]:.4g} m)"
             )
+    for i, (b, t1, t2, turn, rho) in geo.items():
+        d = cut[i]
         e0, e1 = b - d * t1, b + d * t2
         side = np.array([-t1[1], t1[0]]) * np.sign(turn)  # toward the centre
         centre = e0 + rho * side
@@ -312,7 +322,6 @@ def rounded_rectangle(width: float, height: float, corner_radius: float = 0.0) -
         [(w / 2, 0.0), (w / 2, -h / 2), (-w / 2, -h / 2), (-w / 2, h / 2), (w / 2, h / 2)]
     )
     radii = np.array([0, corner_radius, corner_radius, corner_radius, corner_radius])
-    radii = np.where(radii >= min(w, h) / 2 - 1e-15, radii * (1 - 1e-9), radii)
     return Profile(tuple(_chain(pts, radii, closed=True)), closed=True, name="rounded_rectangle")
 
 
