@@ -4,8 +4,8 @@
 Pipeline of :func:`feature_skeleton`, following the thesis (after Brandt & Algazi and
 Ogniewicz):
 
-1. Voronoi diagram of the boundary samples (``scipy.spatial.Voronoi``); its finite edges are
-   the DVMA (Fig. 4.11).
+1. Voronoi diagram of the boundary samples (the dual of qhull's Delaunay triangulation,
+   :mod:`planner.skeleton.voronoi`); its finite edges are the DVMA (Fig. 4.11).
 2. Keep the edges with both ends inside the feature region (rebuilt from the samples,
    :mod:`planner.skeleton.region`).
 3. Edge-length pruning (Fig. 4.11): drop Voronoi edges longer than ``max_edge_length``.
@@ -51,6 +51,7 @@ from planner.skeleton.region import (
     region_polygon,
     sampling_profile,
 )
+from planner.skeleton.voronoi import voronoi
 
 
 @dataclass(frozen=True)
@@ -182,22 +183,6 @@ class Skeleton:
         return self.points[self.edges]
 
 
-def voronoi(points: np.ndarray):
-    """``scipy.spatial.Voronoi`` of (M, 2) samples, with qhull errors as InvalidParameter."""
-    from scipy.spatial import QhullError, Voronoi
-
-    if len(points) < 4:
-        raise InvalidParameter(f"boundary: expected at least 4 distinct samples, got {len(points)}")
-    try:
-        return Voronoi(points)
-    except QhullError as exc:
-        first = str(exc).strip().splitlines()[0] if str(exc).strip() else "qhull failed"
-        raise InvalidParameter(
-            f"boundary: the Voronoi diagram cannot be built (samples collinear or degenerate?): "
-            f"{first}"
-        ) from None
-
-
 def dvma(boundary: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The unpruned discrete Voronoi medial axis: all finite Voronoi edges of the samples.
 
@@ -273,7 +258,7 @@ def feature_skeleton(
     profile = sampling_profile(pts)
     if spacing is None:
         spacing = profile.spacing
-    loops = boundary_loops(pts, spacing, base.link_factor, pairs, profile)
+    loops = boundary_loops(pts, spacing, base.link_factor, vor.delaunay_edges, profile)
     region = region_polygon(pts, loops)
     if noise is None:
         noise = estimate_noise(pts, list(loops.loops))

@@ -206,7 +206,8 @@ def merge_close_points(
 
     src = np.arange(len(edges))
     if len(points) and len(edges):
-        pairs = cKDTree(points[:, :2]).query_pairs(tol, output_type="ndarray")
+        used = np.unique(edges)
+        pairs = used[cKDTree(points[used, :2]).query_pairs(tol, output_type="ndarray")]
         if len(pairs):
             _, rep = component_labels(len(points), pairs)
             first = np.full(rep.max() + 1, -1)
