@@ -105,6 +105,8 @@ class GlobalSkeleton:
 
 
 def _check_boundaries(boundaries: object, min_count: int) -> list[np.ndarray]:
+    if isinstance(boundaries, np.ndarray) and boundaries.ndim == 3:
+        boundaries = list(boundaries)  # (F, M, 2): F features of M samples each
     if isinstance(boundaries, np.ndarray) or not hasattr(boundaries, "__len__"):
         raise InvalidParameter(
             "boundaries: expected a list of (M_i, 2) arrays, one per feature, got "
