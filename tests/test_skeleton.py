@@ -181,3 +181,10 @@ def test_non_uniform_sampling_and_wrong_spacing_hint():
         assert sk.n_components == 1 and len(sk.end_points) == 2
         assert len(sk.branch_points) == 0
         assert hausdorff(sk.points, truth) < 0.002
+
+
+def test_disk_like_feature_gives_its_centre():
+    square = np.array([[0.0, 0.0], [0.01, 0.0], [0.01, 0.01], [0.0, 0.01]])
+    sk = feature_skeleton(square)
+    assert sk.points == pytest.approx(np.array([[0.005, 0.005]]))
+    assert sk.edges.shape == (0, 2) and sk.radii == pytest.approx([0.005 * np.sqrt(2)])

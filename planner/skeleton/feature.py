@@ -321,6 +321,13 @@ def feature_skeleton(
             path = g.longest_path(points, edges)
             points, edges, radii = points[path], g.path_edges(np.arange(len(path))), radii[path]
         stages["main_path"] = len(edges)
+    if len(edges) == 0 and inside.any():
+        # a disk-like feature whose axis degenerates to a point: the innermost vertex
+        cand = np.flatnonzero(inside)
+        r_in = np.hypot(*(verts[cand] - pts[_nearest(pts, verts[cand])]).T)
+        best = cand[np.argmax(r_in)]
+        points, radii = verts[best : best + 1], np.array([r_in.max()])
+        stages["single_point"] = 1
     return Skeleton(
         points.copy(),
         edges.astype(np.int64),
@@ -331,6 +338,13 @@ def feature_skeleton(
         region,
         stages,
     )
+
+
+def _nearest(samples: np.ndarray, query: np.ndarray) -> np.ndarray:
+    """(Q,) index of the nearest sample to each query point."""
+    from scipy.spatial import cKDTree
+
+    return cKDTree(samples).query(query)[1]
 
 
 def pseudo_skeleton(path: np.ndarray, spacing: float | None = None) -> Skeleton:

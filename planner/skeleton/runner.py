@@ -118,7 +118,7 @@ def run_skeleton(config, ctx) -> RunResult:
                 m["mean_radius_m"] = float(np.mean(sk.radii))
             if truth is not None and len(sk.points):
                 m["hausdorff_to_truth_m"] = _hausdorff(sk.points, truth)
-            if len(sk.edges) == 0:
+            if len(sk.points) == 0:
                 failed.append(name)
             metrics.update({f"{name}.{k}": v for k, v in m.items()})
             ctx.log(f"{name}: {len(sk.edges)} skeleton edges, length {sk.length:.4g} m")
