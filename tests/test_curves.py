@@ -220,3 +220,29 @@ def test_polygon_polar_lookup_at_sharp_corners():
 def test_rounded_rectangle_perimeter(w, h, rc):
     prof = c.rounded_rectangle(w, h, rc)
     assert prof.length == pytest.approx(2 * (w + h) - 8 * rc + 2 * np.pi * rc, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    "profile, expect",
+    [
+        (c.step(0.015), [[-0.01, 0.01]]),
+        (c.step(0.004), [[-np.sqrt(0.01**2 - 0.006**2), 0.01]]),
+        (
+            c.wire_on_plane(0.00065),
+            [[-2 * np.sqrt(0.01 * 0.000325), 0.01], [2 * np.sqrt(0.01 * 0.000325), 0.01]],
+        ),
+        (
+            c.wire_on_plane(0.03, length=0.2),
+            [[-2 * np.sqrt(0.01 * 0.015), 0.01], [2 * np.sqrt(0.01 * 0.015), 0.01]],
+        ),
+        (c.ravine(0.005, 0.02), [[0.0, np.sqrt(0.01**2 - 0.0025**2)]]),
+    ],
+    ids=["tall_step", "low_step", "thin_wire", "thick_wire", "narrow_ravine"],
+)
+@pytest.mark.parametrize("samples", [2e3, 3e4])
+def test_coarse_to_fine_path_matches_closed_forms(profile, expect, samples):
+    """Dense profiles go through the coarse-to-fine removal test: same exact answers."""
+    tc = c.traced_curve(profile, 0.01, spacing=profile.length / samples)
+    np.testing.assert_allclose(tc.interference_points, expect, atol=1e-9)
+    d = c.distance_to_profile(tc.points[:: max(1, len(tc.points) // 3000)], profile)
+    assert d.min() >= 0.01 - 1e-7

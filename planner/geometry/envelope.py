@@ -220,6 +220,107 @@ def _branch_crossing(tail: np.ndarray, head: np.ndarray):
     return pts[j], it, ih
 
 
+DIRECT_LIMIT = 4000  # generators up to this many samples get the direct exact test
+COARSE_FRACTION = 1.0 / 32.0  # coarse spacing of the coarse-to-fine test, in offsets
+
+
+def _removed_exact(P, Q, r, closed, exclude, h, tol=None) -> np.ndarray:
+    """Exact test: offset points closer than ``r - tol`` to the polyline through ``P``.
+
+    ``tol`` (default: the chords' largest possible sagitta h²/(4r)) keeps true ties — every
+    offset point is at exactly r from its own foot — from being removed by chord error.
+    """
+    if tol is None:
+        seg = np.linalg.norm(np.diff(P, axis=0), axis=1)
+        hmax = float(seg.max()) if len(seg) else 0.0
+        tol = hmax * hmax / (4 * r) + 1e-12 * r
+    removed = _ball_removed(Q, P, r, h)
+    todo = ~removed
+    if exclude is not None:
+        todo &= ~exclude
+    if todo.any():
+        removed[todo] = polyline_distance(Q[todo], P, closed) < r - tol
+    if exclude is not None:
+        removed |= exclude
+        _drop_tie_runs(removed, exclude, Q, r, closed)
+    return removed
+
+
+def _drop_tie_runs(
+    removed: np.ndarray, exclude: np.ndarray, Q: np.ndarray, r: float, closed: bool
+) -> None:
+    """Remove, in place, kept runs shorter than r/4 that touch an excluded (concave-corner)
+    sample.
+
+    Both branches of a concave corner are cut before they reach it, so such runs are ties
+    (offset points within the test's tolerance of the offset distance from a tangential
+    neighbour, as where a wire touches a plane), not envelope.
+    """
+    n = len(removed)
+    kept = ~removed
+    if not kept.any() or not exclude.any():
+        return
+    idx = np.flatnonzero(kept)
+    breaks = np.flatnonzero(np.diff(idx) > 1)
+    starts = np.concatenate([[idx[0]], idx[breaks + 1]])
+    ends = np.concatenate([idx[breaks], [idx[-1]]])
+    for a, b in zip(starts, ends, strict=True):
+        before, after = a - 1, b + 1
+        if closed:
+            before, after = before % n, after % n
+        touch = (0 <= before < n and exclude[before]) or (0 <= after < n and exclude[after])
+        if touch and np.sum(np.linalg.norm(np.diff(Q[a : b + 1], axis=0), axis=1)) < r / 4:
+            removed[a : b + 1] = True
+
+
+def _removed_mask(P, Q, r, closed, exclude, h) -> np.ndarray:
+    """Which offset points are off the envelope.
+
+    Up to :data:`DIRECT_LIMIT` samples: the exact test. Above: the exact test on a
+    sub-sampling of spacing ≈ r/32, carried to the fine samples (a fine sample is removed when
+    both coarse samples around it are); the edges of every gap are then re-cut exactly by the
+    crossing search of :func:`offset_envelope` on the fine branches. Concavities narrower
+    than the coarse spacing (r/32) are not resolved this way: smooth noisy data first.
+    """
+    n = len(P)
+    hc = COARSE_FRACTION * r
+    # sub-sample by the larger of the generator's and the offset curve's arclength, so that
+    # both keep about hc between coarse samples (curved pieces and fans are sampled finely)
+    step = np.maximum(
+        np.linalg.norm(np.diff(P, axis=0), axis=1), np.linalg.norm(np.diff(Q, axis=0), axis=1)
+    )
+    w = np.concatenate([[0.0], np.cumsum(step)])
+    if n <= DIRECT_LIMIT or w[-1] / hc > n / 2:
+        return _removed_exact(P, Q, r, closed, exclude, h)
+    ci = np.searchsorted(w, np.arange(0.0, w[-1], hc))
+    if exclude is not None:  # keep the edges of every excluded stretch
+        edge = np.flatnonzero(np.diff(exclude.astype(np.int8)))
+        ci = np.concatenate([ci, edge, edge + 1])
+    ci = np.unique(np.concatenate([ci, [n - 1]]))
+    k = np.searchsorted(ci, np.arange(n), side="right") - 1
+    k1 = np.minimum(k + 1, len(ci) - 1)
+    # how far the fine curve strays from the coarse chords: the coarse test's slack
+    A, B = P[ci[k]], P[ci[k1]]
+    AB, AX = B - A, P - A
+    den = np.einsum("ij,ij->i", AB, AB)
+    t = np.clip(np.einsum("ij,ij->i", AX, AB) / np.where(den > 0, den, 1.0), 0.0, 1.0)
+    dev = float(np.max(np.linalg.norm(AX - t[:, None] * AB, axis=1)))
+    rc = _removed_exact(
+        P[ci],
+        Q[ci],
+        r,
+        closed,
+        None if exclude is None else exclude[ci],
+        hc,
+        tol=dev + hc * hc / (4 * r) + 1e-12 * r,
+    )
+    removed = np.where(ci[k] == np.arange(n), rc[k], rc[k] & rc[k1])
+    if exclude is not None:
+        removed |= exclude
+        _drop_tie_runs(removed, exclude, Q, r, closed)
+    return removed
+
+
 def offset_envelope(
     points: np.ndarray,
     normals: np.ndarray,
@@ -249,16 +350,7 @@ def offset_envelope(
     n = len(P)
     seg = np.linalg.norm(np.diff(P, axis=0), axis=1)
     h = float(np.median(seg[seg > 0])) if np.any(seg > 0) else r
-    hmax = float(seg.max()) if len(seg) else 0.0
-    tol = hmax * hmax / (4 * r) + 1e-12 * r  # sagitta of the chords: never remove a true tie
-    removed = _ball_removed(Q, P, r, h)
-    todo = ~removed
-    if exclude is not None:
-        todo &= ~exclude
-    if todo.any():
-        removed[todo] = polyline_distance(Q[todo], P, closed) < r - tol
-    if exclude is not None:
-        removed |= exclude
+    removed = _removed_mask(P, Q, r, closed, exclude, h)
     keep = ~removed
     if not keep.any():
         return Envelope(
@@ -281,11 +373,16 @@ def offset_envelope(
     gaps = [(int(kept[j]), int(kept[j + 1])) for j in jumps]
     if closed and len(kept) < n and (kept[-1] != n - 1 or kept[0] != 0):
         gaps.append((int(kept[-1]), int(kept[0]) + n))
-    for a, b in gaps:
+    for g, (a, b) in enumerate(gaps):
         if not kq[a % n]:
             continue  # merged into the previous gap by its trimming
-        idx_t = np.arange(max(a - window, 0 if not closed else a - window), a + 2) % n
-        idx_h = np.arange(b - 1, b + window + 1)
+        # search windows stop at the neighbouring gaps: each branch belongs to one gap
+        lo = a - window if g == 0 else max(a - window, gaps[g - 1][1])
+        hi = b + window if g == len(gaps) - 1 else min(b + window, gaps[g + 1][0])
+        if not closed:
+            lo = max(lo, 0)
+        idx_t = np.arange(lo, a + 2) % n
+        idx_h = np.arange(b - 1, hi + 1)
         if not closed:
             idx_t = idx_t[(idx_t >= 0) & (idx_t < n)]
             idx_h = idx_h[idx_h < n]
