@@ -61,7 +61,7 @@ class ThreeGMOptions(StrictModel):
 
 
 class Config(ScenarioBase):
-    """A ``robot`` scenario."""
+    """Draw a robot (planar hand or 3GM) in a configuration, with its workspace."""
 
     kind: Literal["robot"]
     robot: Literal["planar_hand", "three_gm"] = Field(..., description="which robot")
