@@ -15,7 +15,7 @@ Ogniewicz):
    ``s`` the *local* spacing at the edge's two generating samples (the longer of their
    steps along the boundary: finger speed varies) and ``r`` the larger radius at the edge's
    ends; the skeleton stays connected. Then drop edges whose two generating samples are
-   closer than ``min_generator_distance`` (default ``1.5 s + 2 sigma``, local: neighbours on
+   closer than ``min_generator_distance`` (default ``1.2 s + 2 sigma``, local: neighbours on
    the same side of the boundary) or subtend less than ``min_angle_deg`` (default 45
    degrees) seen from the edge's end of larger radius (noise spurs pointing from the axis
    to the boundary; Attali's theta-regular medial axis; a right-angle corner's branch
@@ -96,7 +96,7 @@ class SkeletonSettings:
                 else self.max_edge_length
             ),
             min_generator_distance=(
-                1.5 * spacing + 2.0 * noise
+                1.2 * spacing + 2.0 * noise
                 if self.min_generator_distance is None
                 else self.min_generator_distance
             ),
@@ -289,7 +289,7 @@ def feature_skeleton(
     else:
         max_len = s.max_edge_length
     if base.min_generator_distance is None:
-        min_gen = 1.5 * s_edge + 2.0 * noise
+        min_gen = 1.2 * s_edge + 2.0 * noise
     else:
         min_gen = s.min_generator_distance
     keep &= (e_len <= max_len) & (gen >= min_gen)
