@@ -188,3 +188,13 @@ def test_disk_like_feature_gives_its_centre():
     sk = feature_skeleton(square)
     assert sk.points == pytest.approx(np.array([[0.005, 0.005]]))
     assert sk.edges.shape == (0, 2) and sk.radii == pytest.approx([0.005 * np.sqrt(2)])
+
+
+def test_keep_largest_connected_skeleton():
+    big = sh.ellipse_outline(A, B, 0.0005)
+    small = sh.ellipse_outline(0.008, 0.003, 0.0005) + [0.0, 0.02]
+    both = np.vstack([big, small])  # two traced contours given as one feature
+    sk = feature_skeleton(both)
+    assert sk.n_components == 1 and np.all(sk.points[:, 1] < 0.01)  # the big one
+    sk_all = feature_skeleton(both, keep_largest=False)
+    assert sk_all.n_components == 2 and sk_all.length > sk.length
