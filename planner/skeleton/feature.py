@@ -214,16 +214,19 @@ def feature_skeleton(
         boundary: (M, 2) boundary samples in surface coordinates [m], ordered along the trace
             or not, possibly noisy and not closed; M >= 4.
         spacing: sample spacing along the boundary (finger speed / sample rate) [m];
-            estimated as the median nearest-neighbour distance when ``None``.
+            estimated when ``None`` (median step along the trace, or median
+            nearest-neighbour distance for unordered samples). Thresholds use the local
+            spacing where the samples are sparser than this.
         noise: standard deviation of the boundary noise [m]; estimated from the samples
             when ``None``.
         **settings: fields of :class:`SkeletonSettings` (``max_edge_length``,
             ``min_generator_distance``, ``min_branch_length`` [m], ``min_angle_deg``,
-            ``keep_largest``,
-            ``branching``, ``link_factor``).
+            ``keep_largest``, ``branching``, ``link_factor``).
 
     Returns:
         The pruned :class:`Skeleton` (``points`` (K, 2), ``edges`` (E, 2), ``radii`` (K,)).
+        A feature whose axis degenerates to a point (a disk, a square sampled at its
+        corners) gives one point and no edge.
 
     Raises:
         InvalidParameter: bad shapes or values, unknown settings, samples enclosing no area.
