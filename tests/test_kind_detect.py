@@ -5,8 +5,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import run_cli
 
 from planner.errors import ScenarioError
+from planner.geometry.shapes import ridge, step, wire_on_plane
 from planner.runner import execute
 from planner.scenario import load_scenario, scenario_from_dict
 
@@ -76,3 +78,80 @@ def test_config_errors(tmp_path):
     with pytest.raises(ScenarioError, match="cy: required column"):
         execute(cfg, out_dir=tmp_path / "run", quick=True)
     assert not (tmp_path / "run").exists()
+
+
+# --- simulation.profile: any open profile of the catalogue, truth from the profile ----------
+
+THESIS = {"spacing": 2e-5, "center_sigma": 1e-4, "contact_sigma": 2.5e-4, "normal_sigma_deg": 1.0}
+
+
+@pytest.mark.parametrize(
+    "profile,exact,macro",
+    [
+        (
+            {"type": "wire", "diameter": 0.65e-3, "angle_deg": 45},
+            wire_on_plane(0.65e-3, np.pi / 4),
+            "bump",
+        ),
+        ({"type": "step", "height": 2e-3}, step(2e-3), "step"),
+        ({"type": "ridge", "width": 4e-3, "height": 2e-3}, ridge(4e-3, 2e-3), "ridge"),
+    ],
+    ids=["wire", "step", "ridge"],
+)
+def test_profile_simulation_alg3_scores_f1_one(profile, exact, macro, tmp_path):
+    cfg = scenario_from_dict(
+        {
+            "name": "p",
+            "kind": "detect",
+            "seed": 1,
+            "tip_radius": 0.01,
+            "algorithms": [3],
+            "simulation": {"profile": profile, **THESIS},
+        }
+    )
+    out = execute(cfg, out_dir=tmp_path / "run", quick=True, plots=False)
+    m = out.result.metrics
+    truth = exact.curvature_features(0.01)
+    assert m["truth_signs"] == "".join("+" if f.sign > 0 else "-" for f in truth)
+    with np.load(tmp_path / "run" / "trajectory.npz") as z:
+        assert np.allclose(z["truth_positions"], [f.position for f in truth], atol=1e-12)
+    assert m["alg3_signs"] == m["truth_signs"] and m["alg3_macro"] == [macro]
+    assert m["alg3_f1"] == 1.0 and m["alg3_localization_m"] < 0.5e-3
+
+
+def test_profile_detect_bundled(tmp_path):
+    res, out = _run("profile_detect", tmp_path)
+    m = res.metrics
+    assert m["truth_signs"] == "-++-" and m["alg3_signs"] == "-++-"
+    assert m["alg3_f1"] == 1.0 and m["alg3_macro"] == ["ridge"]
+    assert m["best_algorithm"] == 3 and "-" not in m["alg4_signs"]  # alg. 4: no concave
+    assert (out / "plots" / "trace.png").is_file()
+
+
+def test_profile_and_shape_together_is_one_line_exit_2(tmp_path):
+    bad = tmp_path / "both.yaml"
+    bad.write_text(
+        "kind: detect\ntip_radius: 0.01\nsimulation:\n  profile: {type: step, height: 0.002}\n"
+        "  shape: step\n  size_mm: 2\n"
+    )
+    proc = run_cli("validate", str(bad))
+    assert proc.returncode == 2
+    assert "Traceback" not in proc.stderr + proc.stdout
+    lines = (proc.stderr + proc.stdout).strip().splitlines()
+    assert len(lines) == 1, lines
+    assert "both.yaml:3: simulation:" in lines[0]
+    assert "'profile'" in lines[0] and "'shape', 'size_mm'" in lines[0]
+
+
+def test_profile_config_errors():
+    base = {"name": "x", "kind": "detect", "tip_radius": 0.01}
+    with pytest.raises(ScenarioError, match=r"simulation.profile: .*closed profile \('circle'\)"):
+        scenario_from_dict({**base, "simulation": {"profile": {"type": "circle", "radius": 0.02}}})
+    with pytest.raises(ScenarioError, match="not both.*'angle_deg'"):
+        scenario_from_dict({**base, "simulation": {"profile": {"type": "plane"}, "angle_deg": 30}})
+    with pytest.raises(ScenarioError, match="simulation.profile: .*corner radii"):
+        spec = {"type": "ridge", "width": 4e-3, "height": 2e-3, "corner_radius": 5e-3}
+        scenario_from_dict({**base, "simulation": {"profile": spec}})
+    # the noise and sampling keys go with either surface
+    cfg = scenario_from_dict({**base, "simulation": {"profile": {"type": "plane"}, **THESIS}})
+    assert cfg.simulation.profile.type == "plane" and cfg.simulation.spacing == 2e-5

@@ -24,6 +24,21 @@ def _signs(feats) -> str:
 def _load(config, ctx):
     """(t, centers, contacts, normals, synthetic trace or None)."""
     sim = config.simulation
+    if sim is not None and sim.profile is not None:
+        from planner.detection.profile_trace import simulate_profile
+        from planner.kinds._profiles import build_profile
+
+        tr = simulate_profile(
+            build_profile(sim.profile),
+            config.tip_radius,
+            spacing=sim.spacing,
+            speed=sim.speed,
+            center_sigma=sim.center_sigma,
+            contact_sigma=sim.contact_sigma,
+            normal_sigma=np.deg2rad(sim.normal_sigma_deg),
+            rng=ctx.rng,
+        )
+        return tr.t, tr.centers, tr.contacts, tr.normals, tr
     if sim is not None:
         shape = Shape(
             kind=sim.shape,

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from planner.detection.observable import observable_truth
 from planner.detection.types import CurvatureFeature
 from planner.errors import InvalidParameter
 
@@ -125,11 +126,13 @@ class SyntheticTrace:
         true_centers, true_contacts, true_normals: (N, 2) the same without noise.
         s: (N,) arclength of the true fingertip-centre path from its first sample [m].
         truth: ground-truth curvature features (``position`` on the object profile [m];
-            ``start/end/peak`` are coordinates along the plane [m]).
-        observable: the ground truth as a fingertip can know it: same-sign features inside
-            one unobservable region (a gap of the contact locus, between the two contacts of
-            an interference point), or passed by the fingertip within r_f/4 of path length,
-            count as one, at their mean position.
+            ``start/end/peak`` are coordinates along the plane [m], or the profile's
+            arclength [m] for :func:`planner.detection.profile_trace.simulate_profile`).
+        observable: the ground truth as a fingertip can know it
+            (:func:`planner.detection.observable.observable_truth`): same-sign features
+            inside one unobservable region (a gap of the contact locus, between the two
+            contacts of an interference point), or passed by the fingertip within r_f/4 of
+            path length, count as one, at their mean position.
         observable_index: (K,) sample index at which the fingertip passes each observable
             feature (its contact point crosses the feature), for scoring in time.
         profile: (K, 2) dense points of the object profile [m].
@@ -230,14 +233,15 @@ def simulate(
         CurvatureFeature(sign=sg, start=a, end=b, peak=pk, position=np.array([pk, yp]) @ rot.T)
         for sg, a, b, pk, yp in shape.truth_local()
     )
-    observable = _observable(truth, shape.truth_local(), con[:, 0], max(20 * dx, r / 100))
-    inv = _rot(-shape.angle)
-    cx = (tp @ inv.T)[:, 0]
-    xs = [float((np.asarray(f.position) @ inv.T)[0]) for f in observable]
-    i0 = np.searchsorted(cx, xs, side="left")
-    i1 = np.searchsorted(cx, xs, side="right")
-    obs_idx = np.clip((i0 + np.maximum(i1 - 1, i0)) // 2, 0, len(cx) - 1)
-    observable, obs_idx = _merge_passed_together(observable, obs_idx, s, r / 4)
+    observable, obs_idx = observable_truth(
+        truth,
+        [loc[3] for loc in shape.truth_local()],
+        con[:, 0],
+        (tp @ _rot(-shape.angle).T)[:, 0],
+        s,
+        r,
+        gap=max(20 * dx, r / 100),
+    )
     prof = np.column_stack([x, f]) @ rot.T
     return SyntheticTrace(
         t=s / speed,
@@ -254,58 +258,6 @@ def simulate(
         profile=prof,
         tip_radius=r,
     )
-
-
-def _merge_passed_together(feats, idx, s, gap):
-    """Same-sign features the fingertip passes within ``gap`` of path length count once
-    (e.g. the two bottom corners of a groove it only just touches)."""
-    out, out_idx = [], []
-    for f, i in zip(feats, idx, strict=True):
-        if out and out[-1].sign == f.sign and s[i] - s[out_idx[-1]] < gap:
-            prev = out.pop()
-            j = out_idx.pop()
-            pos = 0.5 * (np.asarray(prev.position) + np.asarray(f.position))
-            f = CurvatureFeature(
-                sign=f.sign,
-                start=prev.start,
-                end=f.end,
-                peak=0.5 * (prev.peak + f.peak),
-                position=pos,
-            )
-            i = (i + j) // 2
-        out.append(f)
-        out_idx.append(i)
-    return tuple(out), np.array(out_idx, dtype=int)
-
-
-def _observable(truth, local, contact_x: np.ndarray, gap: float) -> tuple:
-    """Merge same-sign true features lying in the same gap of the contact locus."""
-    jumps = np.flatnonzero(np.diff(contact_x) > gap)
-    gaps = [(contact_x[j], contact_x[j + 1]) for j in jumps]
-
-    def gap_of(xp: float) -> int:
-        for i, (a, b) in enumerate(gaps):
-            if a < xp < b:
-                return i
-        return -1
-
-    out: list[CurvatureFeature] = []
-    last_gap = -2
-    for f, loc in zip(truth, local, strict=True):
-        g = gap_of(loc[3])
-        if out and g >= 0 and g == last_gap and out[-1].sign == f.sign:
-            prev = out.pop()
-            pos = 0.5 * (np.asarray(prev.position) + np.asarray(f.position))
-            f = CurvatureFeature(
-                sign=f.sign,
-                start=prev.start,
-                end=f.end,
-                peak=0.5 * (prev.peak + f.peak),
-                position=pos,
-            )
-        out.append(f)
-        last_gap = g
-    return tuple(out)
 
 
 __all__ = [

@@ -4,7 +4,9 @@
 Keys (besides name/kind/description/seed/output):
 
 - ``tip_radius`` [m]: fingertip radius r_f.
-- ``simulation``: a fingertip tracing a feature on an inclined plane (see ``Simulation``), or
+- ``simulation``: a fingertip tracing a feature on an inclined plane (``shape`` and its
+  sizes) or any open profile of the catalogue (``profile``, the block of the ``trace`` kind);
+  see ``Simulation``. Or
 - ``data_file``: a CSV/NPZ trace (format in :mod:`planner.detection.datafile`), relative to
   the scenario file. Exactly one of the two.
 - ``algorithms``: which algorithms of Fig. 3.8 to run (default all four; 1 needs contacts,
@@ -18,13 +20,23 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import Field, model_validator
+from pydantic import Field, field_validator, model_validator
 
+from planner.kinds._profiles import ProfileSpec, build_profile
 from planner.scenario import ScenarioBase, StrictModel
+
+#: keys of the feature-on-a-plane surface, replaced by ``profile`` when that is given
+SHAPE_KEYS = ("shape", "size_mm", "width_mm", "angle_deg", "length")
 
 
 class Simulation(StrictModel):
-    """A fingertip tracing a feature on an inclined plane, with Gaussian sensor noise."""
+    """A fingertip tracing a surface with Gaussian sensor noise: a feature on an inclined
+    plane (``shape`` and its sizes), or an open ``profile`` of the catalogue (the ``trace``
+    kind's block; ground truth from its exact curvature features)."""
+
+    profile: ProfileSpec | None = Field(
+        None, description="open 2-D profile to trace instead of shape/size_mm/.../length"
+    )
 
     shape: Literal["plane", "wire", "step", "ridge", "ravine", "pit"] = Field(
         "wire", description="feature on the plane"
@@ -56,6 +68,36 @@ class Simulation(StrictModel):
     normal_sigma_deg: float = Field(
         1.0, ge=0, le=30, description="contact-normal noise, 1 sigma [deg]"
     )
+
+    @field_validator("profile")
+    @classmethod
+    def _open_profile(cls, spec):
+        from planner.errors import HapexError
+
+        if spec is None:
+            return spec
+        try:
+            closed = build_profile(spec).closed
+        except HapexError as exc:
+            raise ValueError(str(exc)) from None
+        if closed:
+            raise ValueError(
+                f"a closed profile ({spec.type!r}) cannot be traced from end to end; use an "
+                "open one: plane, step, ridge, ravine, bump, pit, wire, cusp, polyline, "
+                "spline (closed: false)"
+            )
+        return spec
+
+    @model_validator(mode="after")
+    def _profile_or_shape(self) -> Simulation:
+        both = [k for k in SHAPE_KEYS if k in self.model_fields_set]
+        if self.profile is not None and both:
+            keys = ", ".join(f"'{k}'" for k in both)
+            raise ValueError(
+                f"give either 'profile' or the shape keys, not both: 'profile' was given "
+                f"with {keys} (the profile block sets the whole surface)"
+            )
+        return self
 
 
 class Config(ScenarioBase):
@@ -89,7 +131,7 @@ class Config(ScenarioBase):
             raise ValueError(
                 f"multiscale_radii {bad} must each be >= tip_radius {self.tip_radius} [m] (§3.2.2)"
             )
-        if self.simulation is not None:
+        if self.simulation is not None and self.simulation.profile is None:
             s = self.simulation
             if s.shape == "pit" and not 0 < s.size_mm <= s.width_mm / 2:
                 raise ValueError("simulation: a pit needs 0 < size_mm <= width_mm / 2")
