@@ -26,7 +26,7 @@ from planner.skeleton._checks import check_points, check_positive
 from planner.skeleton.feature import Skeleton, SkeletonSettings, voronoi
 from planner.skeleton.global_map import GlobalSkeleton, _with_far_points
 from planner.skeleton.region import boundary_loops, estimate_spacing, region_polygon
-from planner.skeleton.segments import clip_segments, merge_segments
+from planner.skeleton.segments import clip_segments, merge_segments, point_segment_distance
 
 
 @dataclass(frozen=True)
@@ -58,8 +58,8 @@ def safest_path(
 ) -> NavigationPath:
     """Shortest path along the global skeleton between two points, avoiding features.
 
-    ``start`` and ``goal`` are joined to their nearest usable skeleton points; only edges
-    whose clearance (smallest disk radius on them) is at least ``tip_radius`` are used.
+    ``start`` and ``goal`` are joined to the closest point of their nearest usable edge; only
+    edges whose clearance (smallest disk radius on them) is at least ``tip_radius`` are used.
 
     Args:
         gs: the global skeleton.
@@ -82,30 +82,42 @@ def safest_path(
             f"no global skeleton edge has clearance >= tip_radius {r:g} m "
             f"(largest: {gs.edge_clearance.max(initial=0.0):g} m)"
         )
-    used = np.unique(edges)
-    tree = cKDTree(gs.points[used])
-    a, b = (int(used[tree.query(p[0])[1]]) for p in (s, t))
-    graph = g.adjacency(len(gs.points), edges, g.edge_lengths(gs.points, edges))
-    dist, pred = csgraph.dijkstra(graph, directed=False, indices=a, return_predecessors=True)
-    if not np.isfinite(dist[b]):
+    clearance = gs.edge_clearance[ok]
+    seg = gs.points[edges]
+    # join start and goal to their nearest usable edge at its closest point (nodes n, n+1)
+    n = len(gs.points)
+    extra_pts, extra_edges, extra_clear = [], [], []
+    for k, p in enumerate((s[0], t[0])):
+        d = point_segment_distance(np.broadcast_to(p, (len(seg), 2)), seg)
+        e = int(np.argmin(d))
+        a0, d0 = seg[e, 0], seg[e, 1] - seg[e, 0]
+        tt = float(np.clip(np.dot(p - a0, d0) / max(np.dot(d0, d0), 1e-300), 0.0, 1.0))
+        extra_pts.append(a0 + tt * d0)
+        extra_edges += [(n + k, edges[e, 0]), (n + k, edges[e, 1])]
+        extra_clear += [clearance[e], clearance[e]]
+    if np.allclose(extra_pts[0], extra_pts[1]) or set(extra_edges[0:2]) == set(extra_edges[2:4]):
+        extra_edges.append((n, n + 1))  # both on the same edge
+        extra_clear.append(min(extra_clear))
+    all_pts = np.vstack([gs.points, extra_pts])
+    all_edges = np.vstack([edges, np.array(extra_edges)])
+    all_clear = np.concatenate([clearance, extra_clear])
+    graph = g.adjacency(len(all_pts), all_edges, g.edge_lengths(all_pts, all_edges))
+    dist, pred = csgraph.dijkstra(graph, directed=False, indices=n, return_predecessors=True)
+    if not np.isfinite(dist[n + 1]):
         raise InfeasibleProblem(
             f"start and goal are not connected along global skeleton edges with clearance "
             f">= tip_radius {r:g} m"
         )
-    path = [b]
-    while path[-1] != a:
+    path = [n + 1]
+    while path[-1] != n:
         path.append(int(pred[path[-1]]))
     nodes = np.asarray(path[::-1])
-    pts = np.vstack([s, gs.points[nodes], t])
+    pts = np.vstack([s, all_pts[nodes], t])
+    pts = pts[np.r_[True, np.any(np.diff(pts, axis=0) != 0, axis=1)]]
     length = float(np.hypot(*np.diff(pts, axis=0).T).sum())
-    clear = np.inf
-    if len(nodes) > 1:
-        pair = np.sort(np.column_stack([nodes[:-1], nodes[1:]]), axis=1)
-        key = {
-            tuple(e): c
-            for e, c in zip(np.sort(edges, axis=1).tolist(), gs.edge_clearance[ok], strict=True)
-        }
-        clear = min(key[tuple(p)] for p in pair.tolist())
+    key = {tuple(e): c for e, c in zip(np.sort(all_edges, axis=1).tolist(), all_clear, strict=True)}
+    pair = np.sort(np.column_stack([nodes[:-1], nodes[1:]]), axis=1)
+    clear = min((key[tuple(q)] for q in pair.tolist()), default=np.inf)
     return NavigationPath(pts, length, float(clear))
 
 

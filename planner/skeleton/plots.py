@@ -134,6 +134,7 @@ def plot_feature_map(
         ax.plot(
             path[:, 0] * MM, path[:, 1] * MM, "--", color="tab:green", lw=2, label="safest path"
         )
+        ax.plot(path[[0, -1], 0] * MM, path[[0, -1], 1] * MM, "o", color="tab:green", ms=6)
     dom = np.asarray(gs.domain.exterior.coords)
     _frame(ax, dom, title)
     ax.legend(loc="upper left", fontsize=7, bbox_to_anchor=(1.01, 1.0))
