@@ -268,7 +268,11 @@ def _message(err: Mapping[str, Any]) -> str:
         return f"unknown kind {ctx.get('tag')!r}; expected one of {ctx.get('expected_tags')}"
     if kind == "union_tag_not_found":
         return f"missing key {err.get('ctx', {}).get('discriminator', 'kind')}"
-    return str(err.get("msg", "invalid value"))
+    msg = str(err.get("msg", "invalid value"))
+    for prefix in ("Value error, ", "Assertion failed, "):
+        if msg.startswith(prefix):
+            msg = msg[len(prefix) :]
+    return msg
 
 
 def validate(doc: SourceDoc) -> ScenarioBase:
