@@ -231,6 +231,8 @@ def _locate(doc: SourceDoc, loc: Sequence[Any]) -> tuple[str, int, str]:
         elif isinstance(cur, list) and isinstance(item, int) and 0 <= item < len(cur):
             path.append(item)
             cur = cur[item]
+        elif isinstance(cur, dict) and item in {v for v in cur.values() if isinstance(v, str)}:
+            continue  # the tag of a discriminated union (e.g. ``type: step``)
         elif isinstance(item, str) and not (isinstance(cur, dict) and item in cur):
             # a union/discriminator tag or a missing key: a missing key is the last item
             if item == loc[-1]:

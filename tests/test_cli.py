@@ -201,3 +201,12 @@ def test_list_scenarios_kinds_robots():
     assert kinds.returncode == 0 and "trace" in kinds.stdout
     robots = run_cli("list", "robots")
     assert robots.returncode == 0 and robots.stdout.strip()
+
+
+def test_union_member_errors_name_the_key(tmp_path):
+    s = write(tmp_path, GOOD.replace("height: 0.004", "height: 0"))
+    proc = run_cli("validate", str(s))
+    assert_bad_input(proc, f"{s}:5: profile: height must be non-zero")
+    s = write(tmp_path, GOOD.replace("  height: 0.004\n", ""))
+    proc = run_cli("validate", str(s))
+    assert_bad_input(proc, "profile.height: required key is missing")
