@@ -179,7 +179,10 @@ def _parse_override(text: str, index: int) -> tuple[tuple[str, ...], Any]:
 
 
 def apply_overrides(doc: SourceDoc, overrides: Sequence[str]) -> SourceDoc:
-    """Apply ``--set key.path=value`` overrides (values parsed as YAML scalars/flow)."""
+    """Apply ``--set key.path=value`` overrides (values parsed as YAML scalars/flow).
+
+    Path parts index mappings by key and lists by position (``features.0.spacing``).
+    """
     import copy
 
     data = copy.deepcopy(doc.data)
@@ -192,26 +195,34 @@ def apply_overrides(doc: SourceDoc, overrides: Sequence[str]) -> SourceDoc:
             issues.extend(exc.issues)
             continue
         cur = data
-        ok = True
-        for depth, p in enumerate(parts[:-1]):
-            nxt = cur.get(p) if isinstance(cur, dict) else None
-            if nxt is None and isinstance(cur, dict):
-                nxt = cur[p] = {}
-            if not isinstance(nxt, dict):
-                issues.append(
-                    InputIssue(
-                        f"--set:{i}",
-                        0,
-                        ".".join(parts[: depth + 1]),
-                        "is not a mapping; cannot set a key inside it",
-                    )
+        keys: list[Any] = []
+        problem = None
+        for depth, p in enumerate(parts):
+            where = ".".join(parts[: depth + 1])
+            if isinstance(cur, list):
+                if not p.lstrip("-").isdigit() or not -len(cur) <= int(p) < len(cur):
+                    problem = (where, f"is not an index of a list of {len(cur)} items")
+                    break
+                key: Any = int(p) % len(cur)
+            elif isinstance(cur, dict):
+                key = p
+            else:
+                problem = (
+                    ".".join(parts[:depth]),
+                    "is not a mapping or a list; cannot set a key inside it",
                 )
-                ok = False
                 break
-            cur = nxt
-        if ok:
-            cur[parts[-1]] = value
-            origins[parts] = f"--set:{i}"
+            keys.append(key)
+            if depth == len(parts) - 1:
+                cur[key] = value
+            else:
+                if isinstance(cur, dict) and cur.get(key) is None:
+                    cur[key] = {}
+                cur = cur[key]
+        if problem is not None:
+            issues.append(InputIssue(f"--set:{i}", 0, problem[0], problem[1]))
+        else:
+            origins[tuple(keys)] = f"--set:{i}"
     if issues:
         raise ScenarioError(issues)
     return SourceDoc(data, doc.source, doc.lines, origins)

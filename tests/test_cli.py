@@ -210,3 +210,12 @@ def test_union_member_errors_name_the_key(tmp_path):
     s = write(tmp_path, GOOD.replace("  height: 0.004\n", ""))
     proc = run_cli("validate", str(s))
     assert_bad_input(proc, "profile.height: required key is missing")
+
+
+def test_set_reaches_list_items(tmp_path):
+    s = ROOT / "scenarios" / "feature_map.yaml"
+    assert run_cli("validate", str(s), "--set", "features.0.spacing=0.001").returncode == 0
+    proc = run_cli("validate", str(s), "--set", "features.0.spacing=-1")
+    assert_bad_input(proc, "--set:1:0: features[0].spacing:")
+    proc = run_cli("validate", str(s), "--set", "features.99.spacing=0.001")
+    assert_bad_input(proc, "features.99: is not an index")

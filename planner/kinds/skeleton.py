@@ -80,7 +80,7 @@ class GlobalSpec(StrictModel):
 
 
 class Config(ScenarioBase):
-    """Scenario ``kind: skeleton``."""
+    """Feature skeletons (DVMA), the global skeleton and the feature map of §4.4-4.5."""
 
     kind: Literal["skeleton"]
     features: list[FeatureSpec] = Field(default_factory=list, description="synthetic features")
