@@ -153,6 +153,33 @@ def build_gait(prob: GaitProblem, loop) -> Gait:
     covered: set[int] = set()
     path = []
     eps_all = []
+
+    def palm(kk: int) -> float:
+        return float(prob.tables.placement.palm_theta[kk])
+
+    def phase3(k2: int, i2: int, i3: int, j: int) -> None:
+        """Phase 3: right finger and palm hold at ``j``, the left relocates i2 -> i3."""
+        comp = _component(prob.reach["left"][k2], i2)
+        covered.update(_arc_path(i2, i3, n, comp).tolist())
+        e3 = float(prob.eps_rp[k2, j])
+        eps_all.append(e3)
+        path.append((k2, -1, j))
+        path.append((k2, i3, j))
+        phases.append(
+            GaitPhase(
+                3,
+                ("right", "palm"),
+                "left",
+                k2,
+                k2,
+                0.0,
+                {"left": th[i2], "right": th[j], "palm": palm(k2)},
+                {"left": th[i3], "right": th[j], "palm": palm(k2)},
+                e3,
+                "forward",
+            )
+        )
+
     for k, i, j, t, route, (i3, j3, _) in loop:
         k2, i2, j2 = (k + t) % n, (i + s * t) % n, (j + s * t) % n
         di = np.mod(i + s * np.arange(t + 1), n)
@@ -163,7 +190,6 @@ def build_gait(prob: GaitProblem, loop) -> Gait:
             path.append(((k + a) % n, int(di[a]), int(dj[a])))
         e1 = float(prob.eps_lr[di, dj].min())
         eps_all.append(e1)
-        palm = lambda kk: float(prob.tables.placement.palm_theta[kk])  # noqa: E731
         phases.append(
             GaitPhase(
                 1,
@@ -179,7 +205,7 @@ def build_gait(prob: GaitProblem, loop) -> Gait:
             )
         )
         if route in "AB":  # phase 2: left + palm hold, right relocates
-            jt = j3 if route == "B" else j3
+            jt = j3
             comp = _component(prob.reach["right"][k2], j2)
             covered.update(_arc_path(j2, jt, n, comp).tolist())
             e2 = float(prob.eps_lp[k2, i2])
@@ -200,48 +226,10 @@ def build_gait(prob: GaitProblem, loop) -> Gait:
                     "forward" if route == "A" else "skip",
                 )
             )
-            if route == "A":  # phase 3: right + palm hold, left relocates
-                comp = _component(prob.reach["left"][k2], i2)
-                covered.update(_arc_path(i2, i3, n, comp).tolist())
-                e3 = float(prob.eps_rp[k2, jt])
-                eps_all.append(e3)
-                path.append((k2, -1, jt))
-                path.append((k2, i3, jt))
-                phases.append(
-                    GaitPhase(
-                        3,
-                        ("right", "palm"),
-                        "left",
-                        k2,
-                        k2,
-                        0.0,
-                        {"left": th[i2], "right": th[jt], "palm": palm(k2)},
-                        {"left": th[i3], "right": th[jt], "palm": palm(k2)},
-                        e3,
-                        "forward",
-                    )
-                )
+            if route == "A":
+                phase3(k2, i2, i3, jt)
         else:  # route C: phase 3 directly
-            comp = _component(prob.reach["left"][k2], i2)
-            covered.update(_arc_path(i2, i3, n, comp).tolist())
-            e3 = float(prob.eps_rp[k2, j2])
-            eps_all.append(e3)
-            path.append((k2, -1, j2))
-            path.append((k2, i3, j2))
-            phases.append(
-                GaitPhase(
-                    3,
-                    ("right", "palm"),
-                    "left",
-                    k2,
-                    k2,
-                    0.0,
-                    {"left": th[i2], "right": th[j2], "palm": palm(k2)},
-                    {"left": th[i3], "right": th[j2], "palm": palm(k2)},
-                    e3,
-                    "forward",
-                )
-            )
+            phase3(k2, i2, i3, j2)
     total = sum(rec[3] for rec in loop)
     turns = total // n
     return Gait(
