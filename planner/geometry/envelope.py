@@ -457,16 +457,21 @@ def polyline_normals(
     else:
         n_in = np.vstack([seg_n[:1], seg_n])
         n_out = np.vstack([seg_n, seg_n[-1:]])
-    a_in = np.arctan2(n_in[:, 1], n_in[:, 0])
-    turn = np.angle(np.exp(1j * (np.arctan2(n_out[:, 1], n_out[:, 0]) - a_in)))
+    cross = n_in[:, 0] * n_out[:, 1] - n_in[:, 1] * n_out[:, 0]
+    turn = np.arctan2(cross, np.einsum("ij,ij->i", n_in, n_out))
     bis = n_in + n_out
     bis /= np.maximum(_rownorm(bis), 1e-300)[:, None]
     sharp = np.abs(turn) > corner_angle
-    counts = np.where(sharp, np.maximum(2, np.ceil(np.abs(turn) / fan_step)).astype(int) + 1, 1)
+    if not sharp.any():
+        return P, bis, np.arange(n), turn
+    counts = np.ones(n, int)
+    counts[sharp] = np.maximum(2, np.ceil(np.abs(turn[sharp]) / fan_step)).astype(int) + 1
     vid = np.repeat(np.arange(n), counts)
-    start = np.repeat(np.cumsum(counts) - counts, counts)
-    j = np.arange(len(vid)) - start
-    frac = np.where(counts[vid] > 1, j / np.maximum(counts[vid] - 1, 1), 0.0)
-    ang = a_in[vid] + frac * turn[vid]
-    normals = np.where(sharp[vid][:, None], np.stack([np.cos(ang), np.sin(ang)], axis=-1), bis[vid])
+    normals = bis[vid]
+    rows = np.flatnonzero(sharp[vid])  # the fan samples only: trigonometry where needed
+    v = vid[rows]
+    frac = (rows - (np.cumsum(counts) - counts)[v]) / (counts[v] - 1)
+    ang = np.arctan2(n_in[v, 1], n_in[v, 0]) + frac * turn[v]
+    normals[rows, 0] = np.cos(ang)
+    normals[rows, 1] = np.sin(ang)
     return P[vid], normals, vid, turn[vid]
