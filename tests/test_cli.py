@@ -219,3 +219,10 @@ def test_set_reaches_list_items(tmp_path):
     assert_bad_input(proc, "--set:1:0: features[0].spacing:")
     proc = run_cli("validate", str(s), "--set", "features.99.spacing=0.001")
     assert_bad_input(proc, "features.99: is not an index")
+
+
+def test_sampling_coarser_than_profile_is_bad_input(tmp_path):
+    s = write(tmp_path, GOOD.replace("spacing: 2.0e-4", "spacing: 1.0"))
+    out = tmp_path / "out"
+    assert_bad_input(run_cli("run", str(s), "--out", str(out)), "fewer than 3 samples")
+    assert not out.exists()

@@ -70,9 +70,20 @@ class Config(ScenarioBase):
         from planner.errors import HapexError
 
         try:
-            build_profile(self.profile)
+            profile = build_profile(self.profile)
         except HapexError as exc:
             raise ValueError(f"profile: {exc}") from None
+        s = self.sampling
+        spacing = (
+            s.spacing
+            if s.spacing is not None
+            else (s.speed / s.rate if s.speed is not None and s.rate is not None else None)
+        )
+        if spacing is not None and spacing > profile.length / 2:
+            raise ValueError(
+                f"sampling: a spacing of {spacing:g} m gives fewer than 3 samples "
+                f"over a profile {profile.length:g} m long"
+            )
         return self
 
 
