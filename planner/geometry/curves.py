@@ -23,7 +23,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from planner.errors import InvalidParameter
-from planner.geometry.envelope import offset_envelope, polyline_distance, polyline_normals
+from planner.geometry.envelope import offset_envelope, polyline_normals
+from planner.geometry.offset_removal import polyline_distance
 from planner.geometry.profiles import CurveSamples, Profile, ProfileFeature
 from planner.geometry.shapes import (
     bump,
