@@ -22,9 +22,16 @@ def trace_figure(name, profile, centers, smoothed, estimated, tip_radius, closed
     """Fig. 3.9: object, noisy traced curve, smoothed traced curve, estimated surface."""
     fig, ax = _axes(f"{name}: simulated trace (Fig. 3.9)")
     k = 1e3
-    ax.fill_between(
-        profile[:, 0] * k, profile[:, 1] * k, profile[:, 1].min() * k - 2, color="0.85", zorder=0
-    ) if not closed else ax.fill(profile[:, 0] * k, profile[:, 1] * k, color="0.85", zorder=0)
+    if closed:
+        ax.fill(profile[:, 0] * k, profile[:, 1] * k, color="0.85", zorder=0)
+    else:
+        ax.fill_between(
+            profile[:, 0] * k,
+            profile[:, 1] * k,
+            profile[:, 1].min() * k - 2,
+            color="0.85",
+            zorder=0,
+        )
     ax.plot(profile[:, 0] * k, profile[:, 1] * k, "k-", lw=1.5, label="object")
     step = max(1, len(centers) // 3000)
     ax.plot(
@@ -52,10 +59,9 @@ def trace_figure(name, profile, centers, smoothed, estimated, tip_radius, closed
         lw=1.2,
         label="estimated surface",
     )
-    mid = true_mid
     ax.add_patch(
         Circle(
-            mid * k,
+            true_mid * k,
             tip_radius * k,
             fill=False,
             color="tab:green",

@@ -130,6 +130,17 @@ def numpy_function(fn: ca.Function) -> Callable[..., list[np.ndarray]]:
     outs = [f"o{j}" for j in range(fn.n_out())]
     for j in range(fn.n_out()):
         lines.append(f"    o{j} = np.zeros(({fn.nnz_out(j)},) + shape)")
+    lines += _body(fn, (_BINARY, _UNARY), "numpy")
+    lines.append(f"    return [{', '.join(outs)}]")
+    namespace: dict = {"np": np, "inf": np.inf, "nan": np.nan}
+    exec(compile("\n".join(lines), f"<sx2numpy {fn.name()}>", "exec"), namespace)  # noqa: S102
+    return namespace["_g"]
+
+
+def _body(fn: ca.Function, tables: tuple[dict, ...], target: str) -> list[str]:
+    """Python source lines of ``fn``'s instructions, each operation translated by the first of
+    ``tables`` (operation name -> format string with ``{a}``, ``{b}``) that knows it."""
+    lines = []
     for k in range(fn.n_instructions()):
         name = _NAMES[fn.instruction_id(k)]
         ins, outp = fn.instruction_input(k), fn.instruction_output(k)
@@ -139,18 +150,13 @@ def numpy_function(fn: ca.Function) -> Callable[..., list[np.ndarray]]:
             lines.append(f"    o{outp[0]}[{outp[1]}] = w{ins[0]}")
         elif name == "OP_CONST":
             lines.append(f"    w{outp[0]} = {float(fn.instruction_constant(k))!r}")
-        elif name in _BINARY:
-            lines.append(
-                f"    w{outp[0]} = " + _BINARY[name].format(a=f"w{ins[0]}", b=f"w{ins[1]}")
-            )
-        elif name in _UNARY:
-            lines.append(f"    w{outp[0]} = " + _UNARY[name].format(a=f"w{ins[0]}"))
-        else:  # pragma: no cover - an operation surfaces do not use
-            raise NotImplementedError(f"CasADi operation {name} has no numpy translation")
-    lines.append(f"    return [{', '.join(outs)}]")
-    namespace: dict = {"np": np, "inf": np.inf, "nan": np.nan}
-    exec(compile("\n".join(lines), f"<sx2numpy {fn.name()}>", "exec"), namespace)  # noqa: S102
-    return namespace["_g"]
+        else:
+            table = next((t for t in tables if name in t), None)
+            if table is None:  # pragma: no cover - an operation surfaces do not use
+                raise NotImplementedError(f"CasADi operation {name} has no {target} translation")
+            b = f"w{ins[1]}" if len(ins) > 1 else ""
+            lines.append(f"    w{outp[0]} = " + table[name].format(a=f"w{ins[0]}", b=b))
+    return lines
 
 
 def scalar_function(fn: ca.Function) -> Callable[..., list[list[float]]]:
@@ -167,25 +173,7 @@ def scalar_function(fn: ca.Function) -> Callable[..., list[list[float]]]:
     lines = [f"def _g({', '.join(f'i{j}' for j in range(n_in))}):"]
     for j in range(fn.n_out()):
         lines.append(f"    o{j} = [0.0] * {fn.nnz_out(j)}")
-    for k in range(fn.n_instructions()):
-        name = _NAMES[fn.instruction_id(k)]
-        ins, outp = fn.instruction_input(k), fn.instruction_output(k)
-        if name == "OP_INPUT":
-            lines.append(f"    w{outp[0]} = i{ins[0]}")
-        elif name == "OP_OUTPUT":
-            lines.append(f"    o{outp[0]}[{outp[1]}] = w{ins[0]}")
-        elif name == "OP_CONST":
-            lines.append(f"    w{outp[0]} = {float(fn.instruction_constant(k))!r}")
-        elif name in _SCALAR:
-            expr = _SCALAR[name].format(a=f"w{ins[0]}", b=f"w{ins[1]}" if len(ins) > 1 else "")
-            lines.append(f"    w{outp[0]} = {expr}")
-        elif name in _BINARY:
-            expr = _BINARY[name].format(a=f"w{ins[0]}", b=f"w{ins[1]}")
-            lines.append(f"    w{outp[0]} = {expr}")
-        elif name in _UNARY:
-            lines.append(f"    w{outp[0]} = " + _UNARY[name].format(a=f"w{ins[0]}"))
-        else:  # pragma: no cover
-            raise NotImplementedError(f"CasADi operation {name} has no scalar translation")
+    lines += _body(fn, (_SCALAR, _BINARY, _UNARY), "scalar")
     lines.append(f"    return [{', '.join(f'o{j}' for j in range(fn.n_out()))}]")
     namespace: dict = {"m": math, "inf": math.inf, "nan": math.nan}
     exec(compile("\n".join(lines), f"<sx2scalar {fn.name()}>", "exec"), namespace)  # noqa: S102
