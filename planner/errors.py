@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 
@@ -56,15 +57,43 @@ class InfeasibleProblem(HapexError):
     """An optimization problem (QP, LP, NLP) has no solution or the solver failed.
 
     Attributes:
-        problem: the data needed to replay the solve (e.g. a dict of arrays, or a
-            ``qpsolvers.Problem``), or ``None``.
+        problem: the data needed to replay the solve: a :class:`planner.optim.QPProblem`
+            (or any object with ``to_arrays()``), a dict of arrays, or ``None``.
         solver: name of the backend that failed.
+
+    A QP failure is replayed with ``err.save("failed.npz")`` then
+    ``planner.optim.replay("failed.npz")`` (or ``planner.optim.QPProblem.load``).
     """
 
     def __init__(self, message: str, problem: Any = None, solver: str | None = None):
         super().__init__(message)
         self.problem = problem
         self.solver = solver
+
+    def save(self, path: str | Path) -> Path:
+        """Write the problem, the solver's name and the message to ``path`` (``.npz``).
+
+        Returns:
+            The file written (``.npz`` is appended when ``path`` lacks it).
+
+        Raises:
+            InvalidParameter: the error carries no problem data to save.
+        """
+        if hasattr(self.problem, "to_arrays"):
+            arrays = dict(self.problem.to_arrays())
+        elif isinstance(self.problem, dict):
+            arrays = {k: v for k, v in self.problem.items() if v is not None}
+        else:
+            raise InvalidParameter(
+                f"problem: expected QP data to save, got {type(self.problem).__name__}"
+            )
+        import numpy as np
+
+        path = Path(path)
+        if path.suffix != ".npz":
+            path = path.with_name(path.name + ".npz")
+        np.savez(path, **arrays, solver=np.str_(self.solver or ""), message=np.str_(str(self)))
+        return path
 
 
 class SingularConfiguration(HapexError):

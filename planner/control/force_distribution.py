@@ -15,11 +15,10 @@ with ``H`` chosen by ``objective``:
   the smallest tangential forces, i.e. every force as close to its cone axis as the wrench
   allows (largest friction margin), with a small norm term to keep the QP strictly convex.
 
-The problem is *built once* for a grasp and re-solved for new wrenches and squeezes by
-changing only constraint bounds: with ``solver="osqp"`` a native OSQP object is set up once and
-updated in place (``update(l=..., u=...)``, warm-started), with ``"daqp"`` the dense data are
-prebuilt and DAQP is called directly; other backends go through
-:func:`planner.control.qp.solve_qp` each time.
+The problem is *built once* for a grasp as a :class:`planner.optim.QPWorkspace` and
+re-solved for new wrenches and squeezes by changing only the vectors ``b = w`` and ``h``:
+DAQP, ProxQP, OSQP and Clarabel update their own data in place (warm-started where the
+backend allows); other backends are rebuilt at every solve.
 """
 
 from __future__ import annotations
@@ -29,8 +28,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from planner.control.qp import available_solvers, solve_qp
-from planner.errors import InfeasibleProblem, InvalidParameter
+from planner import checks
+from planner.contact.cones import cone_halfspaces, tangent_basis
+from planner.errors import InfeasibleProblem
+from planner.grasp.grasp_matrix import grasp_matrix
+from planner.grasp.wrenches import check_contacts
+from planner.optim import QPProblem, QPWorkspace, available_solvers
+
+__all__ = ["OBJECTIVES", "ForceDistribution", "GraspForceQP", "distribute_forces"]
 
 OBJECTIVES = ("min_norm", "max_margin")
 
@@ -58,6 +63,27 @@ class ForceDistribution:
     solve_time_s: float
 
 
+def _block_rows(blocks: np.ndarray) -> np.ndarray:
+    """Block-diagonal rows: (k, m, d) per-contact rows -> (k m, k d) rows acting on ``f``."""
+    k, m, d = blocks.shape
+    out = np.zeros((k * m, k * d))
+    for i in range(k):
+        out[m * i : m * (i + 1), d * i : d * (i + 1)] = blocks[i]
+    return out
+
+
+def _cost(objective: str, normals: np.ndarray) -> np.ndarray:
+    """The QP's Hessian: ``I`` (min_norm) or the tangent projector ``+ 1e-3 I`` (max_margin)."""
+    k, d = normals.shape
+    if objective == "min_norm":
+        return np.eye(k * d)
+    H = 1e-3 * np.eye(k * d)
+    for i, n in enumerate(normals):
+        sl = slice(d * i, d * (i + 1))
+        H[sl, sl] += np.eye(d) - np.outer(n, n)  # sum of t t^T over the tangents
+    return H
+
+
 class GraspForceQP:
     """The grasp-force distribution QP of one grasp, built once, re-solved in place.
 
@@ -70,7 +96,8 @@ class GraspForceQP:
         torque_reference: (d,) point about which the wrench's torque is given [m]
             (default: the contacts' centroid).
         facets: spatial pyramids' facets (>= 3).
-        native: use the native in-place solver object where one exists (osqp, daqp).
+        native: ``True`` (default) keeps one :class:`~planner.optim.QPWorkspace` updated in
+            place; ``False`` rebuilds the backend at every solve (for comparison).
     """
 
     def __init__(
@@ -85,89 +112,28 @@ class GraspForceQP:
         facets: int = 8,
         native: bool = True,
     ):
-        from planner.grasp.cones import check_mu, tangent_basis
-        from planner.grasp.grasp_matrix import grasp_matrix
-        from planner.grasp.wrenches import check_contacts
-
         p, n = check_contacts(points, normals, 1)
-        self.mu = check_mu(mu)
-        if objective not in OBJECTIVES:
-            raise InvalidParameter(
-                f"objective must be one of {list(OBJECTIVES)}, got {objective!r}"
-            )
-        if solver not in available_solvers():
-            raise InvalidParameter(
-                f"unknown or uninstalled QP solver {solver!r}; expected one "
-                f"of {list(available_solvers())}"
-            )
+        self.mu = checks.nonnegative("mu", mu)
+        self.objective = str(checks.choice("objective", objective, OBJECTIVES))
+        self.solver = str(checks.choice("solver", solver, available_solvers()))
         k, d = p.shape
-        self.k, self.d, self.solver, self.objective = k, d, solver, objective
-        self.normals = n
+        self.k, self.d, self.normals = k, d, n
         self.G = grasp_matrix(p, torque_reference)
-        nv = k * d
-        # friction-cone rows C f <= 0 and normal rows N f (>= squeeze)
-        rows = []
-        N = np.zeros((k, nv))
-        tangents = []
-        for i in range(k):
-            sl = slice(d * i, d * (i + 1))
-            N[i, sl] = n[i]
-            if d == 2:
-                t = np.array([-n[i, 1], n[i, 0]])
-                tangents.append(t[None, :])
-                for sgn in (1.0, -1.0):
-                    r = np.zeros(nv)
-                    r[sl] = sgn * t - self.mu * n[i]
-                    rows.append(r)
-            else:
-                t1, t2 = tangent_basis(n[i : i + 1])
-                tangents.append(np.vstack([t1, t2]))
-                m = int(facets)
-                for a in range(m):
-                    ang = 2 * np.pi * (a + 0.5) / m
-                    u = np.cos(ang) * t1[0] + np.sin(ang) * t2[0]
-                    r = np.zeros(nv)
-                    r[sl] = u - self.mu * np.cos(np.pi / m) * n[i]
-                    rows.append(r)
-        self.C = np.array(rows)
-        self.N = N
-        self._tangents = tangents
-        if objective == "min_norm":
-            H = np.eye(nv)
-        else:
-            H = 1e-3 * np.eye(nv)
-            for i, T in enumerate(tangents):
-                sl = slice(d * i, d * (i + 1))
-                H[sl, sl] += T.T @ T
-        self.H = H
-        self.native = bool(native) and solver in ("osqp", "daqp")
-        self._osqp = None
-        self._A_all = np.vstack([self.G, self.C, self.N])
-        if self.native and solver == "osqp":
-            import osqp
-            from scipy import sparse
+        self.C = _block_rows(cone_halfspaces(n, self.mu, facets))  # C f <= 0: inside cones
+        self.N = _block_rows(n[:, None, :])  # N f >= squeeze: normal components
+        self.H = _cost(self.objective, n)
+        self.native = bool(native)
+        # |f_t,i| = |T_i f|: planar one tangent row per contact, spatial two
+        tangents = n[:, None, ::-1] * [[-1.0, 1.0]] if d == 2 else np.stack(tangent_basis(n), 1)
+        self._T = _block_rows(tangents)
+        self._h = np.zeros(self.C.shape[0] + k)
+        self._ws = QPWorkspace(self._problem(np.zeros(self.G.shape[0]), 0.0), self.solver)
 
-            self._osqp = osqp.OSQP()
-            m_all = self._A_all.shape[0]
-            self._osqp.setup(
-                sparse.csc_matrix(np.triu(H)),
-                np.zeros(nv),
-                sparse.csc_matrix(self._A_all),
-                -np.inf * np.ones(m_all),
-                np.inf * np.ones(m_all),
-                verbose=False,
-                eps_abs=1e-9,
-                eps_rel=1e-9,
-                polishing=True,
-                max_iter=40000,
-                warm_starting=True,
-            )
-
-    def _bounds(self, w: np.ndarray, squeeze: float) -> tuple[np.ndarray, np.ndarray]:
-        nc, k = self.C.shape[0], self.k
-        lo = np.concatenate([w, np.full(nc, -np.inf), np.full(k, squeeze)])
-        up = np.concatenate([w, np.zeros(nc), np.full(k, np.inf)])
-        return lo, up
+    def _problem(self, w: np.ndarray, squeeze: float) -> QPProblem:
+        h = np.concatenate([np.zeros(self.C.shape[0]), np.full(self.k, -squeeze)])
+        return QPProblem(
+            self.H, np.zeros(self.H.shape[0]), np.vstack([self.C, -self.N]), h, self.G, w
+        )
 
     def solve(self, wrench, squeeze: float = 0.0) -> ForceDistribution:
         """Contact forces realizing ``wrench`` with every normal force >= ``squeeze``.
@@ -182,83 +148,45 @@ class GraspForceQP:
 
         Raises:
             InvalidParameter: wrong wrench shape, negative squeeze.
-            InfeasibleProblem: the wrench cannot be realized inside the cones.
+            InfeasibleProblem: the wrench cannot be realized inside the cones; ``.problem``
+                is the :class:`~planner.optim.QPProblem` (``.save(path)`` to replay it).
         """
-        w = np.asarray(wrench, dtype=float).ravel()
-        if w.shape != (self.G.shape[0],) or not np.all(np.isfinite(w)):
-            raise InvalidParameter(
-                f"wrench must be {self.G.shape[0]} finite numbers, got {np.shape(wrench)}"
-            )
-        squeeze = float(squeeze)
-        if not np.isfinite(squeeze) or squeeze < 0:
-            raise InvalidParameter(f"squeeze must be >= 0 [N], got {squeeze!r}")
+        w = checks.vector("wrench", wrench, self.G.shape[0], "N, N m")
+        squeeze = checks.nonnegative("squeeze", squeeze, "N")
         t0 = time.perf_counter()
-        if self._osqp is not None:
-            lo, up = self._bounds(w, squeeze)
-            self._osqp.update(l=lo, u=up)
-            res = self._osqp.solve()
-            x = res.x
-            ok = res.info.status_val in (1, 2) and x is not None and np.all(np.isfinite(x))
-        elif self.native and self.solver == "daqp":
-            import daqp
-
-            lo, up = self._bounds(w, squeeze)
-            sense = np.zeros(lo.size, dtype=np.int32)
-            sense[: w.size] = 5  # equality rows: active + immutable
-            x, _, flag, _ = daqp.solve(
-                self.H,
-                np.zeros(self.H.shape[0]),
-                self._A_all,
-                np.where(np.isinf(up), 1e30, up),
-                np.where(np.isinf(lo), -1e30, lo),
-                sense,
-            )
-            ok = flag == 1
-        else:
-            try:
-                sol = solve_qp(
-                    self.H,
-                    np.zeros(self.H.shape[0]),
-                    np.vstack([self.C, -self.N]),
-                    np.concatenate([np.zeros(self.C.shape[0]), np.full(self.k, -squeeze)]),
-                    self.G,
-                    w,
-                    solver=self.solver,
-                )
-                x, ok = sol.x, True
-            except InfeasibleProblem:
-                x, ok = None, False
+        self._h[self.C.shape[0] :] = -squeeze
+        try:
+            if self.native:
+                self._ws.update(b=w, h=self._h)
+                x = self._ws.solve_primal()
+            else:
+                x = QPWorkspace(self._problem(w, squeeze), self.solver).solve_primal()
+        except InfeasibleProblem:
+            x = None
         dt = time.perf_counter() - t0
-        problem = {
-            "H": self.H,
-            "G": self.G,
-            "C": self.C,
-            "N": self.N,
-            "wrench": w,
-            "squeeze": squeeze,
-        }
-        if not ok:
-            raise InfeasibleProblem(
-                f"no contact forces inside the friction cones realize the "
-                f"wrench {w.tolist()} with squeeze {squeeze} N "
-                f"(solver {self.solver})",
-                problem=problem,
-                solver=self.solver,
-            )
-        x = np.asarray(x, dtype=float)
-        res_w = float(np.max(np.abs(self.G @ x - w)))
+        return self._distribution(x, w, squeeze, dt)
+
+    def _distribution(self, x, w: np.ndarray, squeeze: float, dt: float) -> ForceDistribution:
+        """Check the backend's ``x`` (None: failed) and derive forces, margins and residuals."""
+        res_w = np.inf if x is None else float(np.max(np.abs(self.G @ x - w)))
         if res_w > 1e-5 * max(1.0, float(np.max(np.abs(w))), squeeze):
+            why = "found no solution" if x is None else f"left a wrench residual {res_w:.3g}"
             raise InfeasibleProblem(
-                f"solver {self.solver} returned forces with wrench residual "
-                f"{res_w:.3g}: the wrench is not realizable inside the cones",
-                problem=problem,
+                f"no contact forces inside the friction cones realize the wrench "
+                f"{w.tolist()} with squeeze {squeeze} N (solver {self.solver} {why})",
+                problem=self._problem(w, squeeze),
                 solver=self.solver,
             )
-        f = x.reshape(self.k, self.d)
-        fn = np.sum(f * self.normals, axis=1)
-        ft = np.linalg.norm(f - fn[:, None] * self.normals, axis=1)
+        fn = self.N @ x
+        ft = np.abs(self._T @ x) if self.d == 2 else np.hypot(*(self._T @ x).reshape(-1, 2).T)
         return ForceDistribution(
-            f, fn, ft, res_w, float(np.min(self.mu * fn - ft)), self.solver, dt
+            x.reshape(self.k, self.d),
+            fn,
+            ft,
+            res_w,
+            float(np.min(self.mu * fn - ft)),
+            self.solver,
+            dt,
         )
 
 
@@ -278,6 +206,3 @@ def distribute_forces(
         points, normals, mu, objective=objective, solver=solver, torque_reference=torque_reference
     )
     return qp.solve(wrench, squeeze)
-
-
-__all__ = ["OBJECTIVES", "ForceDistribution", "GraspForceQP", "distribute_forces"]

@@ -1,9 +1,9 @@
 """Grasp analysis and grasp-gait planning (thesis §2.2.1, §2.2.3, Figs. 2.4, 2.5, 2.11).
 
+Contact types and friction cones live in :mod:`planner.contact`.
+
 Public names:
 
-* contact models and cones: :class:`ContactType`, :func:`planar_cone_edges`,
-  :func:`pyramid_cone_edges`, :func:`soft_finger_generators`;
 * the grasp matrix (eq. 2.6) and hand Jacobian (eq. 2.5): :func:`grasp_matrix`,
   :func:`hand_jacobian`, :func:`joint_torques`;
 * force closure: :func:`force_closure` (any k >= 2, planar or spatial),
@@ -14,12 +14,6 @@ Public names:
 """
 
 from planner.grasp.closure import force_closure, force_closure_lp, force_closure_two_planar
-from planner.grasp.cones import (
-    ContactType,
-    planar_cone_edges,
-    pyramid_cone_edges,
-    soft_finger_generators,
-)
 from planner.grasp.gait import Gait, GaitPhase, plan_gait
 from planner.grasp.grasp_matrix import grasp_matrix, hand_jacobian, joint_torques
 from planner.grasp.maps import (
@@ -40,7 +34,6 @@ from planner.grasp.workspace import (
 from planner.grasp.wrenches import primitive_wrenches
 
 __all__ = [
-    "ContactType",
     "Gait",
     "GaitPhase",
     "GraspMap",
@@ -60,11 +53,8 @@ __all__ = [
     "hand_jacobian",
     "joint_torques",
     "plan_gait",
-    "planar_cone_edges",
     "primitive_wrenches",
-    "pyramid_cone_edges",
     "shift_diagonal",
-    "soft_finger_generators",
     "two_contact_stability",
     "workspace_map",
 ]

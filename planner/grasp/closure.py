@@ -19,9 +19,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from planner import checks
 from planner.errors import InfeasibleProblem
-from planner.grasp.cones import check_mu
 from planner.grasp.wrenches import check_contacts, primitive_wrenches
+from planner.optim import solve_lp
 
 #: Strictness margin of the hull and LP tests (wrench-space distance, unit-force scale).
 HULL_TOL = 1e-10
@@ -44,8 +45,8 @@ def force_closure_two_planar(p1, n1, p2, n2, mu: float, mu2: float | None = None
         (...) bool: the line ``p1 p2`` lies strictly inside both friction cones, the forces
         along it opposed (squeezing or expanding).
     """
-    mu = check_mu(mu)
-    mu2 = mu if mu2 is None else check_mu(mu2)
+    mu = checks.nonnegative("mu", mu)
+    mu2 = mu if mu2 is None else checks.nonnegative("mu2", mu2)
     p1, n1, p2, n2 = (np.asarray(a, dtype=float) for a in (p1, n1, p2, n2))
     dx = p2[..., 0] - p1[..., 0]
     dy = p2[..., 1] - p1[..., 1]
@@ -104,7 +105,7 @@ def force_closure(
         InvalidParameter: bad shapes, NaN, zero normals, ``mu < 0``, fewer than 2 contacts.
     """
     p, n = check_contacts(points, normals, 2)
-    mu = check_mu(mu)
+    mu = checks.nonnegative("mu", mu)
     w = primitive_wrenches(
         p, n, mu, facets=facets, contact=contact, torsion_length=torsion_length
     )  # validates the contact model
@@ -116,7 +117,7 @@ def force_closure(
 
 
 def force_closure_lp(points, normals, mu: float, *, facets: int = 8, solver: str = "osqp") -> bool:
-    """Force closure decided by a linear program (through :func:`planner.control.qp.solve_lp`).
+    """Force closure decided by a linear program (through :func:`planner.optim.solve_lp`).
 
     Solves ``max t  s.t.  W^T λ = 0, Σ λ = 1, λ_i >= t, t <= 1`` over the primitive wrenches
     ``W`` (rows); the grasp is in force closure iff ``W`` has full rank and ``t* > 0``
@@ -125,10 +126,8 @@ def force_closure_lp(points, normals, mu: float, *, facets: int = 8, solver: str
     Args: as :func:`force_closure`, plus ``solver``: QP backend accepting LPs
         (``"osqp"``, ``"clarabel"``, ``"proxqp"``).
     """
-    from planner.control.qp import solve_lp
-
     p, n = check_contacts(points, normals, 2)
-    w = primitive_wrenches(p, n, check_mu(mu), facets=facets)
+    w = primitive_wrenches(p, n, checks.nonnegative("mu", mu), facets=facets)
     m, d = w.shape
     if np.linalg.matrix_rank(w, tol=1e-9) < d:
         return False

@@ -8,9 +8,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from planner import checks
 from planner.errors import InvalidParameter
 from planner.grasp.closure import force_closure_two_planar
-from planner.grasp.cones import check_mu
 from planner.grasp.maps import ClosureKernel, contact_angles, profile_contacts
 from planner.grasp.quality import epsilon_two_planar
 from planner.grasp.workspace import WorkspaceTables, as_reachability, rotation, workspace_tables
@@ -63,8 +63,8 @@ def gait_problem(
         raise InvalidParameter(
             f"direction must be 'clockwise' or 'counterclockwise', got {direction!r}"
         )
-    mu = check_mu(mu)
-    mu_p = mu if mu_palm is None else check_mu(mu_palm)
+    mu = checks.nonnegative("mu", mu)
+    mu_p = mu if mu_palm is None else checks.nonnegative("mu_palm", mu_palm)
     reach = as_reachability(hand)
     theta = contact_angles(resolution)
     n = theta.size

@@ -15,17 +15,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from planner import checks
+from planner.contact.cones import unit_directions
 from planner.errors import InvalidParameter
-from planner.grasp.cones import unit_rows
-
-
-def _points(points) -> np.ndarray:
-    p = np.asarray(points, dtype=float)
-    if p.ndim != 2 or p.shape[1] not in (2, 3) or p.shape[0] < 1:
-        raise InvalidParameter(f"points must have shape (k, 2) or (k, 3), got {p.shape}")
-    if not np.all(np.isfinite(p)):
-        raise InvalidParameter("points contain NaN or inf")
-    return p
 
 
 def grasp_matrix(
@@ -45,11 +37,13 @@ def grasp_matrix(
         Spatial: (6, 3k) rows ``(f, tau)``; with ``soft_finger`` (6, 4k), the 4th column of
         each contact being its moment about the normal [N m per N m].
     """
-    p = _points(points)
+    p = checks.points("points", points)
     k, d = p.shape
-    c = p.mean(axis=0) if torque_reference is None else np.asarray(torque_reference, float)
-    if c.shape != (d,):
-        raise InvalidParameter(f"torque_reference must have shape ({d},), got {c.shape}")
+    c = (
+        p.mean(axis=0)
+        if torque_reference is None
+        else checks.vector("torque_reference", torque_reference, d, "m")
+    )
     r = p - c
     if d == 2:
         G = np.zeros((3, 2 * k))
@@ -68,7 +62,7 @@ def grasp_matrix(
     if soft_finger:
         if normals is None:
             raise InvalidParameter("soft_finger=True needs the (k, 3) inward normals")
-        n = unit_rows("normals", normals, 3)
+        n = unit_directions("normals", normals, 3)
         if n.shape[0] != k:
             raise InvalidParameter(f"normals must have {k} rows like points, got {n.shape[0]}")
         G[3:, 3::4] = n.T

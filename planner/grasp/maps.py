@@ -20,9 +20,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from planner import checks
 from planner.errors import InvalidParameter
 from planner.grasp.closure import STRICT
-from planner.grasp.cones import check_mu
 from planner.grasp.quality import epsilon_two_planar
 
 
@@ -148,8 +148,8 @@ class ClosureKernel:
 
     def __init__(self, n: int, mu: float, mu2: float | None = None):
         self.n = int(n)
-        self.mu = check_mu(mu)
-        self.mu2 = self.mu if mu2 is None else check_mu(mu2)
+        self.mu = checks.nonnegative("mu", mu)
+        self.mu2 = self.mu if mu2 is None else checks.nonnegative("mu2", mu2)
         shape = (self.n, self.n)
         self._a = np.empty(shape)
         self._b = np.empty(shape)
@@ -228,8 +228,8 @@ def grasp_map(
         ``epsilon[i, j]`` equals ``epsilon_quality`` of the same two contacts.
     """
     theta = contact_angles(resolution)
-    mu = check_mu(mu)
-    mu2 = mu if mu2 is None else check_mu(mu2)
+    mu = checks.nonnegative("mu", mu)
+    mu2 = mu if mu2 is None else checks.nonnegative("mu2", mu2)
     pts, nrm = profile_contacts(profile, theta)
     fc = closure_kernel(theta.size, mu, mu2)(pts[:, 0], pts[:, 1], nrm[:, 0], nrm[:, 1]).copy()
     if epsilon:  # only on force-closure cells (ε = 0 elsewhere), one triangle when symmetric

@@ -18,8 +18,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from planner import checks
 from planner.grasp.closure import HULL_TOL, _hull_offsets
-from planner.grasp.cones import check_mu
 from planner.grasp.wrenches import check_contacts, primitive_wrenches
 
 # vertex triples of the 4 faces of a tetrahedron and the omitted vertex of each
@@ -52,8 +52,8 @@ def epsilon_two_planar(p1, n1, p2, n2, mu: float, mu2: float | None = None) -> n
     Returns:
         (...) ε >= 0 (same as :func:`epsilon_quality` on each grasp).
     """
-    mu = check_mu(mu)
-    mu2 = mu if mu2 is None else check_mu(mu2)
+    mu = checks.nonnegative("mu", mu)
+    mu2 = mu if mu2 is None else checks.nonnegative("mu2", mu2)
     p1, n1, p2, n2 = (np.asarray(a, dtype=float) for a in (p1, n1, p2, n2))
     dx = p2[..., 0] - p1[..., 0]
     dy = p2[..., 1] - p1[..., 1]
@@ -131,7 +131,7 @@ def epsilon_quality(
         wrenches ``(f, τ/ρ)``; 0 when the grasp is not in force closure.
     """
     p, n = check_contacts(points, normals, 2)
-    mu = check_mu(mu)
+    mu = checks.nonnegative("mu", mu)
     w = primitive_wrenches(
         p,
         n,

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from planner.grasp.cones import check_mu
+from planner import checks
 from planner.grasp.wrenches import check_contacts
 
 
@@ -51,7 +51,7 @@ def two_contact_stability(points, normals, mu: float) -> TwoContactStability:
         The :class:`TwoContactStability` report.
     """
     p, n = check_contacts(points, normals, 2)
-    mu = check_mu(mu)
+    mu = checks.nonnegative("mu", mu)
     if p.shape[0] != 2:
         from planner.errors import InvalidParameter
 

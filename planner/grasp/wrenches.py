@@ -11,22 +11,24 @@ from __future__ import annotations
 
 import numpy as np
 
+from planner import checks
+from planner.contact.cones import (
+    planar_cone_edges,
+    pyramid_cone_edges,
+    soft_finger_generators,
+    unit_directions,
+)
 from planner.errors import InvalidParameter
-from planner.grasp.cones import check_mu, planar_cone_edges, pyramid_cone_edges, unit_rows
 
 
 def check_contacts(points, normals, min_contacts: int = 2) -> tuple[np.ndarray, np.ndarray]:
     """Validate contact points (k, d) and inward normals (k, d), d in {2, 3}; unit normals out."""
-    p = np.asarray(points, dtype=float)
-    if p.ndim != 2 or p.shape[1] not in (2, 3):
-        raise InvalidParameter(f"points must have shape (k, 2) or (k, 3), got {p.shape}")
-    if not np.all(np.isfinite(p)):
-        raise InvalidParameter("points contain NaN or inf")
-    n = unit_rows("normals", normals, p.shape[1])
+    p = checks.points("points", points, min_count=min_contacts)
+    n = unit_directions("normals", normals, p.shape[1])
     if n.shape != p.shape:
-        raise InvalidParameter(f"normals must have the shape of points {p.shape}, got {n.shape}")
-    if p.shape[0] < min_contacts:
-        raise InvalidParameter(f"need at least {min_contacts} contacts, got {p.shape[0]}")
+        raise InvalidParameter(
+            f"normals: expected the shape of points {p.shape}, got shape {n.shape}"
+        )
     return p, n
 
 
@@ -38,19 +40,13 @@ def torque_frame(
     if torque_reference is None:
         c = points.mean(axis=0)
     else:
-        c = np.asarray(torque_reference, dtype=float)
-        if c.shape != (d,) or not np.all(np.isfinite(c)):
-            raise InvalidParameter(
-                f"torque_reference must be a finite ({d},) point, got {torque_reference!r}"
-            )
+        c = checks.vector("torque_reference", torque_reference, d, "m")
     if torque_scale is None:
         rho = float(np.max(np.linalg.norm(points - c, axis=1)))
         if rho <= 0:
             rho = 1.0  # all contacts coincide: no torque arm; any scale gives the same hull
     else:
-        rho = float(torque_scale)
-        if not np.isfinite(rho) or rho <= 0:
-            raise InvalidParameter(f"torque_scale must be > 0 [m], got {torque_scale!r}")
+        rho = checks.positive("torque_scale", torque_scale, "m")
     return c, rho
 
 
@@ -86,7 +82,7 @@ def primitive_wrenches(
         Spatial: (k facets, 6) rows ``(f, tau / rho)`` (k rows if ``mu == 0``).
     """
     p, n = check_contacts(points, normals, 1)
-    mu = check_mu(mu)
+    mu = checks.nonnegative("mu", mu)
     kinds = ("point_with_friction", "frictionless", "soft_finger")
     contact = getattr(contact, "value", contact)
     if contact not in kinds:
@@ -100,13 +96,7 @@ def primitive_wrenches(
         tau = r[:, None, 0] * f[..., 1] - r[:, None, 1] * f[..., 0]
         return np.concatenate([f, tau[..., None]], axis=-1).reshape(-1, 3)
     if contact == "soft_finger":
-        from planner.grasp.cones import soft_finger_generators
-
-        e = float(torsion_length)
-        if not np.isfinite(e) or e <= 0:
-            raise InvalidParameter(
-                f"soft_finger contacts need torsion_length > 0 [m], got {torsion_length!r}"
-            )
+        e = checks.positive("torsion_length", torsion_length, "m")
         g = soft_finger_generators(n, mu, e, facets)  # (k, m, 6): unit normal force
         f, m = g[..., :3], g[..., 3:]
         scale = 1.0 / np.linalg.norm(f, axis=-1, keepdims=True)  # unit-norm forces (L1)

@@ -1,63 +1,52 @@
-"""Contact models of Fig. 2.5 and their friction cones (eqs. 2.1, 2.2, 2.9).
+"""Friction cones of Fig. 2.5 (eqs. 2.1, 2.2, 2.9): their edges, facets and generators.
 
-Three contact types: a frictionless point (force along the inward normal only), a point with
-Coulomb friction (eq. 2.1 / 2.9, ``|f_t| <= mu f_n``) and a soft finger, which adds a moment
-about the contact normal bounded by the elliptic approximation of the limit surface of
-eq. 2.2 (Kao and Cutkosky)::
+In the plane the cone of a point contact with friction is exact: two edges. In space it is
+inscribed by an ``m``-facet pyramid (edges at angle ``atan(mu)`` from the normal, so every edge
+force satisfies eq. 2.1 exactly and the pyramid approaches the cone as ``m`` grows). The soft
+finger (eq. 2.2) adds a moment about the normal bounded by the elliptic approximation of the
+limit surface (Kao and Cutkosky)::
 
     |f_t|^2 / mu^2 + m_z^2 / e_n^2 <= f_n^2
 
-with ``e_n`` the torsional friction length [m]. In the plane the cone of a point contact with
-friction is exact: two edges. In space it is inscribed by an ``m``-facet pyramid (edges at
-angle ``atan(mu)`` from the normal, so every edge force satisfies eq. 2.1 exactly and the
-pyramid approaches the cone as ``m`` grows).
+with ``e_n`` the torsional friction length [m]. The same cones are given by their edges
+(:func:`planar_cone_edges`, :func:`pyramid_cone_edges`, for wrench-space hulls) and by their
+facets (:func:`cone_halfspaces`, for QPs).
 """
 
 from __future__ import annotations
 
-from enum import Enum
-
 import numpy as np
 
+from planner import checks
 from planner.errors import InvalidParameter
 
-
-class ContactType(str, Enum):
-    """Contact models of Fig. 2.5."""
-
-    FRICTIONLESS = "frictionless"
-    POINT_WITH_FRICTION = "point_with_friction"
-    SOFT_FINGER = "soft_finger"
-
-
-def check_mu(mu: float) -> float:
-    """Validate a friction coefficient (finite, >= 0) and return it as a float."""
-    try:
-        value = float(mu)
-    except (TypeError, ValueError):
-        raise InvalidParameter(f"mu must be a number >= 0, got {mu!r}") from None
-    if not np.isfinite(value) or value < 0:
-        raise InvalidParameter(f"mu must be a finite number >= 0, got {mu!r}")
-    return value
+__all__ = [
+    "cone_halfspaces",
+    "planar_cone_edges",
+    "pyramid_cone_edges",
+    "soft_finger_generators",
+    "tangent_basis",
+    "unit_directions",
+]
 
 
-def unit_rows(name: str, v, dim: int | None = None) -> np.ndarray:
-    """Validate a (k, d) array of non-zero vectors and return it with unit rows.
+def unit_directions(name: str, value, dim: int | None = None) -> np.ndarray:
+    """Validate a (k, d) array of non-zero direction vectors and return it with unit rows.
+
+    Args:
+        name: the argument's name, for the message.
+        value: (k, 2) or (k, 3) directions (e.g. contact normals).
+        dim: the required ``d`` (2 or 3), if any.
 
     Raises:
         InvalidParameter: wrong shape, NaN/inf, or a (near-)zero row.
     """
-    arr = np.asarray(v, dtype=float)
-    if arr.ndim != 2 or (dim is not None and arr.shape[1] != dim) or arr.shape[1] not in (2, 3):
-        want = f"(k, {dim})" if dim else "(k, 2) or (k, 3)"
-        raise InvalidParameter(f"{name} must have shape {want}, got {arr.shape}")
-    if not np.all(np.isfinite(arr)):
-        raise InvalidParameter(f"{name} contains NaN or inf")
+    arr = checks.points(name, value, dims=(dim,) if dim else (2, 3), unit="")
     norms = np.linalg.norm(arr, axis=1)
     if np.any(norms < 1e-12):
         raise InvalidParameter(
-            f"{name} rows must be non-zero direction vectors; "
-            f"row {int(np.argmin(norms))} has norm {norms.min():.3g}"
+            f"{name}: expected non-zero direction vectors, got row {int(np.argmin(norms))} "
+            f"of norm {norms.min():.3g}"
         )
     return arr / norms[:, None]
 
@@ -73,8 +62,8 @@ def planar_cone_edges(normals, mu: float) -> np.ndarray:
         (k, 2, 2) unit forces ``[i, j]`` of edge ``j`` (``j = 0`` rotated clockwise from the
         normal, ``j = 1`` counter-clockwise), each at angle ``atan(mu)`` from the normal.
     """
-    n = unit_rows("normals", normals, 2)
-    mu = check_mu(mu)
+    n = unit_directions("normals", normals, 2)
+    mu = checks.nonnegative("mu", mu)
     t = np.stack([-n[:, 1], n[:, 0]], axis=1)  # normal rotated +90 deg
     c = 1.0 / np.sqrt(1.0 + mu * mu)
     s = mu * c
@@ -90,7 +79,7 @@ def tangent_basis(normals, reference=None) -> tuple[np.ndarray, np.ndarray]:
             direction to the grasp centroid: this makes pyramids move with the grasp under
             rigid motions); rows with a (near-)zero tangential part fall back to a fixed axis.
     """
-    n = unit_rows("normals", normals, 3)
+    n = unit_directions("normals", normals, 3)
     fallback = np.where(np.abs(n[:, [0]]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
     t1 = np.cross(np.cross(n, fallback), n)
     if reference is not None:
@@ -114,10 +103,9 @@ def pyramid_cone_edges(normals, mu: float, facets: int = 8, reference=None) -> n
     Returns:
         (k, facets, 3) unit edge forces, each at angle ``atan(mu)`` from its normal.
     """
-    if int(facets) != facets or facets < 3:
-        raise InvalidParameter(f"facets must be an integer >= 3, got {facets!r}")
-    n = unit_rows("normals", normals, 3)
-    mu = check_mu(mu)
+    facets = checks.integer("facets", facets, 3)
+    n = unit_directions("normals", normals, 3)
+    mu = checks.nonnegative("mu", mu)
     t1, t2 = tangent_basis(n, reference)
     a = 2 * np.pi * np.arange(int(facets)) / int(facets)
     c = 1.0 / np.sqrt(1.0 + mu * mu)
@@ -148,13 +136,12 @@ def soft_finger_generators(
         (k, facets + 2, 6) generators ``[force (3), moment (3)]``, forces scaled to unit normal
         component.
     """
-    e = float(torsion_length)
-    if not np.isfinite(e) or e < 0:
-        raise InvalidParameter(f"torsion_length must be >= 0 [m], got {torsion_length!r}")
-    n = unit_rows("normals", normals, 3)
-    edges = pyramid_cone_edges(n, mu, facets) * np.sqrt(1.0 + check_mu(mu) ** 2)
+    e = checks.nonnegative("torsion_length", torsion_length, "m")
+    facets = checks.integer("facets", facets, 3)
+    n = unit_directions("normals", normals, 3)
+    edges = pyramid_cone_edges(n, mu, facets) * np.sqrt(1.0 + checks.nonnegative("mu", mu) ** 2)
     k = n.shape[0]
-    gens = np.zeros((k, int(facets) + 2, 6))
+    gens = np.zeros((k, facets + 2, 6))
     gens[:, :facets, :3] = edges
     gens[:, facets:, :3] = n[:, None, :]
     gens[:, facets, 3:] = e * n
@@ -162,12 +149,28 @@ def soft_finger_generators(
     return gens
 
 
-__all__ = [
-    "ContactType",
-    "check_mu",
-    "planar_cone_edges",
-    "pyramid_cone_edges",
-    "soft_finger_generators",
-    "tangent_basis",
-    "unit_rows",
-]
+def cone_halfspaces(normals, mu: float, facets: int = 8) -> np.ndarray:
+    """Facet normals ``c`` of the friction cones: a force ``f`` is inside iff ``c . f <= 0``.
+
+    Planar (eq. 2.9): the two exact facets ``+-t - mu n``. Spatial (eq. 2.1): the ``facets``
+    facets ``u_a - mu cos(pi/m) n`` of the pyramid *inscribed* in the cone, ``u_a`` the
+    tangent direction at angle ``2 pi (a + 1/2) / m`` from ``t1`` of :func:`tangent_basis`.
+
+    Args:
+        normals: (k, 2) or (k, 3) inward contact normals (normalized here).
+        mu: friction coefficient (>= 0).
+        facets: spatial pyramids' facets (>= 3).
+
+    Returns:
+        (k, 2, 2) planar or (k, facets, 3) spatial facet normals [dimensionless].
+    """
+    n = unit_directions("normals", normals)
+    mu = checks.nonnegative("mu", mu)
+    if n.shape[1] == 2:
+        t = np.stack([-n[:, 1], n[:, 0]], axis=1)
+        return np.stack([t - mu * n, -t - mu * n], axis=1)
+    m = checks.integer("facets", facets, 3)
+    t1, t2 = tangent_basis(n)
+    ang = 2 * np.pi * (np.arange(m) + 0.5) / m
+    u = np.cos(ang)[None, :, None] * t1[:, None, :] + np.sin(ang)[None, :, None] * t2[:, None, :]
+    return u - mu * np.cos(np.pi / m) * n[:, None, :]
