@@ -23,8 +23,9 @@ backend allows); other backends are rebuilt at every solve.
 
 from __future__ import annotations
 
+import math
 import time
-from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -40,9 +41,8 @@ __all__ = ["OBJECTIVES", "ForceDistribution", "GraspForceQP", "distribute_forces
 OBJECTIVES = ("min_norm", "max_margin")
 
 
-@dataclass(frozen=True)
-class ForceDistribution:
-    """Solution of the grasp-force QP.
+class ForceDistribution(NamedTuple):
+    """Solution of the grasp-force QP (a NamedTuple: built in control loops, cheap to make).
 
     Attributes:
         forces: (k, d) contact forces applied on the object, WCS [N].
@@ -126,6 +126,8 @@ class GraspForceQP:
         # |f_t,i| = |T_i f|: planar one tangent row per contact, spatial two
         tangents = n[:, None, ::-1] * [[-1.0, 1.0]] if d == 2 else np.stack(tangent_basis(n), 1)
         self._T = _block_rows(tangents)
+        self._out = np.vstack([self.G, self.N, self._T])  # one product gives G f, N f, T f
+        self._squeeze = 0.0
         self._h = np.zeros(self.C.shape[0] + k)
         self._ws = QPWorkspace(self._problem(np.zeros(self.G.shape[0]), 0.0), self.solver)
 
@@ -151,13 +153,18 @@ class GraspForceQP:
             InfeasibleProblem: the wrench cannot be realized inside the cones; ``.problem``
                 is the :class:`~planner.optim.QPProblem` (``.save(path)`` to replay it).
         """
-        w = checks.vector("wrench", wrench, self.G.shape[0], "N, N m")
+        w = np.asarray(wrench, dtype=float)
+        if w.shape != (self.G.shape[0],) or not all(map(math.isfinite, w.tolist())):
+            w = checks.vector("wrench", wrench, self.G.shape[0], "N, N m")  # raises
         squeeze = checks.nonnegative("squeeze", squeeze, "N")
         t0 = time.perf_counter()
-        self._h[self.C.shape[0] :] = -squeeze
         try:
             if self.native:
-                self._ws.update(b=w, h=self._h)
+                h = None
+                if squeeze != self._squeeze:
+                    self._h[self.C.shape[0] :] = -squeeze
+                    self._squeeze, h = squeeze, self._h
+                self._ws.update(b=w, h=h, validate=False)  # w checked above
                 x = self._ws.solve_primal()
             else:
                 x = QPWorkspace(self._problem(w, squeeze), self.solver).solve_primal()
@@ -167,26 +174,28 @@ class GraspForceQP:
         return self._distribution(x, w, squeeze, dt)
 
     def _distribution(self, x, w: np.ndarray, squeeze: float, dt: float) -> ForceDistribution:
-        """Check the backend's ``x`` (None: failed) and derive forces, margins and residuals."""
-        res_w = np.inf if x is None else float(np.max(np.abs(self.G @ x - w)))
-        if res_w > 1e-5 * max(1.0, float(np.max(np.abs(w))), squeeze):
+        """Check the backend's ``x`` (None: failed) and derive forces, margins and residuals.
+
+        Python floats rather than numpy reductions: on these (<= 18,) vectors a numpy
+        reduction costs more than the whole loop (this runs in control loops).
+        """
+        nw, k = w.size, self.k
+        wl = w.tolist()
+        yl = None if x is None else self._out.dot(x).tolist()  # G x, N x, T x
+        res_w = math.inf if yl is None else max([abs(a - b) for a, b in zip(yl, wl, strict=False)])
+        if res_w > 1e-5 * max(1.0, max(map(abs, wl)), squeeze):
             why = "found no solution" if x is None else f"left a wrench residual {res_w:.3g}"
             raise InfeasibleProblem(
                 f"no contact forces inside the friction cones realize the wrench "
-                f"{w.tolist()} with squeeze {squeeze} N (solver {self.solver} {why})",
+                f"{wl} with squeeze {squeeze} N (solver {self.solver} {why})",
                 problem=self._problem(w, squeeze),
                 solver=self.solver,
             )
-        fn = self.N @ x
-        ft = np.abs(self._T @ x) if self.d == 2 else np.hypot(*(self._T @ x).reshape(-1, 2).T)
+        fn, tl = yl[nw : nw + k], yl[nw + k :]
+        ft = [abs(t) for t in tl] if self.d == 2 else list(map(math.hypot, tl[::2], tl[1::2]))
+        margin = min([self.mu * a - b for a, b in zip(fn, ft, strict=True)])
         return ForceDistribution(
-            x.reshape(self.k, self.d),
-            fn,
-            ft,
-            res_w,
-            float(np.min(self.mu * fn - ft)),
-            self.solver,
-            dt,
+            x.reshape(k, self.d), np.array(fn), np.array(ft), res_w, margin, self.solver, dt
         )
 
 

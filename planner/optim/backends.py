@@ -61,7 +61,7 @@ class _Daqp:
         self._nb = 0 if box is None else n
         self._n_eq, self._n_in = n_eq, n_in
         m = self._nb + n_eq + n_in
-        self._up, self._lo = np.empty(m), np.empty(m)
+        self._up, self._lo = np.empty(m), np.full(m, -_DAQP_INF)  # G rows: no lower bound
         self._set(box, pb.b, pb.h)
         sense = np.zeros(m, dtype=np.int32)
         sense[self._nb : self._nb + n_eq] = 5  # equality rows: active and immutable
@@ -84,7 +84,6 @@ class _Daqp:
             self._lo[nb : nb + n_eq] = b
         if h is not None:
             self._up[nb + n_eq :] = h
-            self._lo[nb + n_eq :] = -_DAQP_INF
 
     def update(self, q, h, b, lb, ub) -> None:
         if q is not None:

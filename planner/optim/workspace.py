@@ -94,8 +94,14 @@ class QPWorkspace:
         v = self._vec
         return self._P, v["q"], self._G, v["h"], self._A, v["b"], v["lb"], v["ub"]
 
-    def update(self, *, q=None, h=None, b=None, lb=None, ub=None) -> None:
+    def update(self, *, q=None, h=None, b=None, lb=None, ub=None, validate: bool = True) -> None:
         """Replace some of the vectors ``q``, ``h``, ``b``, ``lb``, ``ub`` in place.
+
+        Args:
+            q, h, b, lb, ub: the new vectors (``None``: unchanged), each of the size it had.
+            validate: check sizes and values (default). ``False`` is for hot loops whose
+                caller has already checked the vectors (float arrays of the right sizes, no
+                NaN): a wrong vector then fails inside the backend or gives a wrong answer.
 
         Raises:
             InvalidParameter: a vector of another size than at construction, a vector the
@@ -103,23 +109,25 @@ class QPWorkspace:
         """
         given = {"q": q, "h": h, "b": b, "lb": lb, "ub": ub}
         for name, value in given.items():
-            if value is None:
-                continue
-            current = self._vec[name]
-            if current is None:
-                raise InvalidParameter(
-                    f"{name}: the problem was built without {name}; build a new workspace"
-                )
-            arr = np.asarray(value, dtype=float)
-            if arr.shape != current.shape:
-                raise InvalidParameter(
-                    f"{name}: expected shape {current.shape}, got shape {arr.shape}"
-                )
-            if np.isnan(arr).any() or (name in ("q", "h", "b") and not np.isfinite(arr).all()):
-                raise InvalidParameter(f"{name}: expected finite values, got {arr.tolist()}")
-            current[:] = arr
-            given[name] = current
+            if value is not None:
+                current = self._vec[name] if not validate else self._checked(name, value)
+                current[:] = value
+                given[name] = current
         self._backend.update(**given)
+
+    def _checked(self, name: str, value) -> np.ndarray:
+        """The stored vector ``name`` after checking that ``value`` can replace it."""
+        current = self._vec[name]
+        if current is None:
+            raise InvalidParameter(
+                f"{name}: the problem was built without {name}; build a new workspace"
+            )
+        arr = np.asarray(value, dtype=float)
+        if arr.shape != current.shape:
+            raise InvalidParameter(f"{name}: expected shape {current.shape}, got shape {arr.shape}")
+        if not np.isfinite(arr).all() if name in ("q", "h", "b") else np.isnan(arr).any():
+            raise InvalidParameter(f"{name}: expected finite values, got {arr.tolist()}")
+        return current
 
     def _failure(self, message: str) -> InfeasibleProblem:
         return InfeasibleProblem(
