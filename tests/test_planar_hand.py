@@ -100,18 +100,28 @@ def test_ik_round_trip(finger, frac, with_angle):
 def test_ik_unreachable_and_bad_input():
     with pytest.raises(UnreachableTarget, match="cannot reach"):
         HAND.inverse_kinematics("right", [1.0, 1.0])
-    with pytest.raises(InvalidParameter, match="finger must be one of"):
+    with pytest.raises(InvalidParameter, match=r"finger: expected one of \['left', 'right'\]"):
         HAND.inverse_kinematics("middle", [0.0, 0.1])
-    with pytest.raises(InvalidParameter, match=r"shape \(6,\)"):
+    with pytest.raises(
+        InvalidParameter, match=r"q: expected shape \(6,\) \[rad\], got shape \(5,\)"
+    ):
         HAND.fingertip_positions(np.zeros(5))
+    with pytest.raises(InvalidParameter, match=r"position: expected finite values"):
+        HAND.inverse_kinematics("left", [np.nan, 0.1])
+    with pytest.raises(InvalidParameter, match=r"n_angles: expected an integer >= 2, got 1"):
+        HAND.inverse_kinematics("left", [0.0, 0.1], n_angles=1)
+    with pytest.raises(InvalidParameter, match=r"friction: expected a finite number >= 0"):
+        PlanarHand(friction=-0.5)
     for call in (
         lambda: HAND.jacobian(HAND.neutral(), "thumb", [0.0, 0.0]),
         lambda: HAND.fingertip_pose(HAND.neutral(), "thumb"),
         lambda: HAND.finger_points(HAND.neutral(), "thumb"),
     ):
-        with pytest.raises(InvalidParameter, match="finger must be one of"):
+        with pytest.raises(InvalidParameter, match="finger: expected one of"):
             call()
-    with pytest.raises(InvalidParameter, match="left_tip must be one of"):
+    with pytest.raises(
+        InvalidParameter, match=r"left_tip: expected one of \['round', 'flat'\], got 'pointy'"
+    ):
         PlanarHand(left_tip="pointy")
 
 

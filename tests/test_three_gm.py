@@ -142,7 +142,9 @@ def test_gravity_torque_eq_c11():
     th = np.array([0.3, 1.2, 0.1])
     tau = GM.gravity_torque(th, 0.2)
     np.testing.assert_allclose(tau, [0.2 * 9.81 * GM.params["l5"] * np.cos(0.3), 0, 0])
-    with pytest.raises(InvalidParameter, match="mass"):
+    with pytest.raises(
+        InvalidParameter, match=r"mass: expected a finite number >= 0 \[kg\], got -1.0"
+    ):
         GM.gravity_torque(th, -1.0)
 
 
@@ -176,12 +178,18 @@ def test_ik_round_trip_in_trapezoid(a, b, c):
 def test_ik_unreachable_and_bad_input():
     with pytest.raises(UnreachableTarget, match="cannot reach"):
         GM.inverse_kinematics([1.0, 0.0, 0.0])
-    with pytest.raises(InvalidParameter, match=r"shape \(3,\)"):
+    with pytest.raises(InvalidParameter, match=r"theta: expected shape \(3,\) \[rad\]"):
         GM.forward_kinematics([0.1, 0.2])
-    with pytest.raises(InvalidParameter, match="unknown 3GM parameter"):
+    with pytest.raises(InvalidParameter, match=r"params: expected keys in \['l1'.*got 'l9'"):
         ThreeGM({"l9": 0.1})
-    with pytest.raises(InvalidParameter, match="l1 must be"):
+    with pytest.raises(InvalidParameter, match=r"l1: expected a finite number > 0 \[m\], got -0.1"):
         ThreeGM({"l1": -0.1})
+    with pytest.raises(InvalidParameter, match=r"h1: expected a number in \(-inf, inf\) \[m\]"):
+        ThreeGM({"h1": float("nan")})
+    with pytest.raises(InvalidParameter, match=r"joint_limits: expected shape \(N, 2\)"):
+        ThreeGM(joint_limits=[[0.0, 1.0, 2.0]] * 3)
+    with pytest.raises(InvalidParameter, match="joint_limits: expected lower < upper"):
+        ThreeGM(joint_limits=[[1.0, 0.0]] * 3)
 
 
 def test_conditioned_workspace_matches_appendix_c2():

@@ -7,8 +7,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from planner import checks
 from planner.errors import InvalidParameter
-from robots._checks import as_vector, check_choice
 from robots.errors import UnreachableTarget
 from robots.planar_hand import kinematics as kin
 from robots.planar_hand.params import FINGERS, HandParams, default_finger
@@ -58,9 +58,8 @@ class PlanarHand:
         if params is None:
             for name, v in (("left_tip", left_tip), ("right_tip", right_tip)):
                 if v is not None:
-                    check_choice(v, name, ("round", "flat"))
-            if not (np.isfinite(friction) and friction >= 0):
-                raise InvalidParameter(f"friction must be >= 0, got {friction!r}")
+                    checks.choice(name, v, ("round", "flat"))
+            friction = checks.nonnegative("friction", friction)
             params = HandParams(
                 left=default_finger("left", left_tip, tip_radius),
                 right=default_finger("right", right_tip, tip_radius),
@@ -101,7 +100,7 @@ class PlanarHand:
     @staticmethod
     def finger_slice(finger: str) -> slice:
         """The slice of ``q`` holding ``finger``'s joints."""
-        check_choice(finger, "finger", FINGERS)
+        checks.choice("finger", finger, FINGERS)
         return slice(0, 3) if finger == "left" else slice(3, 6)
 
     def neutral(self) -> np.ndarray:
@@ -118,7 +117,7 @@ class PlanarHand:
         Returns:
             ``{"left": (2,), "right": (2,)}`` fingertip points in the hand plane [m].
         """
-        ql = as_vector(q, 6, "q").tolist()
+        ql = checks.vector("q", q, 6, "rad").tolist()
         out = {}
         for s, k in (("left", 0), ("right", 3)):
             x, y, _, _ = kin.tip_and_jacobian(self._basel[s], self._lenl[s], ql[k : k + 3])
@@ -127,16 +126,16 @@ class PlanarHand:
 
     def fingertip_pose(self, q, finger: str) -> FingertipPose:
         """Position and orientation of one fingertip for the full (6,) configuration ``q``."""
-        check_choice(finger, "finger", FINGERS)
-        q = as_vector(q, 6, "q")
+        checks.choice("finger", finger, FINGERS)
+        q = checks.vector("q", q, 6, "rad")
         sl = self.finger_slice(finger)
         x, y, phi, _ = kin.tip_and_jacobian(self._basel[finger], self._lenl[finger], q[sl].tolist())
         return FingertipPose(np.array([x, y]), phi, np.array([-math.sin(phi), math.cos(phi)]))
 
     def finger_points(self, q, finger: str) -> np.ndarray:
         """(4, 2) joint 1, joint 2, joint 3 and fingertip points of ``finger`` [m]."""
-        check_choice(finger, "finger", FINGERS)
-        q = as_vector(q, 6, "q")
+        checks.choice("finger", finger, FINGERS)
+        q = checks.vector("q", q, 6, "rad")
         return kin.finger_points(
             self._base[finger], self._len[finger], q[self.finger_slice(finger)]
         )
@@ -155,12 +154,12 @@ class PlanarHand:
         Returns:
             (2, 3) Jacobian [m/rad] with respect to that finger's three joints.
         """
-        check_choice(finger, "finger", FINGERS)
-        q = as_vector(q, 6, "q")
+        checks.choice("finger", finger, FINGERS)
+        q = checks.vector("q", q, 6, "rad")
         if point is None:
             sl = self.finger_slice(finger)
             return kin.tip_and_jacobian(self._basel[finger], self._lenl[finger], q[sl].tolist())[3]
-        off = as_vector(point, 2, "point")
+        off = checks.vector("point", point, 2, "m")
         return kin.fingertip_jacobian(self._len[finger], q[self.finger_slice(finger)], off)
 
     def hand_jacobian(self, q, contacts: dict[str, np.ndarray] | None = None) -> np.ndarray:
@@ -178,7 +177,7 @@ class PlanarHand:
         unknown = set(contacts) - set(FINGERS)
         if unknown:
             raise InvalidParameter(
-                f"contacts keys must be in {list(FINGERS)}, got {sorted(unknown)}"
+                f"contacts: expected keys in {list(FINGERS)}, got {sorted(unknown)}"
             )
         out = np.zeros((4, 6))
         for i, s in enumerate(FINGERS):
@@ -189,7 +188,7 @@ class PlanarHand:
         """(2,) hand-plane position of a point given in the fingertip frame [m]."""
         pose = self.fingertip_pose(q, finger)
         c, s = np.cos(pose.angle), np.sin(pose.angle)
-        p = as_vector(point, 2, "point")
+        p = checks.vector("point", point, 2, "m")
         return pose.position + np.array([c * p[0] - s * p[1], s * p[0] + c * p[1]])
 
     # ------------------------------------------------------------------ inverse kinematics
@@ -216,18 +215,15 @@ class PlanarHand:
         Raises:
             UnreachableTarget: no solution inside the joint limits.
         """
-        check_choice(finger, "finger", FINGERS)
-        p = as_vector(position, 2, "position")
+        checks.choice("finger", finger, FINGERS)
+        p = checks.vector("position", position, 2, "m")
         lim = self.finger_limits(finger)
-        ref = lim.mean(axis=1) if q0 is None else as_vector(q0, 3, "q0")
+        ref = lim.mean(axis=1) if q0 is None else checks.vector("q0", q0, 3, "rad")
         if angle is None:
-            if int(n_angles) < 2:
-                raise InvalidParameter(f"n_angles must be >= 2, got {n_angles}")
-            phis = np.linspace(lim[:, 0].sum(), lim[:, 1].sum(), int(n_angles))
+            n_angles = checks.integer("n_angles", n_angles, 2)
+            phis = np.linspace(lim[:, 0].sum(), lim[:, 1].sum(), n_angles)
         else:
-            if not np.isfinite(angle):
-                raise InvalidParameter(f"angle must be finite [rad], got {angle!r}")
-            phis = np.array([float(angle)])
+            phis = checks.vector("angle", [angle], 1, "rad")
         sols, ok = self.ik_candidates(finger, np.broadcast_to(p, phis.shape + (2,)), phis)
         if not ok.any():
             what = f"position {p.tolist()} m" + ("" if angle is None else f", angle {angle} rad")
@@ -260,6 +256,6 @@ class PlanarHand:
 
     def within_limits(self, q, tol: float = 1e-9) -> bool:
         """Whether the (6,) configuration ``q`` respects every joint limit."""
-        q = as_vector(q, 6, "q")
+        q = checks.vector("q", q, 6, "rad")
         lim = self.joint_limits
         return bool(np.all(q >= lim[:, 0] - tol) and np.all(q <= lim[:, 1] + tol))

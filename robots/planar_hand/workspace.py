@@ -13,8 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from planner.errors import InvalidParameter
-from robots._checks import as_vector, check_choice, check_positive
+from planner import checks
 from robots.planar_hand import kinematics as kin
 from robots.planar_hand.hand import PlanarHand
 from robots.planar_hand.params import FINGERS
@@ -72,11 +71,10 @@ def sample_reachable(
         n: number of samples (>= 1).
         rng: the random generator (seeded by the caller).
     """
-    check_choice(finger, "finger", FINGERS)
-    if int(n) < 1:
-        raise InvalidParameter(f"n must be >= 1, got {n}")
+    checks.choice("finger", finger, FINGERS)
+    n = checks.integer("n", n, 1)
     lim = hand.finger_limits(finger)
-    q = rng.uniform(lim[:, 0], lim[:, 1], size=(int(n), 3))
+    q = rng.uniform(lim[:, 0], lim[:, 1], size=(n, 3))
     f = hand.params.finger(finger)
     p, phi = kin.fingertip(np.array(f.base), np.array(f.lengths), q)
     return ReachableSet(q, p, phi)
@@ -152,18 +150,13 @@ def ball_workspace(
     Returns:
         The :class:`WorkspaceMap`.
     """
-    check_choice(finger, "finger", FINGERS)
-    c = as_vector(center, 2, "center")
-    radius = check_positive(radius, "radius", "m")
-    a = np.atleast_1d(np.asarray(angles, dtype=float))
-    if a.ndim != 1 or not np.all(np.isfinite(a)):
-        raise InvalidParameter("angles must be a finite 1-D array [rad]")
-    if not 0.0 <= max_tip_contact_angle <= np.pi / 2:
-        raise InvalidParameter(
-            f"max_tip_contact_angle must be in [0, pi/2] rad, got {max_tip_contact_angle}"
-        )
-    if int(n_orientations) < 1 or int(n_pad_offsets) < 1:
-        raise InvalidParameter("n_orientations and n_pad_offsets must be >= 1")
+    checks.choice("finger", finger, FINGERS)
+    c = checks.vector("center", center, 2, "m")
+    radius = checks.positive("radius", radius, "m")
+    a = checks.series("angles", np.atleast_1d(np.asarray(angles, dtype=float)), unit="rad")
+    checks.in_range("max_tip_contact_angle", max_tip_contact_angle, 0.0, np.pi / 2, "rad")
+    checks.integer("n_orientations", n_orientations, 1)
+    checks.integer("n_pad_offsets", n_pad_offsets, 1)
     f = hand.params.finger(finger)
     u = np.stack([np.cos(a), np.sin(a)], axis=-1)  # (M, 2) outward object normal
     contacts = c + radius * u

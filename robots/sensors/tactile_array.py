@@ -23,8 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from planner import checks
 from planner.errors import InvalidParameter
-from robots._checks import as_batch, check_positive
 
 
 @dataclass(frozen=True)
@@ -82,8 +82,8 @@ class TactileArray:
                 f"rows, cols, oversample must be >= 1, got {rows}, {cols}, {oversample}"
             )
         self.rows, self.cols, self.oversample = int(rows), int(cols), int(oversample)
-        self.pitch = check_positive(pitch, "pitch", "m")
-        self.modulus = check_positive(modulus, "modulus", "Pa")
+        self.pitch = checks.positive("pitch", pitch, "m")
+        self.modulus = checks.positive("modulus", modulus, "Pa")
         if spread < 0:
             raise InvalidParameter(f"spread must be >= 0 [m], got {spread}")
         self.spread = float(spread)
@@ -138,8 +138,8 @@ class TactileArray:
         Returns:
             (N, rows, cols) or (rows, cols) taxel pressures [Pa].
         """
-        c, single = as_batch(centers, 2, "centers")
-        R = check_positive(radius, "radius", "m")
+        c, single = checks.batch("centers", centers, 2)
+        R = checks.positive("radius", radius, "m")
         F = np.broadcast_to(np.asarray(forces, float), (len(c),))
         if np.any(F < 0) or not np.all(np.isfinite(F)):
             raise InvalidParameter(f"forces must be finite and >= 0 [N], got {forces!r}")
@@ -170,11 +170,11 @@ class TactileArray:
         Returns:
             (rows, cols) taxel pressures [Pa].
         """
-        c, _ = as_batch(center, 2, "center")
-        R = check_positive(radius, "radius", "m")
+        c, _ = checks.batch("center", center, 2)
+        R = checks.positive("radius", radius, "m")
         if not np.isfinite(force) or force < 0:
             raise InvalidParameter(f"force must be >= 0 [N], got {force!r}")
-        ell = 2 * max(self.extent) if length is None else check_positive(length, "length", "m")
+        ell = 2 * max(self.extent) if length is None else checks.positive("length", length, "m")
         w = force / ell
         b = np.sqrt(4.0 * w * R / (np.pi * self.modulus)) if w > 0 else 0.0
         if b == 0.0:

@@ -6,8 +6,8 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from planner import checks
 from planner.errors import InvalidParameter, SingularConfiguration
-from robots._checks import as_vector, check_positive
 from robots.errors import UnreachableTarget
 from robots.three_gm import closed_form as cf
 from robots.three_gm.params import (
@@ -37,18 +37,20 @@ class ThreeGM:
         p = dict(DEFAULT_PARAMS)
         for k, v in (params or {}).items():
             if k not in PARAM_KEYS:
-                raise InvalidParameter(f"unknown 3GM parameter {k!r}; expected {list(PARAM_KEYS)}")
+                raise InvalidParameter(f"params: expected keys in {list(PARAM_KEYS)}, got {k!r}")
             if k.startswith("l"):
-                p[k] = check_positive(v, k, "m")
+                p[k] = checks.positive(k, v, "m")
             else:
-                p[k] = float(v)
-                if not np.isfinite(p[k]):
-                    raise InvalidParameter(f"{k} must be finite [m], got {v!r}")
+                p[k] = checks.in_range(k, v, -np.inf, np.inf, "m", closed=(False, False))
         self.params: dict[str, float] = p
-        lim = DEFAULT_JOINT_LIMITS if joint_limits is None else np.asarray(joint_limits, float)
-        if lim.shape != (3, 2) or not np.all(np.isfinite(lim)) or np.any(lim[:, 0] >= lim[:, 1]):
+        lim = (
+            DEFAULT_JOINT_LIMITS
+            if joint_limits is None
+            else checks.points("joint_limits", joint_limits, dims=(2,), n=3, unit="rad")
+        )
+        if np.any(lim[:, 0] >= lim[:, 1]):
             raise InvalidParameter(
-                f"joint_limits must be a (3, 2) array with lower < upper [rad], got {lim.tolist()}"
+                f"joint_limits: expected lower < upper in every row [rad], got {lim.tolist()}"
             )
         self.joint_limits: np.ndarray = lim.copy()
         self._model = None
@@ -59,7 +61,7 @@ class ThreeGM:
     # ------------------------------------------------------------------ closed form
     def state(self, theta) -> cf.FiveBarState:
         """All intermediate quantities of eqs. C.4-C.6 (see :class:`FiveBarState`)."""
-        return cf.five_bar_state(self.params, as_vector(theta, 3, "theta"))
+        return cf.five_bar_state(self.params, checks.vector("theta", theta, 3, "rad"))
 
     def forward_kinematics(self, theta) -> np.ndarray:
         """Endpoint (x, y, z) in the WCS [m] by eqs. C.4-C.6 (elbow-up).
@@ -86,22 +88,22 @@ class ThreeGM:
         Raises:
             SingularConfiguration: outside the closure domain, or l3 and l4 aligned.
         """
-        th = as_vector(theta, 3, "theta")
+        th = checks.vector("theta", theta, 3, "rad")
         return cf.jacobian_from_state(self.params, th, cf.five_bar_state(self.params, th))
 
     def forward_kinematics_and_jacobian(self, theta) -> tuple[np.ndarray, np.ndarray]:
         """Endpoint (3,) [m] and Jacobian (3, 3) [m/rad] from one evaluation of eqs. C.4-C.9."""
-        th = as_vector(theta, 3, "theta")
+        th = checks.vector("theta", theta, 3, "rad")
         st = cf.five_bar_state(self.params, th)
         return st.position, cf.jacobian_from_state(self.params, th, st)
 
     def endpoint_velocity(self, theta, theta_dot) -> np.ndarray:
         """(3,) endpoint velocity v = J θ̇ [m/s] (eq. C.10); ``theta_dot`` (3,) [rad/s]."""
-        return self.jacobian(theta) @ as_vector(theta_dot, 3, "theta_dot")
+        return self.jacobian(theta) @ checks.vector("theta_dot", theta_dot, 3, "rad/s")
 
     def joint_torques(self, theta, force) -> np.ndarray:
         """(3,) motor torques τ = Jᵀ f [N m] producing endpoint force ``force`` (3,) [N] (C.10)."""
-        return self.jacobian(theta).T @ as_vector(force, 3, "force")
+        return self.jacobian(theta).T @ checks.vector("force", force, 3, "N")
 
     def gravity_torque(self, theta, mass: float) -> np.ndarray:
         """Gravity-compensation torques (eq. C.11): only motor 1, τ_g = M g l5 cos θ1.
@@ -111,21 +113,19 @@ class ThreeGM:
         Returns:
             (3,) torques [N m]: ``(M g l5 cos θ1, 0, 0)``.
         """
-        th = as_vector(theta, 3, "theta")
-        m = float(mass)
-        if not np.isfinite(m) or m < 0:
-            raise InvalidParameter(f"mass must be >= 0 [kg], got {mass!r}")
+        th = checks.vector("theta", theta, 3, "rad")
+        m = checks.nonnegative("mass", mass, "kg")
         return np.array([m * 9.81 * self.params["l5"] * np.cos(th[0]), 0.0, 0.0])
 
     def rotation_tcs_to_wcs(self, theta) -> np.ndarray:
         """R_TW of eq. 4.1 (3, 3): maps TCS (fingertip sensor) coordinates into the WCS."""
-        th = as_vector(theta, 3, "theta")
+        th = checks.vector("theta", theta, 3, "rad")
         return cf.rotation_tcs_to_wcs(self.state(th).gamma1, th[2])
 
     # ------------------------------------------------------------------ limits
     def within_limits(self, theta, tol: float = 1e-9) -> bool:
         """Whether θ respects the joint limits."""
-        th = as_vector(theta, 3, "theta")
+        th = checks.vector("theta", theta, 3, "rad")
         return bool(
             np.all(th >= self.joint_limits[:, 0] - tol)
             and np.all(th <= self.joint_limits[:, 1] + tol)
@@ -174,7 +174,7 @@ class ThreeGM:
     def in_conditioned_workspace(self, x, tol: float = 1e-9) -> bool:
         """Whether ``x`` (3,) [m] lies inside the trapezoid of App. C.2.1 (``tol`` [m] of
         slack on every face, for points computed on its boundary)."""
-        p = as_vector(x, 3, "x")
+        p = checks.vector("x", x, 3, "m")
         rho, ang = np.hypot(p[0], p[1]), np.arctan2(p[1], p[0])
         return bool(
             WORKSPACE_RADII[0] - tol <= rho <= WORKSPACE_RADII[1] + tol
@@ -207,7 +207,7 @@ class ThreeGM:
         Raises:
             UnreachableTarget: no start converged to ``tol`` inside the joint limits.
         """
-        target = as_vector(x, 3, "x")
+        target = checks.vector("x", x, 3, "m")
         lo, hi = self.joint_limits[:, 0], self.joint_limits[:, 1]
         p = self.params
         rho = float(np.hypot(target[0], target[1]))
@@ -223,7 +223,7 @@ class ThreeGM:
             )
             first = np.array([first[0], first[1], t3])
         else:
-            first = as_vector(theta0, 3, "theta0")
+            first = checks.vector("theta0", theta0, 3, "rad")
         best = np.inf
         for k, start in enumerate(self._starts(first, r_h2 - p["h2"], float(target[2]), t3)):
             th, res = self._newton(target, np.clip(start, lo, hi), tol, max_iter)

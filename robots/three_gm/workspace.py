@@ -6,7 +6,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from planner.errors import InvalidParameter, SingularConfiguration
+from planner import checks
+from planner.errors import SingularConfiguration
 from robots.errors import UnreachableTarget
 from robots.three_gm.gm import ThreeGM
 from robots.three_gm.params import WORKSPACE_HALF_ANGLE, WORKSPACE_RADII, WORKSPACE_Z
@@ -17,8 +18,7 @@ def trapezoid_grid(n: int) -> np.ndarray:
 
     Radius, base angle and height each take ``n`` evenly spaced values (n >= 2).
     """
-    if int(n) < 2:
-        raise InvalidParameter(f"n must be >= 2, got {n}")
+    n = checks.integer("n", n, 2)
     rho = np.linspace(*WORKSPACE_RADII, int(n))
     ang = np.linspace(-WORKSPACE_HALF_ANGLE, WORKSPACE_HALF_ANGLE, int(n))
     z = np.linspace(*WORKSPACE_Z, int(n))
@@ -60,9 +60,7 @@ def check_conditioned_workspace(gm: ThreeGM, points: np.ndarray) -> ConditionedW
         gm: the finger.
         points: (N, 3) points in the WCS [m].
     """
-    pts = np.asarray(points, dtype=float)
-    if pts.ndim != 2 or pts.shape[1] != 3:
-        raise InvalidParameter(f"points must have shape (N, 3), got {pts.shape}")
+    pts = checks.points("points", points, dims=(3,), min_count=0)
     n = len(pts)
     theta = np.full((n, 3), np.nan)
     cond = np.full(n, np.inf)
