@@ -254,7 +254,10 @@ def test_contact_models_of_fig_2_5():
     t = np.array([0.0, 2.1, 4.2])
     q = np.c_[np.cos(t), np.sin(t)]
     assert force_closure(q, -q, 0.5) and not force_closure(q, -q, 0.5, contact="frictionless")
-    with pytest.raises(InvalidParameter, match="contact must be one of"):
+    with pytest.raises(
+        InvalidParameter,
+        match=r"contact: expected one of \['frictionless', 'point_with_friction', 'soft_finger'\]",
+    ):
         force_closure(q, -q, 0.5, contact="sticky")
     with pytest.raises(
         InvalidParameter, match=r"torsion_length: expected a finite number > 0 \[m\]"

@@ -61,7 +61,7 @@ def force_closure_two_planar(p1, n1, p2, n2, mu: float, mu2: float | None = None
     )
 
 
-def _hull_offsets(w: np.ndarray) -> np.ndarray | None:
+def hull_offsets(w: np.ndarray) -> np.ndarray | None:
     """Facet offsets of the convex hull of the rows of ``w`` (None if it is flat)."""
     from scipy.spatial import ConvexHull, QhullError
 
@@ -112,7 +112,7 @@ def force_closure(
     if p.shape[1] == 2 and p.shape[0] == 2:
         mu = 0.0 if getattr(contact, "value", contact) == "frictionless" else mu
         return bool(force_closure_two_planar(p[0], n[0], p[1], n[1], mu))
-    offsets = _hull_offsets(w)
+    offsets = hull_offsets(w)
     return offsets is not None and bool(np.all(offsets < -HULL_TOL))
 
 
@@ -150,4 +150,11 @@ def force_closure_lp(points, normals, mu: float, *, facets: int = 8, solver: str
     return bool(sol.x[-1] > 1e-7 / m)
 
 
-__all__ = ["HULL_TOL", "force_closure", "force_closure_lp", "force_closure_two_planar"]
+__all__ = [
+    "HULL_TOL",
+    "STRICT",
+    "force_closure",
+    "force_closure_lp",
+    "force_closure_two_planar",
+    "hull_offsets",
+]

@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from planner.errors import InvalidParameter
+from planner import checks
 from planner.grasp.gait_result import (
     PHASE_NAMES,
     Gait,
@@ -186,10 +186,8 @@ def plan_gait(
     Returns:
         The :class:`Gait` (``feasible`` False with a ``reason`` when none exists).
     """
-    if int(resolution) != resolution or resolution < 8:
-        raise InvalidParameter(f"resolution must be an integer >= 8, got {resolution!r}")
-    if int(max_starts) < 1:
-        raise InvalidParameter(f"max_starts must be >= 1, got {max_starts!r}")
+    resolution = checks.integer("resolution", resolution, 8)
+    max_starts = checks.integer("max_starts", max_starts, 1)
     prob = gait_problem(
         profile,
         hand,

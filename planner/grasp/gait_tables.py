@@ -9,7 +9,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from planner import checks
-from planner.errors import InvalidParameter
 from planner.grasp.closure import force_closure_two_planar
 from planner.grasp.maps import ClosureKernel, contact_angles, profile_contacts
 from planner.grasp.quality import epsilon_two_planar
@@ -57,12 +56,8 @@ def gait_problem(
     min_epsilon: float = 0.0,
 ) -> GaitProblem:
     """Build the map-space tables of a gait search (see :func:`plan_gait` for arguments)."""
-    if not np.isfinite(min_epsilon) or not 0.0 <= min_epsilon < 1.0:
-        raise InvalidParameter(f"min_epsilon must be in [0, 1), got {min_epsilon!r}")
-    if direction not in ("clockwise", "counterclockwise"):
-        raise InvalidParameter(
-            f"direction must be 'clockwise' or 'counterclockwise', got {direction!r}"
-        )
+    checks.in_range("min_epsilon", min_epsilon, 0.0, 1.0, closed=(True, False))
+    checks.choice("direction", direction, ("clockwise", "counterclockwise"))
     mu = checks.nonnegative("mu", mu)
     mu_p = mu if mu_palm is None else checks.nonnegative("mu_palm", mu_palm)
     reach = as_reachability(hand)
@@ -90,9 +85,7 @@ def gait_problem(
         epss.append(np.where(fc, eps, 0.0))
     arc = np.linalg.norm(np.roll(pts, -sign, axis=0) - pts, axis=1)
     if roll_length is not None:
-        if not np.isfinite(roll_length) or roll_length <= 0:
-            raise InvalidParameter(f"roll_length must be > 0 [m], got {roll_length!r}")
-        roll = {f: float(roll_length) for f in ("left", "right")}
+        roll = {f: checks.positive("roll_length", roll_length, "m") for f in ("left", "right")}
     else:
         rl = getattr(reach, "roll_length", None)
         roll = {f: (float(rl(f)) if rl else np.inf) for f in ("left", "right")}

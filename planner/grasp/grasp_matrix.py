@@ -61,10 +61,10 @@ def grasp_matrix(
         G[3:, j : j + 3] = [[0.0, -rz, ry], [rz, 0.0, -rx], [-ry, rx, 0.0]]
     if soft_finger:
         if normals is None:
-            raise InvalidParameter("soft_finger=True needs the (k, 3) inward normals")
+            raise InvalidParameter("normals: expected (k, 3) inward normals with soft_finger=True")
         n = unit_directions("normals", normals, 3)
         if n.shape[0] != k:
-            raise InvalidParameter(f"normals must have {k} rows like points, got {n.shape[0]}")
+            raise InvalidParameter(f"normals: expected {k} rows like points, got {n.shape[0]}")
         G[3:, 3::4] = n.T
     return G
 
@@ -82,7 +82,7 @@ def hand_jacobian(jacobians: Sequence[np.ndarray]) -> np.ndarray:
     blocks = [np.atleast_2d(np.asarray(j, dtype=float)) for j in jacobians]
     if not blocks or len({b.shape[0] for b in blocks}) != 1:
         raise InvalidParameter(
-            "jacobians must be a non-empty list of (d, n_i) arrays with the same number of rows d"
+            "jacobians: expected a non-empty list of (d, n_i) arrays with the same row count d"
         )
     d = blocks[0].shape[0]
     out = np.zeros((d * len(blocks), sum(b.shape[1] for b in blocks)))
@@ -104,9 +104,7 @@ def joint_torques(jacobians: Sequence[np.ndarray], forces) -> np.ndarray:
         (sum n_i,) joint torques [N m].
     """
     J = hand_jacobian(jacobians)
-    f = np.asarray(forces, dtype=float).ravel()
-    if f.size != J.shape[0]:
-        raise InvalidParameter(f"forces must hold {J.shape[0]} numbers, got {f.size}")
+    f = checks.vector("forces", np.ravel(forces), J.shape[0], "N")
     return J.T @ f
 
 

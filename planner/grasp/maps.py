@@ -62,9 +62,8 @@ class GraspMap:
 
 def contact_angles(resolution: int) -> np.ndarray:
     """The grid ``2π i / resolution``, i = 0..resolution-1 [rad]."""
-    if int(resolution) != resolution or resolution < 4:
-        raise InvalidParameter(f"resolution must be an integer >= 4, got {resolution!r}")
-    return 2.0 * np.pi * np.arange(int(resolution)) / int(resolution)
+    resolution = checks.integer("resolution", resolution, 4)
+    return 2.0 * np.pi * np.arange(resolution) / resolution
 
 
 def profile_contacts(profile, theta) -> tuple[np.ndarray, np.ndarray]:
@@ -80,7 +79,7 @@ def profile_contacts(profile, theta) -> tuple[np.ndarray, np.ndarray]:
     """
     if not hasattr(profile, "point_at_polar_angle"):
         raise InvalidParameter(
-            f"profile must be a closed profile with point_at_polar_angle(); "
+            f"profile: expected a closed profile with point_at_polar_angle(), "
             f"got {type(profile).__name__}"
         )
     try:
@@ -92,7 +91,7 @@ def profile_contacts(profile, theta) -> tuple[np.ndarray, np.ndarray]:
     pts = np.asarray(pts, dtype=float)
     nrm = -np.asarray(out, dtype=float)
     if not (np.all(np.isfinite(pts)) and np.all(np.isfinite(nrm))):
-        raise InvalidParameter("profile returned NaN/inf points or normals")
+        raise InvalidParameter("profile: expected finite points and normals, got NaN/inf")
     return pts, nrm
 
 
@@ -106,12 +105,14 @@ def _polar_from_samples(profile, theta: np.ndarray) -> tuple[np.ndarray, np.ndar
     smp = profile.sample(profile.length / 8192.0)
     P, N = smp.points, smp.normals
     if np.any(np.hypot(P[:, 0], P[:, 1]) < 1e-12):
-        raise InvalidParameter("profile passes through its origin: not star-shaped about it")
+        raise InvalidParameter(
+            "profile: expected a profile star-shaped about its origin, got one through it"
+        )
     turn = np.diff(np.unwrap(np.arctan2(P[:, 1], P[:, 0])))
     if not (np.all(turn <= 1e-12) or np.all(turn >= -1e-12)):
         raise InvalidParameter(
-            "profile is not star-shaped about its origin (its polar angle "
-            "is not monotonic along the outline)"
+            "profile: expected a profile star-shaped about its origin, got one whose polar "
+            "angle is not monotonic along the outline"
         )
     phi = np.mod(np.arctan2(P[:, 1], P[:, 0]), 2 * np.pi)
     order = np.argsort(phi, kind="stable")

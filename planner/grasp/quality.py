@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from planner import checks
-from planner.grasp.closure import HULL_TOL, _hull_offsets
+from planner.grasp.closure import HULL_TOL, hull_offsets
 from planner.grasp.wrenches import check_contacts, primitive_wrenches
 
 # vertex triples of the 4 faces of a tetrahedron and the omitted vertex of each
@@ -145,7 +145,7 @@ def epsilon_quality(
     if p.shape == (2, 2) and torque_reference is None and torque_scale is None:
         mu = 0.0 if getattr(contact, "value", contact) == "frictionless" else mu
         return float(epsilon_two_planar(p[0], n[0], p[1], n[1], mu))
-    offsets = _hull_offsets(w)
+    offsets = hull_offsets(w)
     if offsets is None or not np.all(offsets < -HULL_TOL):
         return 0.0
     return float(np.min(-offsets))

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from planner import checks
+from planner.errors import InvalidParameter
 from planner.grasp.wrenches import check_contacts
 
 
@@ -53,9 +54,7 @@ def two_contact_stability(points, normals, mu: float) -> TwoContactStability:
     p, n = check_contacts(points, normals, 2)
     mu = checks.nonnegative("mu", mu)
     if p.shape[0] != 2:
-        from planner.errors import InvalidParameter
-
-        raise InvalidParameter(f"two_contact_stability needs exactly 2 contacts, got {p.shape[0]}")
+        raise InvalidParameter(f"points: expected exactly 2 contacts, got {p.shape[0]}")
     d = p[1] - p[0]
     dist = float(np.linalg.norm(d))
     if dist == 0.0:

@@ -20,6 +20,7 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
+from planner import checks
 from planner.errors import InvalidParameter
 from planner.grasp.maps import contact_angles, profile_contacts
 
@@ -156,20 +157,14 @@ class HandReachability:
             from robots.planar_hand import PlanarHand
 
             hand = PlanarHand()
-        if not 0.0 <= max_tip_contact_angle <= np.pi / 2:
-            raise InvalidParameter(
-                f"max_tip_contact_angle must be in [0, pi/2] rad, got {max_tip_contact_angle!r}"
-            )
-        if min(int(n_orientations), int(n_pad_offsets)) < 1 or int(link_samples) < 2:
-            raise InvalidParameter(
-                "n_orientations, n_pad_offsets must be >= 1 and link_samples >= 2"
-            )
         self.hand = hand
         self.palm_half_width = float(hand.params.palm_half_width)
-        self.max_tip_contact_angle = float(max_tip_contact_angle)
-        self.n_orientations = int(n_orientations)
-        self.n_pad_offsets = int(n_pad_offsets)
-        self.link_samples = int(link_samples)
+        self.max_tip_contact_angle = checks.in_range(
+            "max_tip_contact_angle", max_tip_contact_angle, 0.0, np.pi / 2, "rad"
+        )
+        self.n_orientations = checks.integer("n_orientations", n_orientations, 1)
+        self.n_pad_offsets = checks.integer("n_pad_offsets", n_pad_offsets, 1)
+        self.link_samples = checks.integer("link_samples", link_samples, 2)
 
     def tip_radius(self, finger: str) -> float:
         """Fingertip radius of a round tip (0 for a flat pad) [m]."""
@@ -188,8 +183,7 @@ class HandReachability:
         """See :meth:`ReachabilityModel.reachable`."""
         from robots.planar_hand.kinematics import finger_points
 
-        if finger not in self.fingers:
-            raise InvalidParameter(f"finger must be one of {list(self.fingers)}, got {finger!r}")
+        checks.choice("finger", finger, self.fingers)
         f = self.hand.params.finger(finger)
         c_all = np.asarray(contacts, dtype=float)
         u_all = np.asarray(normals, dtype=float)
@@ -274,8 +268,8 @@ def workspace_tables(
     """
     if not isinstance(reach, ReachabilityModel):
         raise InvalidParameter(
-            "hand must be a robots.planar_hand.PlanarHand or implement "
-            "planner.grasp.workspace.ReachabilityModel"
+            "hand: expected a robots.planar_hand.PlanarHand or a "
+            f"planner.grasp.workspace.ReachabilityModel, got {type(reach).__name__}"
         )
     theta = np.asarray(theta, dtype=float)
     place = rest_on_palm(profile, angles, x0, reach.palm_half_width)
@@ -317,7 +311,7 @@ def as_reachability(hand) -> ReachabilityModel:
     if hand is None or hasattr(hand, "ik_candidates"):
         return HandReachability(hand)
     raise InvalidParameter(
-        f"hand must be a PlanarHand or a ReachabilityModel, got {type(hand).__name__}"
+        f"hand: expected a PlanarHand or a ReachabilityModel, got {type(hand).__name__}"
     )
 
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from planner import checks
+from planner.contact import ContactType
 from planner.contact.cones import (
     planar_cone_edges,
     pyramid_cone_edges,
@@ -83,10 +84,9 @@ def primitive_wrenches(
     """
     p, n = check_contacts(points, normals, 1)
     mu = checks.nonnegative("mu", mu)
-    kinds = ("point_with_friction", "frictionless", "soft_finger")
-    contact = getattr(contact, "value", contact)
-    if contact not in kinds:
-        raise InvalidParameter(f"contact must be one of {list(kinds)}, got {contact!r}")
+    contact = checks.choice(
+        "contact", getattr(contact, "value", contact), [t.value for t in ContactType]
+    )
     if contact == "frictionless":
         mu = 0.0
     c, rho = torque_frame(p, torque_reference, torque_scale)

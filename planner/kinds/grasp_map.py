@@ -122,21 +122,15 @@ class Config(ScenarioBase):
     hand: HandConfig = Field(default_factory=HandConfig)
 
 
-def run(config: Config, ctx):
-    """Build the maps, search the gait, return metrics, arrays, gait.json and figures."""
-    import json
-
+def _maps(config: Config, res: int):
+    """Profile, hand, reachability model and the left–right / finger–palm grasp maps."""
     import numpy as np
 
-    from planner.errors import InvalidParameter, ScenarioError
-    from planner.grasp.gait import gait_problem, search_gait
+    from planner.errors import InputIssue, InvalidParameter, ScenarioError
     from planner.grasp.maps import grasp_map
-    from planner.grasp.workspace import HandReachability, workspace_tables
-    from planner.results import Event, RunResult
+    from planner.grasp.workspace import HandReachability
     from robots.planar_hand import PlanarHand
 
-    res = min(config.resolution, 90) if ctx.quick else config.resolution
-    gres = min(config.gait_resolution, 48) if ctx.quick else config.gait_resolution
     try:
         profile = config.object.profile()
         hand = PlanarHand(
@@ -149,33 +143,18 @@ def run(config: Config, ctx):
             hand, max_tip_contact_angle=np.deg2rad(config.hand.max_tip_contact_angle_deg)
         )
         mu_p = config.mu if config.mu_palm is None else config.mu_palm
-        with ctx.timer("grasp_map"):
-            g_lr = grasp_map(profile, config.mu, res)
-            g_fp = grasp_map(profile, config.mu, res, mu2=mu_p)
+        g_lr = grasp_map(profile, config.mu, res)
+        g_fp = grasp_map(profile, config.mu, res, mu2=mu_p)
     except InvalidParameter as exc:
-        from planner.errors import InputIssue
-
         raise ScenarioError([InputIssue("(scenario)", 0, "object", str(exc))]) from None
-    with ctx.timer("workspace_map"):
-        ws = workspace_tables(profile, reach, g_lr.theta, [0.0], config.object_x)
-    with ctx.timer("gait_search"):
-        prob = gait_problem(
-            profile,
-            reach,
-            config.mu,
-            mu_palm=config.mu_palm,
-            resolution=gres,
-            direction=config.direction,
-            x0=config.object_x,
-            roll_length=config.roll_length,
-            min_epsilon=config.min_epsilon,
-        )
-        gait = search_gait(prob)
-    ctx.log(f"gait feasible={gait.feasible} {gait.reason}")
+    return profile, hand, reach, g_lr, g_fp
+
+
+def _metrics(res: int, gres: int, g_lr, g_fp, ws, gait) -> dict:
+    import numpy as np
+
     rl, rr = ws.reachable["left"][0], ws.reachable["right"][0]
-    pi = int(ws.palm_index[0])
-    feasible_lr = g_lr.force_closure & rl[:, None] & rr[None, :]
-    metrics = {
+    return {
         "resolution": res,
         "gait_resolution": gres,
         "closure_fraction": g_lr.closure_fraction,
@@ -184,7 +163,9 @@ def run(config: Config, ctx):
         "workspace_fraction_left": float(rl.mean()),
         "workspace_fraction_right": float(rr.mean()),
         "palm_contact_angle_deg": float(np.rad2deg(ws.placement.palm_theta[0])),
-        "feasible_left_right_fraction": float(feasible_lr.mean()),
+        "feasible_left_right_fraction": float(
+            (g_lr.force_closure & rl[:, None] & rr[None, :]).mean()
+        ),
         "gait_feasible": gait.feasible,
         "gait_reason": gait.reason,
         "rotation_per_cycle_deg": float(np.rad2deg(gait.rotation_per_cycle)),
@@ -194,7 +175,14 @@ def run(config: Config, ctx):
         "gait_min_epsilon": gait.min_epsilon,
         "coverage": gait.coverage,
     }
-    arrays = {
+
+
+def _arrays(res: int, g_lr, g_fp, ws, gait) -> dict:
+    import numpy as np
+
+    rl, rr = ws.reachable["left"][0], ws.reachable["right"][0]
+    palm = (np.arange(res) == int(ws.palm_index[0]))[None, :]
+    return {
         "theta": g_lr.theta,
         "force_closure_left_right": g_lr.force_closure,
         "epsilon_left_right": g_lr.epsilon,
@@ -205,10 +193,17 @@ def run(config: Config, ctx):
         "reachable_left": rl,
         "reachable_right": rr,
         "workspace_left_right": rl[:, None] & rr[None, :],
-        "workspace_left_palm": rl[:, None] & (np.arange(res) == pi)[None, :],
-        "workspace_right_palm": rr[:, None] & (np.arange(res) == pi)[None, :],
+        "workspace_left_palm": rl[:, None] & palm,
+        "workspace_right_palm": rr[:, None] & palm,
         "gait_path": gait.path,
     }
+
+
+def _events(gait) -> list:
+    import numpy as np
+
+    from planner.results import Event
+
     events = [
         Event(
             "gait",
@@ -226,25 +221,64 @@ def run(config: Config, ctx):
                 data=ph.to_json(),
             )
         )
+    return events
+
+
+def _figures(config: Config, g_lr, ws, gait, prob, profile, hand) -> dict:
+    """``grasp_map`` (workspace and gait grasps at the initial pose), ``gait_map`` (phase by
+    phase, each over its own pose's workspace) and ``gait_phases`` (hand and object)."""
+    from planner.grasp.plotting import plot_gait_map, plot_gait_phases, plot_grasp_map
+
+    figures = {
+        "grasp_map": plot_grasp_map(
+            g_lr, ws, gait, title=f"{config.name}: grasp map, μ = {config.mu:g}"
+        )
+    }
+    if gait.feasible:
+        figures["gait_map"] = plot_gait_map(prob, gait)
+        figures["gait_phases"] = plot_gait_phases(profile, gait, prob, hand=hand)
+    return figures
+
+
+def run(config: Config, ctx):
+    """Build the maps, search the gait, return metrics, arrays, gait.json and figures."""
+    import json
+
+    from planner.grasp.gait import gait_problem, search_gait
+    from planner.grasp.workspace import workspace_tables
+    from planner.results import RunResult
+
+    res = min(config.resolution, 90) if ctx.quick else config.resolution
+    gres = min(config.gait_resolution, 48) if ctx.quick else config.gait_resolution
+    with ctx.timer("grasp_map"):
+        profile, hand, reach, g_lr, g_fp = _maps(config, res)
+    with ctx.timer("workspace_map"):
+        ws = workspace_tables(profile, reach, g_lr.theta, [0.0], config.object_x)
+    with ctx.timer("gait_search"):
+        prob = gait_problem(
+            profile,
+            reach,
+            config.mu,
+            mu_palm=config.mu_palm,
+            resolution=gres,
+            direction=config.direction,
+            x0=config.object_x,
+            roll_length=config.roll_length,
+            min_epsilon=config.min_epsilon,
+        )
+        gait = search_gait(prob)
+    ctx.log(f"gait feasible={gait.feasible} {gait.reason}")
     figures = {}
     if ctx.plots:
-        from planner.grasp.plotting import plot_gait_phases, plot_grasp_map
-
         with ctx.timer("plots"):
-            figures["grasp_map"] = plot_grasp_map(
-                g_lr, ws, gait, title=f"{config.name}: grasp map, μ = {config.mu:g}"
-            )
-            if gait.feasible:
-                figures["gait_phases"] = plot_gait_phases(profile, gait, prob)
-    files = {"gait.json": json.dumps(gait.to_json(), indent=2)}
+            figures = _figures(config, g_lr, ws, gait, prob, profile, hand)
     status = "ok" if (gait.feasible or not config.require_gait) else "failed"
-    reason = "" if status == "ok" else f"no grasp gait: {gait.reason}"
     return RunResult(
         status=status,
-        reason=reason,
-        metrics=metrics,
-        arrays=arrays,
-        events=events,
+        reason="" if status == "ok" else f"no grasp gait: {gait.reason}",
+        metrics=_metrics(res, gres, g_lr, g_fp, ws, gait),
+        arrays=_arrays(res, g_lr, g_fp, ws, gait),
+        events=_events(gait),
         figures=figures,
-        files=files,
+        files={"gait.json": json.dumps(gait.to_json(), indent=2)},
     )
