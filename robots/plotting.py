@@ -21,7 +21,7 @@ def _figure(size=(6.4, 5.2)):
     return Figure(figsize=size, layout="constrained")
 
 
-def draw_hand(
+def plot_hand(
     hand: PlanarHand,
     q: np.ndarray,
     center: np.ndarray,
@@ -70,7 +70,7 @@ def draw_hand(
     return fig
 
 
-def draw_reachable_sets(positions: dict[str, np.ndarray], center: np.ndarray, radius: float):
+def plot_reachable_sets(positions: dict[str, np.ndarray], center: np.ndarray, radius: float):
     """Scatter of sampled fingertip points (N, 2) [m] per finger, with the ball outline."""
     from matplotlib.patches import Circle
 
@@ -96,7 +96,7 @@ def draw_reachable_sets(positions: dict[str, np.ndarray], center: np.ndarray, ra
     return fig
 
 
-def draw_three_gm(gm: ThreeGM, theta: np.ndarray, ws: ConditionedWorkspace | None = None):
+def plot_three_gm(gm: ThreeGM, theta: np.ndarray, ws: ConditionedWorkspace | None = None):
     """Side view of the five-bar at ``theta`` (3,) [rad] and top view of the trapezoid,
     coloured by the condition number of the sampled workspace points."""
     from robots.three_gm.params import WORKSPACE_HALF_ANGLE, WORKSPACE_RADII, WORKSPACE_Z
@@ -153,3 +153,6 @@ def _rect(x, y, w, h):
     from matplotlib.patches import Rectangle
 
     return Rectangle((x, y), w, h, fc="none", ec="k", ls="--", label="workspace (side)")
+
+
+__all__ = ["plot_hand", "plot_reachable_sets", "plot_three_gm"]

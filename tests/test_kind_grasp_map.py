@@ -57,7 +57,7 @@ def test_long_thin_object_fails_with_reason(tmp_path):
 def test_bad_object_keys_are_rejected():
     with pytest.raises(ScenarioError, match="needs key"):
         scenario_from_dict(
-            {"name": "x", "kind": "grasp_map", "object": {"shape": "ellipse", "a": 0.05}}
+            {"name": "x", "kind": "grasp_map", "object": {"type": "ellipse", "a": 0.05}}
         )
     with pytest.raises(ScenarioError, match="greater than or equal"):
         scenario_from_dict(
@@ -65,6 +65,42 @@ def test_bad_object_keys_are_rejected():
                 "name": "x",
                 "kind": "grasp_map",
                 "mu": -1,
-                "object": {"shape": "circle", "radius": 0.05},
+                "object": {"type": "circle", "radius": 0.05},
             }
         )
+
+
+@pytest.mark.parametrize(
+    ("override", "key"),
+    [
+        ("mu=-1", "mu"),
+        ("object.type=star", "object.type"),
+        ("resolution=2", "resolution"),
+        ("object.radius=-0.05", "object.radius"),
+        ("direction=up", "direction"),
+        ("min_epsilon=1.5", "min_epsilon"),
+    ],
+)
+def test_bad_value_is_exit_2_one_line_nothing_written(cli, tmp_path, override, key):
+    out = tmp_path / "out"
+    r = cli("run", "scenarios/circle_grasp_map.yaml", "--set", override, "--out", str(out))
+    assert r.returncode == 2
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and key in lines[0], r.stderr
+    assert not out.exists()
+
+
+def test_non_star_shaped_polygon_is_exit_2(cli, tmp_path):
+    # a U-shaped polygon is not star-shaped about its origin: caught by the Config validator
+    u = (
+        "[[-0.03,-0.03],[0.03,-0.03],[0.03,0.03],[0.02,0.03],"
+        "[0.02,-0.02],[-0.02,-0.02],[-0.02,0.03],[-0.03,0.03]]"
+    )
+    r = cli(
+        "validate",
+        "scenarios/hexagon_grasp_map.yaml",
+        "--set",
+        f"object.points={u}",
+    )
+    assert r.returncode == 2, r.stdout + r.stderr
+    assert "star-shaped" in r.stderr

@@ -45,14 +45,32 @@ def test_three_gm_workspace_scenario(tmp_path):
     assert (tmp_path / "run" / "plots" / "three_gm.png").is_file()
 
 
-def test_configuration_outside_limits_fails(tmp_path):
-    result, _ = _run(
-        tmp_path,
-        "three_gm_workspace_robot",
-        ["configuration_deg=[170, 0, 0]", "output.plots=false"],
-    )
-    assert result["status"] == "failed"
-    assert "outside the joint limits" in result["reason"]
+def test_configuration_outside_limits_rejected_at_load():
+    # a value rule: caught by `hapex validate` (exit 2), not a failed run
+    with pytest.raises(ScenarioError, match="outside the joint limits"):
+        load_scenario("scenarios/three_gm_workspace_robot.yaml", ["configuration_deg=[170, 0, 0]"])
+    with pytest.raises(ScenarioError, match="outside the joint limits"):
+        load_scenario(
+            "scenarios/hand_workspace_robot.yaml", ["configuration_deg=[0, 0, 0, 0, 0, 400]"]
+        )
+
+
+@pytest.mark.parametrize(
+    ("scenario", "override", "key"),
+    [
+        ("three_gm_workspace_robot", "configuration_deg=[170, 0, 0]", "configuration_deg"),
+        ("hand_workspace_robot", "hand.ball_diameter=-0.1", "hand.ball_diameter"),
+        ("hand_workspace_robot", "hand.left_tip=pointy", "hand.left_tip"),
+        ("three_gm_workspace_robot", "three_gm.grid=1", "three_gm.grid"),
+    ],
+)
+def test_bad_value_is_exit_2_one_line_nothing_written(cli, tmp_path, scenario, override, key):
+    out = tmp_path / "out"
+    r = cli("run", f"scenarios/{scenario}.yaml", "--set", override, "--out", str(out))
+    assert r.returncode == 2
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and key in lines[0], r.stderr
+    assert not out.exists()
 
 
 def test_bad_configuration_length_rejected_at_load():

@@ -3,7 +3,7 @@
 Keys (SI units)::
 
     object:                      # closed planar profile, star-shaped about its origin
-      shape: circle              # circle | ellipse | rounded_rectangle | polygon
+      type: circle               # circle | ellipse | rounded_rectangle | polygon
       radius: 0.05               # circle [m]
       a: 0.06                    # ellipse semi-axis along x [m]
       b: 0.04                    # ellipse semi-axis along y [m]
@@ -36,8 +36,8 @@ from planner.scenario import ScenarioBase, StrictModel
 class ObjectConfig(StrictModel):
     """The object's closed profile (object frame; star-shaped about its origin)."""
 
-    shape: Literal["circle", "ellipse", "rounded_rectangle", "polygon"] = Field(
-        ..., description="profile type"
+    type: Literal["circle", "ellipse", "rounded_rectangle", "polygon"] = Field(
+        ..., description="profile type (the ``profile: {type: ...}`` spelling of every kind)"
     )
     radius: float | None = Field(None, gt=0, description="circle radius [m]")
     a: float | None = Field(None, gt=0, description="ellipse semi-axis along x [m]")
@@ -56,11 +56,11 @@ class ObjectConfig(StrictModel):
             "ellipse": ("a", "b"),
             "rounded_rectangle": ("width", "height"),
             "polygon": ("points",),
-        }[self.shape]
+        }[self.type]
         missing = [k for k in need if getattr(self, k) is None]
         if missing:
-            raise ValueError(f"shape {self.shape!r} needs key(s) {missing}")
-        if self.shape == "rounded_rectangle" and 2 * self.corner_radius > min(
+            raise ValueError(f"type {self.type!r} needs key(s) {missing}")
+        if self.type == "rounded_rectangle" and 2 * self.corner_radius > min(
             self.width, self.height
         ):
             raise ValueError("corner_radius must be at most half of width and height")
@@ -77,11 +77,11 @@ class ObjectConfig(StrictModel):
         """The :mod:`planner.geometry.curves` profile."""
         from planner.geometry import curves
 
-        if self.shape == "circle":
+        if self.type == "circle":
             return curves.circle(self.radius)
-        if self.shape == "ellipse":
+        if self.type == "ellipse":
             return curves.ellipse(self.a, self.b)
-        if self.shape == "rounded_rectangle":
+        if self.type == "rounded_rectangle":
             return curves.rounded_rectangle(self.width, self.height, self.corner_radius)
         return curves.polygon([list(p) for p in self.points])
 

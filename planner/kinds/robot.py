@@ -16,6 +16,8 @@ from pydantic import Field, model_validator
 
 from planner.scenario import ScenarioBase, StrictModel
 
+FINGERS = ("left", "right")
+
 
 class HandOptions(StrictModel):
     """Options of the planar hand."""
@@ -75,14 +77,36 @@ class Config(ScenarioBase):
     three_gm: ThreeGMOptions = Field(default_factory=ThreeGMOptions)
 
     @model_validator(mode="after")
-    def _check_configuration_length(self) -> Config:
+    def _check_configuration(self) -> Config:
         n = {"planar_hand": 6, "three_gm": 3}[self.robot]
-        if self.configuration_deg is not None and len(self.configuration_deg) != n:
+        if self.configuration_deg is None:
+            return self
+        if len(self.configuration_deg) != n:
             raise ValueError(
                 f"configuration_deg must have {n} angles for robot "
                 f"{self.robot!r}, got {len(self.configuration_deg)}"
             )
+        import numpy as np
+
+        lim = self.robot_model().joint_limits
+        q = np.deg2rad(np.array(self.configuration_deg))
+        if not (np.all(q >= lim[:, 0] - 1e-9) and np.all(q <= lim[:, 1] + 1e-9)):
+            raise ValueError(
+                f"configuration_deg {list(self.configuration_deg)} is outside the joint "
+                f"limits {np.rad2deg(lim).round(1).tolist()} deg"
+            )
         return self
+
+    def robot_model(self):
+        """The :class:`robots.planar_hand.PlanarHand` or :class:`robots.three_gm.ThreeGM`."""
+        if self.robot == "three_gm":
+            from robots.three_gm import ThreeGM
+
+            return ThreeGM()
+        from robots.planar_hand import PlanarHand
+
+        o = self.hand
+        return PlanarHand(left_tip=o.left_tip, right_tip=o.right_tip, tip_radius=o.tip_radius)
 
 
 def run(config: Config, ctx):
@@ -92,48 +116,54 @@ def run(config: Config, ctx):
     return _run_three_gm(config, ctx)
 
 
-def _run_hand(config: Config, ctx):
+def _hand_configuration(hand, config: Config, maps: dict, events: list):
+    """The configuration drawn: the scenario's, or each finger mid-way on its reachable arc."""
     import numpy as np
 
-    from planner.results import Event, RunResult
-    from robots.errors import UnreachableTarget
-    from robots.planar_hand import PlanarHand, ball_workspace, sample_reachable
+    from planner.results import Event
 
-    o = config.hand
-    hand = PlanarHand(left_tip=o.left_tip, right_tip=o.right_tip, tip_radius=o.tip_radius)
-    radius = o.ball_diameter / 2
-    center = np.array([0.0, radius])
-    step = max(o.angle_step_deg, 10.0) if ctx.quick else o.angle_step_deg
-    angles = np.deg2rad(np.arange(0.0, 360.0, step))
-    events = []
-    with ctx.timer("workspace_map"):
-        maps = {
-            f: ball_workspace(
-                hand, f, center, radius, angles, np.deg2rad(o.max_tip_contact_angle_deg)
-            )
-            for f in ("left", "right")
-        }
-    with ctx.timer("reachable_set"):
-        n = min(o.samples, 300) if ctx.quick else o.samples
-        sets = {f: sample_reachable(hand, f, n, ctx.rng) for f in ("left", "right")}
-    if config.configuration_deg is not None:
-        q = np.deg2rad(np.array(config.configuration_deg))
-        if not hand.within_limits(q):
-            lim = np.rad2deg(hand.joint_limits).round(1).tolist()
-            return RunResult(
-                status="failed",
-                reason=f"configuration_deg "
-                f"{list(config.configuration_deg)} is outside the joint limits "
-                f"{lim} deg",
-            )
-    else:  # a grasp: each finger at the middle of its reachable arc
-        q = hand.neutral()
-        for f, m in maps.items():
-            if m.reachable.any():
-                idx = np.flatnonzero(m.reachable)
-                q[hand.finger_slice(f)] = m.q[idx[len(idx) // 2]]
-            else:
-                events.append(Event("unreachable", f"{f} finger cannot touch the ball"))
+    if config.configuration_deg is not None:  # inside the limits: checked by Config
+        return np.deg2rad(np.array(config.configuration_deg))
+    q = hand.neutral()
+    for f, m in maps.items():
+        if m.reachable.any():
+            idx = np.flatnonzero(m.reachable)
+            q[hand.finger_slice(f)] = m.q[idx[len(idx) // 2]]
+        else:
+            events.append(Event("unreachable", f"{f} finger cannot touch the ball"))
+    return q
+
+
+def _tactile(o: HandOptions, ctx, radius: float):
+    """The 8x8 array sliding over the ball's ridge, and its localization error [m]."""
+    import numpy as np
+
+    from robots.sensors import TactileArray, ridge_crossing_images
+
+    arr = TactileArray()
+    crossing = ridge_crossing_images(
+        arr,
+        np.linspace(-0.015, 0.015, 7 if ctx.quick else 31),
+        o.tactile_force,
+        radius,
+        o.ridge_width_mm / 1000,
+        o.ridge_height_mm / 1000,
+    )
+    centers = ctx.rng.uniform(-0.006, 0.006, size=(50 if ctx.quick else 500, 2))
+    imgs = arr.sphere_images(centers, radius, o.tactile_force)
+    pairs = zip(imgs, centers, strict=True)
+    err = np.array(
+        [
+            np.linalg.norm(arr.read(im).centroid - c)
+            for im, c in ctx.progress(pairs, "tactile reads", total=len(centers))
+        ]
+    )
+    return arr, crossing, err
+
+
+def _hand_metrics(o: HandOptions, angles, step: float, maps: dict, err, pos) -> dict:
+    import numpy as np
+
     metrics = {"ball_diameter_m": o.ball_diameter, "n_angles": int(len(angles))}
     for f, m in maps.items():
         metrics[f"reachable_fraction_{f}"] = m.fraction
@@ -142,29 +172,60 @@ def _run_hand(config: Config, ctx):
             a = np.rad2deg(m.angles[m.reachable])
             metrics[f"reachable_angle_min_deg_{f}"] = float(a.min())
             metrics[f"reachable_angle_max_deg_{f}"] = float(a.max())
-    with ctx.timer("tactile"):
-        from robots.sensors import TactileArray, ridge_crossing_images
-
-        arr = TactileArray()
-        crossing = ridge_crossing_images(
-            arr,
-            np.linspace(-0.015, 0.015, 7 if ctx.quick else 31),
-            o.tactile_force,
-            radius,
-            o.ridge_width_mm / 1000,
-            o.ridge_height_mm / 1000,
-        )
-        centers = ctx.rng.uniform(-0.006, 0.006, size=(50 if ctx.quick else 500, 2))
-        imgs = arr.sphere_images(centers, radius, o.tactile_force)
-        err = np.array(
-            [np.linalg.norm(arr.read(im).centroid - c) for im, c in zip(imgs, centers, strict=True)]
-        )
     metrics["tactile_localization_rms_mm"] = float(np.sqrt(np.mean(err**2)) * 1000)
     metrics["tactile_localization_max_mm"] = float(err.max() * 1000)
-    pos = hand.fingertip_positions(q)
     metrics.update({f"tip_{f}_{c}": float(pos[f][i]) for f in pos for i, c in enumerate("xy")})
+    return metrics
+
+
+def _hand_figures(ctx, hand, q, center, radius, maps, sets, arr, crossing, o) -> dict:
+    from robots.plotting import plot_hand, plot_reachable_sets
+
+    figures = {
+        "hand": plot_hand(
+            hand,
+            q,
+            center,
+            radius,
+            maps,
+            title=f"Planar hand and a {o.ball_diameter * 100:.0f} cm ball: reachable contacts",
+        )
+    }
+    if not ctx.quick:  # one figure is enough for a smoke test
+        from robots.sensors.tactile_scenes import draw_ridge_crossing
+
+        figures["reachable_sets"] = plot_reachable_sets(
+            {f: s.positions for f, s in sets.items()}, center, radius
+        )
+        figures["tactile_ridge_crossing"] = draw_ridge_crossing(arr, crossing)
+    return figures
+
+
+def _run_hand(config: Config, ctx):
+    import numpy as np
+
+    from planner.results import RunResult
+    from robots.planar_hand import ball_workspace, sample_reachable
+
+    o = config.hand
+    hand = config.robot_model()
+    radius = o.ball_diameter / 2
+    center = np.array([0.0, radius])
+    step = max(o.angle_step_deg, 10.0) if ctx.quick else o.angle_step_deg
+    angles = np.deg2rad(np.arange(0.0, 360.0, step))
+    tip_angle = np.deg2rad(o.max_tip_contact_angle_deg)
+    with ctx.timer("workspace_map"):
+        maps = {f: ball_workspace(hand, f, center, radius, angles, tip_angle) for f in FINGERS}
+    with ctx.timer("reachable_set"):
+        n = min(o.samples, 300) if ctx.quick else o.samples
+        sets = {f: sample_reachable(hand, f, n, ctx.rng) for f in FINGERS}
+    events: list = []
+    q = _hand_configuration(hand, config, maps, events)
+    with ctx.timer("tactile"):
+        arr, crossing, err = _tactile(o, ctx, radius)
+    metrics = _hand_metrics(o, angles, step, maps, err, hand.fingertip_positions(q))
     arrays = {"contact_angles": angles, "q": q}
-    for f in ("left", "right"):
+    for f in FINGERS:
         arrays[f"reachable_{f}"] = maps[f].reachable
         arrays[f"q_{f}"] = maps[f].q
         arrays[f"reachable_set_{f}"] = sets[f].positions
@@ -172,35 +233,17 @@ def _run_hand(config: Config, ctx):
     arrays["tactile_ridge_images"] = crossing.images
     figures = {}
     if ctx.plots:
-        from robots.plotting import draw_hand, draw_reachable_sets
-
         with ctx.timer("plots"):
-            figures["hand"] = draw_hand(
-                hand,
-                q,
-                center,
-                radius,
-                maps,
-                title=f"Planar hand and a {o.ball_diameter * 100:.0f} cm ball: reachable contacts",
-            )
-            if not ctx.quick:  # one figure is enough for a smoke test
-                from robots.sensors.tactile_scenes import draw_ridge_crossing
-
-                figures["reachable_sets"] = draw_reachable_sets(
-                    {f: s.positions for f, s in sets.items()}, center, radius
-                )
-                figures["tactile_ridge_crossing"] = draw_ridge_crossing(arr, crossing)
-    if not any(m.reachable.any() for m in maps.values()):
-        return RunResult(
-            status="failed",
-            reason="neither finger can touch the ball",
-            metrics=metrics,
-            arrays=arrays,
-            events=events,
-            figures=figures,
-        )
-    _ = UnreachableTarget  # (documented failure type of the hand's IK)
-    return RunResult(metrics=metrics, arrays=arrays, events=events, figures=figures)
+            figures = _hand_figures(ctx, hand, q, center, radius, maps, sets, arr, crossing, o)
+    touches = any(m.reachable.any() for m in maps.values())
+    return RunResult(
+        status="ok" if touches else "failed",
+        reason="" if touches else "neither finger can touch the ball",
+        metrics=metrics,
+        arrays=arrays,
+        events=events,
+        figures=figures,
+    )
 
 
 def _run_three_gm(config: Config, ctx):
@@ -208,19 +251,12 @@ def _run_three_gm(config: Config, ctx):
 
     from planner.errors import SingularConfiguration
     from planner.results import RunResult
-    from robots.three_gm import ThreeGM, check_conditioned_workspace, trapezoid_grid
+    from robots.three_gm import check_conditioned_workspace, trapezoid_grid
     from robots.three_gm.workspace import trapezoid_volume
 
-    gm = ThreeGM()
-    if config.configuration_deg is not None:
+    gm = config.robot_model()
+    if config.configuration_deg is not None:  # inside the limits: checked by Config
         theta = np.deg2rad(np.array(config.configuration_deg))
-        if not gm.within_limits(theta):
-            return RunResult(
-                status="failed",
-                reason=f"configuration_deg "
-                f"{list(config.configuration_deg)} is outside the joint limits "
-                f"{np.rad2deg(gm.joint_limits).round(1).tolist()} deg",
-            )
     else:
         theta = gm.center_theta
     try:
@@ -255,10 +291,10 @@ def _run_three_gm(config: Config, ctx):
     }
     figures = {}
     if ctx.plots:
-        from robots.plotting import draw_three_gm
+        from robots.plotting import plot_three_gm
 
         with ctx.timer("plots"):
-            figures["three_gm"] = draw_three_gm(gm, theta, ws)
+            figures["three_gm"] = plot_three_gm(gm, theta, ws)
     if not ok.all():
         return RunResult(
             status="failed",
