@@ -50,12 +50,31 @@ class RunContext:
             self.timings_s[stage] = self.timings_s.get(stage, 0.0) + time.perf_counter() - t0
 
     def progress(
-        self, iterable: Iterable[T], desc: str = "", total: int | None = None
-    ) -> Iterable[T]:
-        """Wrap a long loop in a tqdm progress bar (shown on a terminal only)."""
+        self, iterable: Iterable[T] | None = None, desc: str = "", total: int | None = None
+    ):
+        """A tqdm progress bar on stderr for a long loop, shown only with ``-v``.
+
+        Use it around an iterable (``for x in ctx.progress(xs, "tracing"):``) or, for a loop
+        you advance yourself, with ``total`` and no iterable::
+
+            with ctx.progress(total=n_steps, desc="simulating") as bar:
+                while ...:
+                    bar.update(1)
+
+        Args:
+            iterable: what the loop iterates over (``None``: a manual bar of ``total`` steps).
+            desc: the bar's label.
+            total: the number of items (default: ``len(iterable)`` when it has one).
+
+        Returns:
+            A ``tqdm`` object: iterate over it, or call ``update(n)``; disabled (silent, no
+            cost beyond the loop) unless ``verbose``.
+        """
         from tqdm.auto import tqdm
 
-        return tqdm(iterable, desc=desc, total=total, leave=False, disable=not sys.stderr.isatty())
+        return tqdm(
+            iterable, desc=desc, total=total, leave=False, disable=not self.verbose, file=sys.stderr
+        )
 
     def log(self, message: str) -> None:
         """Print a progress message on stderr when ``-v`` was given."""

@@ -35,8 +35,8 @@ from planner.grasp.gait_result import (
     PHASE_NAMES,
     Gait,
     GaitPhase,
-    _component,
     build_gait,
+    component_run,
 )
 from planner.grasp.gait_tables import GaitProblem, gait_problem, infeasible_reason
 
@@ -96,7 +96,7 @@ class _Search:
 
     def relocate(self, finger: str, k: int, cur: int, ok_target: np.ndarray):
         """Candidate targets of a relocation of ``finger`` at pose k (component of ``cur``)."""
-        comp = _component(self.p.reach[finger][k], cur)
+        comp = component_run(self.p.reach[finger][k], cur)
         return comp[ok_target[comp]] if comp.size else comp
 
     def successors(self, k: int, i: int, j: int, m_max: int, limit: int = 6):

@@ -115,7 +115,7 @@ class Gait:
         }
 
 
-def _component(r: np.ndarray, j: int) -> np.ndarray:
+def component_run(r: np.ndarray, j: int) -> np.ndarray:
     """Indices of the circular run of True in ``r`` containing ``j`` (sorted by offset)."""
     n = r.size
     if not r[j]:
@@ -145,104 +145,98 @@ def _arc_fraction(cells: set[int], n: int) -> float:
     return len(cells) / n
 
 
-def build_gait(prob: GaitProblem, loop) -> Gait:
-    n, s = prob.theta.size, prob.sign
-    th = prob.theta
-    step = 2 * np.pi / n
-    phases: list[GaitPhase] = []
-    covered: set[int] = set()
-    path = []
-    eps_all = []
+class _GaitRecord:
+    """Phases, swept cells, map-space path and ε of a gait being assembled from its loop."""
 
-    def palm(kk: int) -> float:
-        return float(prob.tables.placement.palm_theta[kk])
+    def __init__(self, prob: GaitProblem) -> None:
+        self.prob, self.n, self.s = prob, prob.theta.size, prob.sign
+        self.phases: list[GaitPhase] = []
+        self.covered: set[int] = set()
+        self.path: list[tuple[int, int, int]] = []
+        self.eps: list[float] = []
 
-    def phase3(k2: int, i2: int, i3: int, j: int) -> None:
-        """Phase 3: right finger and palm hold at ``j``, the left relocates i2 -> i3."""
-        comp = _component(prob.reach["left"][k2], i2)
-        covered.update(_arc_path(i2, i3, n, comp).tolist())
-        e3 = float(prob.eps_rp[k2, j])
-        eps_all.append(e3)
-        path.append((k2, -1, j))
-        path.append((k2, i3, j))
-        phases.append(
-            GaitPhase(
-                3,
-                ("right", "palm"),
-                "left",
-                k2,
-                k2,
-                0.0,
-                {"left": th[i2], "right": th[j], "palm": palm(k2)},
-                {"left": th[i3], "right": th[j], "palm": palm(k2)},
-                e3,
-                "forward",
-            )
-        )
+    def contacts(self, k: int, left: int, right: int) -> dict[str, float]:
+        th = self.prob.theta
+        return {
+            "left": th[left],
+            "right": th[right],
+            "palm": float(self.prob.tables.placement.palm_theta[k]),
+        }
 
-    for k, i, j, t, route, (i3, j3, _) in loop:
-        k2, i2, j2 = (k + t) % n, (i + s * t) % n, (j + s * t) % n
+    def phase1(self, k: int, i: int, j: int, t: int, forward: bool) -> None:
+        """Phase 1: left and right roll the object ``t`` steps from pose ``k``."""
+        n, s = self.n, self.s
         di = np.mod(i + s * np.arange(t + 1), n)
         dj = np.mod(j + s * np.arange(t + 1), n)
-        covered.update(di.tolist())
-        covered.update(dj.tolist())
-        for a in range(t + 1):
-            path.append(((k + a) % n, int(di[a]), int(dj[a])))
-        e1 = float(prob.eps_lr[di, dj].min())
-        eps_all.append(e1)
-        phases.append(
+        self.covered.update(di.tolist())
+        self.covered.update(dj.tolist())
+        self.path += [((k + a) % n, int(di[a]), int(dj[a])) for a in range(t + 1)]
+        e1 = float(self.prob.eps_lr[di, dj].min())
+        self.eps.append(e1)
+        k2 = (k + t) % n
+        self.phases.append(
             GaitPhase(
                 1,
                 ("left", "right"),
                 None,
                 k,
                 k2,
-                -s * step * t,
-                {"left": th[i], "right": th[j], "palm": palm(k)},
-                {"left": th[i2], "right": th[j2], "palm": palm(k2)},
+                -s * (2 * np.pi / n) * t,
+                self.contacts(k, i, j),
+                self.contacts(k2, int(di[-1]), int(dj[-1])),
                 e1,
-                "forward" if route in "AB" else "skip",
+                "forward" if forward else "skip",
             )
         )
+
+    def relocation(self, phase: int, k: int, hold: int, start: int, end: int, fwd: bool) -> None:
+        """Phase 2 (left + palm hold at ``hold``, right moves) or 3 (right + palm, left moves)."""
+        mover = "right" if phase == 2 else "left"
+        comp = component_run(self.prob.reach[mover][k], start)
+        self.covered.update(_arc_path(start, end, self.n, comp).tolist())
+        e = float((self.prob.eps_lp if phase == 2 else self.prob.eps_rp)[k, hold])
+        self.eps.append(e)
+        if phase == 2:
+            self.path += [(k, hold, -1), (k, hold, end)]
+            ends = self.contacts(k, hold, start), self.contacts(k, hold, end)
+            holding = ("left", "palm")
+        else:
+            self.path += [(k, -1, hold), (k, end, hold)]
+            ends = self.contacts(k, start, hold), self.contacts(k, end, hold)
+            holding = ("right", "palm")
+        self.phases.append(
+            GaitPhase(phase, holding, mover, k, k, 0.0, *ends, e, "forward" if fwd else "skip")
+        )
+
+
+def build_gait(prob: GaitProblem, loop) -> Gait:
+    """The :class:`Gait` of a search loop: records ``(k, i, j, t, route, (i3, j3, _))``.
+
+    Route ``A``: phases 1, 2, 3; ``B``: 1, 2 then 1 (transition 4); ``C``: 1, 3 then 1.
+    """
+    rec = _GaitRecord(prob)
+    n, s = rec.n, rec.s
+    for k, i, j, t, route, (i3, j3, _) in loop:
+        k2, i2, j2 = (k + t) % n, (i + s * t) % n, (j + s * t) % n
+        rec.phase1(k, i, j, t, route in "AB")
         if route in "AB":  # phase 2: left + palm hold, right relocates
-            jt = j3
-            comp = _component(prob.reach["right"][k2], j2)
-            covered.update(_arc_path(j2, jt, n, comp).tolist())
-            e2 = float(prob.eps_lp[k2, i2])
-            eps_all.append(e2)
-            path.append((k2, i2, -1))
-            path.append((k2, i2, jt))
-            phases.append(
-                GaitPhase(
-                    2,
-                    ("left", "palm"),
-                    "right",
-                    k2,
-                    k2,
-                    0.0,
-                    {"left": th[i2], "right": th[j2], "palm": palm(k2)},
-                    {"left": th[i2], "right": th[jt], "palm": palm(k2)},
-                    e2,
-                    "forward" if route == "A" else "skip",
-                )
-            )
+            rec.relocation(2, k2, i2, j2, j3, route == "A")
             if route == "A":
-                phase3(k2, i2, i3, jt)
+                rec.relocation(3, k2, j3, i2, i3, True)
         else:  # route C: phase 3 directly
-            phase3(k2, i2, i3, j2)
-    total = sum(rec[3] for rec in loop)
-    turns = total // n
+            rec.relocation(3, k2, j2, i2, i3, True)
+    total = sum(r[3] for r in loop)
     return Gait(
         True,
         "",
-        tuple(phases),
-        rotation_per_cycle=-s * step * total / len(loop),
-        turns=int(turns),
-        min_epsilon=float(min(eps_all)),
-        coverage=_arc_fraction(covered, n),
+        tuple(rec.phases),
+        rotation_per_cycle=-s * (2 * np.pi / n) * total / len(loop),
+        turns=int(total // n),
+        min_epsilon=float(min(rec.eps)),
+        coverage=_arc_fraction(rec.covered, n),
         resolution=n,
-        path=np.array(path, dtype=int),
+        path=np.array(rec.path, dtype=int),
     )
 
 
-__all__ = ["PHASE_NAMES", "Gait", "GaitPhase", "build_gait"]
+__all__ = ["PHASE_NAMES", "Gait", "GaitPhase", "build_gait", "component_run"]
