@@ -6,14 +6,18 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from planner.contact import (
+    ContactType,
+    cone_halfspaces,
     constraint_violations,
     integrate_contact,
     montana_rates,
+    planar_cone_edges,
     planar_rolling_arc_length,
     planar_rolling_rates,
     point_contact_margin,
     r_psi,
     soft_finger_margin,
+    wrench_basis,
 )
 from planner.errors import ContactLost, CoordinatePatchExit, InvalidParameter, SingularConfiguration
 from planner.geometry import surfaces as S
@@ -160,8 +164,12 @@ def test_errors():
             S.sphere(1.0), S.plane(), [1.3, 0], [0, 0], 0, ([0, 0, 0], [0, -1.0, 0]), 1.0, 50
         )
     assert info.value.trajectory.t[-1] < 1.0
-    with pytest.raises(InvalidParameter, match="steps"):
+    with pytest.raises(InvalidParameter, match="steps: expected an integer >= 1, got 0"):
         integrate_contact(S.sphere(1), S.plane(), [0, 0], [0, 0], 0, ([0, 0, 0], [0, 0, 0]), 1.0, 0)
+    with pytest.raises(InvalidParameter, match=r"duration: expected a finite number > 0 \[s\]"):
+        integrate_contact(S.sphere(1), S.plane(), [0, 0], [0, 0], 0, ([0, 0, 0], [0, 0, 0]), -1, 2)
+    with pytest.raises(InvalidParameter, match=r"u1: expected shape \(2,\)"):
+        integrate_contact(S.sphere(1), S.plane(), [0], [0, 0], 0, ([0, 0, 0], [0, 0, 0]), 1.0, 2)
 
 
 def test_planar_reduction():
@@ -181,7 +189,7 @@ def test_planar_reduction():
         "no_spin",
         "planar_rolling",
     }
-    with pytest.raises(InvalidParameter, match="expected one of"):
+    with pytest.raises(InvalidParameter, match=r"constraints: expected names in \[.*got 'rolling'"):
         constraint_violations([0, 0, 0], [0, 0, 0], ["rolling"])
 
 
@@ -191,10 +199,47 @@ def test_friction_margins():
     # pure spin at the limit: m_z = mu rho f_n
     assert soft_finger_margin([0, 0], 0.5 * 0.01 * 2.0, 2.0, 0.5, 0.01) == pytest.approx(0.0)
     assert soft_finger_margin([0.6, 0.0], 0.008, 2.0, 0.5, 0.01) == pytest.approx(0.0)
-    with pytest.raises(InvalidParameter, match="torsion_length"):
+    with pytest.raises(
+        InvalidParameter, match=r"torsion_length: expected a finite number > 0 \[m\]"
+    ):
         soft_finger_margin([0, 0], 0, 1, 0.5, 0.0)
-    with pytest.raises(InvalidParameter, match="mu"):
+    with pytest.raises(InvalidParameter, match="mu: expected a finite number >= 0, got -0.1"):
         point_contact_margin([0, 0], 1, -0.1)
+    with pytest.raises(InvalidParameter, match=r"f_t: expected shape \(..., 2\) \[N\]"):
+        point_contact_margin([0, 0, 0], 1, 0.5)
+
+
+def test_contact_types_and_wrench_bases_of_fig_2_5():
+    n = np.array([0.0, 0.0, 2.0])  # normalized inside
+    b = wrench_basis(ContactType.FRICTIONLESS, n)
+    np.testing.assert_allclose(b[:, 0], [0, 0, 1, 0, 0, 0])
+    b = wrench_basis("point_with_friction", n)
+    assert b.shape == (6, 3) and np.allclose(b[:3], np.eye(3)) and not b[3:].any()
+    b = wrench_basis(ContactType.SOFT_FINGER, [1.0, 0.0, 0.0])
+    assert b.shape == (6, 4)
+    np.testing.assert_allclose(b[:, 3], [0, 0, 0, 1, 0, 0])  # the moment about the normal
+    with pytest.raises(InvalidParameter, match="contact_type: expected one of"):
+        wrench_basis("sticky", n)
+    with pytest.raises(InvalidParameter, match="normal: expected a non-zero direction"):
+        wrench_basis("soft_finger", [0, 0, 0])
+
+
+@pytest.mark.parametrize("mu", [0.0, 0.3, 1.2])
+def test_cone_facets_contain_exactly_the_edges(mu):
+    rng = np.random.default_rng(4)
+    n2 = rng.normal(size=(5, 2))
+    edges = planar_cone_edges(n2, mu)  # (k, 2, 2) exact planar edges: on both facets' planes
+    facets = cone_halfspaces(n2, mu)
+    for i in range(5):
+        vals = facets[i] @ edges[i].T  # (2 facets, 2 edges)
+        assert np.all(vals <= 1e-12) and np.allclose(np.min(np.abs(vals), axis=0), 0, atol=1e-12)
+    n3 = rng.normal(size=(4, 3))
+    f3 = cone_halfspaces(n3, mu, facets=6)
+    unit = n3 / np.linalg.norm(n3, axis=1, keepdims=True)
+    for i in range(4):  # the normal is inside; every inscribed-pyramid facet passes the apex
+        assert np.all(f3[i] @ unit[i] <= -mu * np.cos(np.pi / 6) + 1e-12)
+    with pytest.raises(InvalidParameter, match=r"normals: expected shape \(N, 2 or 3\)"):
+        cone_halfspaces(np.ones((3, 4)), 0.5)
 
 
 def test_rolling_on_a_height_field():

@@ -9,14 +9,16 @@ contact points must coincide and the normals be opposite (``vz = 0`` keeps conta
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
+from planner import checks
 from planner.contact.montana import montana_rates
-from planner.errors import ContactLost, CoordinatePatchExit, InvalidParameter
+from planner.errors import ContactLost, CoordinatePatchExit
 
 Motion = Callable[[float], tuple[np.ndarray, np.ndarray]]
 
@@ -119,71 +121,29 @@ def integrate_contact(
             there is attached to the exception as ``.trajectory``.
         SingularConfiguration: the relative curvature ``K1 + K̃2`` is singular.
     """
-    if not (isinstance(steps, int | np.integer) and steps >= 1):
-        raise InvalidParameter(f"steps must be an integer >= 1, got {steps!r}")
-    if not (math.isfinite(duration) and duration > 0):
-        raise InvalidParameter(f"duration must be a finite number > 0 [s], got {duration!r}")
+    steps = checks.integer("steps", steps, 1)
+    duration = checks.positive("duration", duration, "s")
     if callable(motion):
         motion_fn = motion
     else:
         const = (np.asarray(motion[0], dtype=float), np.asarray(motion[1], dtype=float))
         motion_fn = lambda t: const  # noqa: E731
     dt = duration / steps
-    x = np.concatenate([np.asarray(u1, float), np.asarray(u2, float), [float(psi)]])
-    if x.shape != (5,):
-        raise InvalidParameter(
-            f"u1 and u2 must have 2 entries each, got {np.shape(u1)} and {np.shape(u2)}"
-        )
+    x = np.concatenate(
+        [
+            checks.vector("u1", u1, 2),
+            checks.vector("u2", u2, 2),
+            [checks.in_range("psi", psi, -math.inf, math.inf, "rad", closed=(False, False))],
+        ]
+    )
     rot, pos = initial_pose(surface1, surface2, x[0:2], x[2:4], x[4])
-
-    def deriv(t, x, rot, pos):
-        g1 = surface1.local_geometry(x[0], x[1])
-        g2 = surface2.local_geometry(x[2], x[3])
-        v, w = motion_fn(t)
-        u1d, u2d, psid = montana_rates(
-            g1.curvature_matrix,
-            g1.torsion,
-            g1.metric,
-            g2.curvature_matrix,
-            g2.torsion,
-            g2.metric,
-            x[4],
-            v,
-            w,
-        )
-        frame = rot @ g1.gauss_frame
-        w2 = frame @ np.asarray(w, float)
-        v2 = frame @ np.asarray(v, float)
-        contact = rot @ g1.point + pos
-        return (
-            np.concatenate([u1d, u2d, [psid]]),
-            _hat(w2) @ rot,
-            v2 + np.cross(w2, pos - contact),
-        )
-
+    rates = functools.partial(_rates, surface1, surface2, motion_fn)
     rows = [(0.0, x.copy(), rot.copy(), pos.copy())]
     residuals = [_residual(surface1, surface2, x, rot, pos, length_scale)]
-    t = 0.0
     for i in range(steps):
-        k1 = deriv(t, x, rot, pos)
-        k2 = deriv(t + dt / 2, *_advance(x, rot, pos, k1, dt / 2))
-        k3 = deriv(t + dt / 2, *_advance(x, rot, pos, k2, dt / 2))
-        k4 = deriv(t + dt, *_advance(x, rot, pos, k3, dt))
-        x = x + dt / 6 * (k1[0] + 2 * k2[0] + 2 * k3[0] + k4[0])
-        rot = rot + dt / 6 * (k1[1] + 2 * k2[1] + 2 * k3[1] + k4[1])
-        uq, _, vq = np.linalg.svd(rot)
-        rot = uq @ vq
-        pos = pos + dt / 6 * (k1[2] + 2 * k2[2] + 2 * k3[2] + k4[2])
+        x, rot, pos = _rk4_step(rates, i * dt, dt, x, rot, pos)
         t = (i + 1) * dt
-        for body, surf, uv in ((1, surface1, x[0:2]), (2, surface2, x[2:4])):
-            if not surf.contains(*uv):
-                exc = CoordinatePatchExit(
-                    f"at t = {t:.6g} s the contact point on body {body} left its chart: "
-                    f"u{body} = {uv.tolist()} is outside U = {surf.domain.tolist()}; "
-                    f"shorten the motion or re-chart the surface"
-                )
-                exc.trajectory = _pack(rows, residuals, surface1, surface2)
-                raise exc
+        _check_charts(t, x, surface1, surface2, rows, residuals)
         rows.append((t, x.copy(), rot.copy(), pos.copy()))
         residuals.append(_residual(surface1, surface2, x, rot, pos, length_scale))
         if residuals[-1] > tolerance:
@@ -192,6 +152,59 @@ def integrate_contact(
                 f"> tolerance {tolerance:g} m; reduce the step (dt = {dt:g} s)"
             )
     return _pack(rows, residuals, surface1, surface2)
+
+
+def _rates(surface1, surface2, motion_fn, t, x, rot, pos):
+    """Time derivatives of ``(u1, u2, psi)`` (eq. A.12), of ``rot`` and of ``pos``."""
+    g1 = surface1.local_geometry(x[0], x[1])
+    g2 = surface2.local_geometry(x[2], x[3])
+    v, w = motion_fn(t)
+    u1d, u2d, psid = montana_rates(
+        g1.curvature_matrix,
+        g1.torsion,
+        g1.metric,
+        g2.curvature_matrix,
+        g2.torsion,
+        g2.metric,
+        x[4],
+        v,
+        w,
+    )
+    frame = rot @ g1.gauss_frame
+    w2 = frame @ np.asarray(w, float)
+    v2 = frame @ np.asarray(v, float)
+    contact = rot @ g1.point + pos
+    return (
+        np.concatenate([u1d, u2d, [psid]]),
+        _hat(w2) @ rot,
+        v2 + np.cross(w2, pos - contact),
+    )
+
+
+def _rk4_step(rates, t, dt, x, rot, pos):
+    """One RK4 step of ``(x, rot, pos)``; ``rot`` is re-orthonormalized (SVD)."""
+    k1 = rates(t, x, rot, pos)
+    k2 = rates(t + dt / 2, *_advance(x, rot, pos, k1, dt / 2))
+    k3 = rates(t + dt / 2, *_advance(x, rot, pos, k2, dt / 2))
+    k4 = rates(t + dt, *_advance(x, rot, pos, k3, dt))
+    x = x + dt / 6 * (k1[0] + 2 * k2[0] + 2 * k3[0] + k4[0])
+    rot = rot + dt / 6 * (k1[1] + 2 * k2[1] + 2 * k3[1] + k4[1])
+    uq, _, vq = np.linalg.svd(rot)
+    pos = pos + dt / 6 * (k1[2] + 2 * k2[2] + 2 * k3[2] + k4[2])
+    return x, uq @ vq, pos
+
+
+def _check_charts(t, x, surface1, surface2, rows, residuals) -> None:
+    """Raise :class:`CoordinatePatchExit` (with the trajectory so far) off a chart."""
+    for body, surf, uv in ((1, surface1, x[0:2]), (2, surface2, x[2:4])):
+        if not surf.contains(*uv):
+            exc = CoordinatePatchExit(
+                f"at t = {t:.6g} s the contact point on body {body} left its chart: "
+                f"u{body} = {uv.tolist()} is outside U = {surf.domain.tolist()}; "
+                f"shorten the motion or re-chart the surface"
+            )
+            exc.trajectory = _pack(rows, residuals, surface1, surface2)
+            raise exc
 
 
 def _advance(x, rot, pos, k, h):

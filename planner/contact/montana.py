@@ -35,13 +35,17 @@ VZ_TOLERANCE = 1e-9  # |vz| allowed relative to max(1, |vx|, |vy|) [m/s]
 
 
 def _mat(name: str, value, shape: tuple[int, ...]) -> list[float]:
-    """Validate a small matrix and return its entries (row-major) as Python floats."""
+    """Validate a small matrix and return its entries (row-major) as Python floats.
+
+    Not :mod:`planner.checks`: this runs at every integrator stage (a plain-float check is
+    ~10x cheaper than numpy's); the messages follow its format.
+    """
     a = np.asarray(value, dtype=float)
     if a.shape != shape and not (shape == (1, 2) and a.shape == (2,)):
-        raise InvalidParameter(f"{name} must have shape {shape}, got {a.shape}")
+        raise InvalidParameter(f"{name}: expected shape {shape}, got shape {a.shape}")
     vals = a.ravel().tolist()
     if not math.isfinite(sum(vals)):
-        raise InvalidParameter(f"{name} must be finite, got {vals}")
+        raise InvalidParameter(f"{name}: expected finite values, got {vals}")
     return vals
 
 
@@ -89,7 +93,7 @@ def montana_rates(
     wx, wy, wz = _mat("omega", omega, (3,))
     psi = float(psi)
     if not math.isfinite(psi):
-        raise InvalidParameter(f"psi must be finite [rad], got {psi!r}")
+        raise InvalidParameter(f"psi: expected a finite number [rad], got {psi!r}")
     if abs(vz) > VZ_TOLERANCE * max(1.0, abs(vx), abs(vy)):
         raise ContactLost(
             f"vz = {vz!r} m/s: the relative velocity must keep contact "

@@ -51,7 +51,7 @@ def constraint_violations(
     for name in constraints:
         if name not in TABLE_2_1:
             raise InvalidParameter(
-                f"unknown contact constraint {name!r}; expected one of {sorted(TABLE_2_1)}"
+                f"constraints: expected names in {sorted(TABLE_2_1)}, got {name!r}"
             )
         worst = max(abs(twist[_INDEX[c]]) for c in TABLE_2_1[name])
         if worst > tol:
