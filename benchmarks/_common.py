@@ -2,7 +2,9 @@
 
 Every ``bench_*.py`` script prints a table on stdout and writes
 ``benchmarks/results/<name>.csv`` and ``<name>.md`` (override with ``--out DIR``), stamped with
-package versions, CPU and date. Benchmarks measure; they never assert on time.
+hapex's git commit, the versions of hapex's dependencies and of every QP backend, the CPU,
+the load average and the date (:func:`environment`). Benchmarks measure; they never assert on
+time. The load average says whether the machine was shared while measuring.
 """
 
 from __future__ import annotations
@@ -10,14 +12,23 @@ from __future__ import annotations
 import argparse
 import csv
 import math
+import os
 import platform
 import statistics
+import subprocess
+import sys
 import time
 from collections.abc import Callable, Sequence
 from datetime import datetime, timezone
 from pathlib import Path
 
-from planner.results import package_versions
+#: The checkout these benchmarks belong to: measured code and stamped commit must match, so
+#: its ``planner`` and ``robots`` shadow any other installed copy.
+ROOT = Path(__file__).resolve().parents[1]
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+from planner.results import package_versions  # noqa: E402
 
 RESULTS = Path(__file__).resolve().parent / "results"
 
@@ -33,18 +44,74 @@ def cpu_name() -> str:
     return platform.processor() or platform.machine()
 
 
-def environment() -> dict[str, str]:
-    """Versions, CPU, core count and UTC date, for report headers."""
-    import os
+#: Packages whose versions every report carries besides hapex's own dependency list
+#: (the QP backends and the solvers behind the numbers).
+SOLVER_PACKAGES = ("daqp", "proxsuite", "clarabel", "osqp", "qpsolvers", "casadi", "pin")
 
-    env = {"date": datetime.now(timezone.utc).isoformat(timespec="seconds"),
-           "cpu": cpu_name(), "cores": str(os.cpu_count()), "platform": platform.platform()}
+
+def git_commit() -> str:
+    """hapex's git commit (short hash, ``+dirty`` with uncommitted changes), or ``unknown``."""
+    root = Path(__file__).resolve().parents[1]
+    try:
+        head = subprocess.run(
+            ["git", "rev-parse", "--short=12", "HEAD"],
+            cwd=root,
+            capture_output=True,
+            text=True,
+            timeout=10,
+            check=True,
+        ).stdout
+        dirty = subprocess.run(
+            ["git", "status", "--porcelain", "--untracked-files=no"],
+            cwd=root,
+            capture_output=True,
+            text=True,
+            timeout=10,
+        ).stdout
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+    return head.strip() + ("+dirty" if dirty.strip() else "")
+
+
+def solver_versions() -> dict[str, str]:
+    """Versions of :data:`SOLVER_PACKAGES` (``"not installed"`` when missing)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    out = {}
+    for name in SOLVER_PACKAGES:
+        try:
+            out[name] = version(name)
+        except PackageNotFoundError:
+            out[name] = "not installed"
+    return out
+
+
+def load_average() -> str:
+    """The 1, 5 and 15 min load averages (``os.getloadavg``), or ``unknown``."""
+    try:
+        return " ".join(f"{x:.2f}" for x in os.getloadavg())
+    except OSError:
+        return "unknown"
+
+
+def environment() -> dict[str, str]:
+    """Report header: date, git commit, CPU, cores, load average, platform and versions."""
+    env = {
+        "date": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+        "hapex_commit": git_commit(),
+        "cpu": cpu_name(),
+        "cores": str(os.cpu_count()),
+        "load_average_1_5_15min": load_average(),
+        "platform": platform.platform(),
+    }
     env.update(package_versions())
+    env.update(solver_versions())
     return env
 
 
-def time_call(fn: Callable[[], object], *, repeat: int = 7, min_time: float = 0.05
-              ) -> dict[str, float]:
+def time_call(
+    fn: Callable[[], object], *, repeat: int = 7, min_time: float = 0.05
+) -> dict[str, float]:
     """Time ``fn()``: calls per batch chosen so a batch lasts ``min_time`` [s].
 
     Returns:
@@ -101,8 +168,15 @@ def markdown_table(rows: Sequence[dict], columns: Sequence[str]) -> str:
     return "\n".join([head, sep, *body])
 
 
-def write_report(name: str, rows: Sequence[dict], *, title: str, out: Path = RESULTS,
-                 notes: Sequence[str] = (), columns: Sequence[str] | None = None) -> Path:
+def write_report(
+    name: str,
+    rows: Sequence[dict],
+    *,
+    title: str,
+    out: Path = RESULTS,
+    notes: Sequence[str] = (),
+    columns: Sequence[str] | None = None,
+) -> Path:
     """Print the table and write ``<out>/<name>.csv`` and ``<out>/<name>.md``.
 
     Returns:
@@ -122,8 +196,16 @@ def write_report(name: str, rows: Sequence[dict], *, title: str, out: Path = RES
         for r in rows:
             w.writerow(r)
     env = environment()
-    md = [f"# {title}", "", "| | |", "|---|---|", *(f"| {k} | {v} |" for k, v in env.items()),
-          "", table, ""]
+    md = [
+        f"# {title}",
+        "",
+        "| | |",
+        "|---|---|",
+        *(f"| {k} | {v} |" for k, v in env.items()),
+        "",
+        table,
+        "",
+    ]
     md += [f"- {n}" for n in notes]
     path = out / f"{name}.md"
     path.write_text("\n".join(md) + "\n")
@@ -131,5 +213,16 @@ def write_report(name: str, rows: Sequence[dict], *, title: str, out: Path = RES
     return path
 
 
-__all__ = ["arg_parser", "cpu_name", "environment", "markdown_table", "shifted_geometric_mean",
-           "time_call", "write_report"]
+__all__ = [
+    "SOLVER_PACKAGES",
+    "arg_parser",
+    "cpu_name",
+    "environment",
+    "git_commit",
+    "load_average",
+    "markdown_table",
+    "shifted_geometric_mean",
+    "solver_versions",
+    "time_call",
+    "write_report",
+]

@@ -1,4 +1,4 @@
-"""Benchmark of planner.grasp and the grasp-force QP (issue #5), qpbenchmark style.
+"""Benchmark of planner.grasp and the grasp-force QP (issues #5, #10), qpbenchmark style.
 
 Instances x settings measured side by side in one run:
 
@@ -6,11 +6,13 @@ Instances x settings measured side by side in one run:
   public ``grasp_map(..., epsilon=False)``, and with ε; versus the per-cell LP baseline
   (Leveroni's "numerical solution"; a subset is timed and extrapolated);
 * ``force_closure`` / ``epsilon_quality`` per call for 2, 3, 4 planar contacts;
-* the grasp-force QP per solve across backends, native in-place re-solve (warm) vs a fresh
-  problem through qpsolvers (cold);
+* the grasp-force QP per solve across backends: in place (the backend's own update API,
+  warm), rebuilt per solve, and cold (everything built per solve), beside the solver alone
+  (``daqp.solve``) and ``qpsolvers.solve_qp``;
 * gait search (``plan_gait``) on >= 20 objects: success and time.
 
-Run: ``python benchmarks/bench_grasp.py [--quick] [--out DIR]``.
+Run: ``python benchmarks/bench_grasp.py [--quick] [--out DIR]``. Times are medians of
+wall-clock per call; the report's load average says whether the machine was shared.
 """
 
 from __future__ import annotations
@@ -115,47 +117,114 @@ def bench_calls(quick: bool) -> list[dict]:
     return rows
 
 
-def bench_qp(quick: bool) -> list[dict]:
-    from planner.control import GraspForceQP, available_solvers
+def _qp_row(setting: str, times: list, errs: list, ok: int, target: float | None = None):
+    return {
+        "benchmark": "grasp-force QP per solve (3 planar contacts, 6 variables)",
+        "setting": setting,
+        "time_ms": statistics.median(times) * 1e3,
+        "target_ms": target if target is not None else "",
+        "success": f"{ok}/{len(times)}",
+        "accuracy": f"max |f - f_daqp| = {max(errs) if errs else float('nan'):.1e} N",
+    }
 
-    solvers = list(available_solvers())
-    try:
-        import quadprog  # noqa: F401
-    except ImportError:
-        pass
-    t = np.array([0.0, 2.3, 4.1])
-    p, nrm = circle_contacts(t)
-    rng = np.random.default_rng(1)
-    wrenches = rng.normal(scale=[1.0, 1.0, 0.02], size=(50, 3))
-    ref = GraspForceQP(p, nrm, 0.8, solver="daqp")
+
+def _time_modes(p, nrm, wrenches, ref, solver: str, rounds: int) -> list[dict]:
+    """Three honestly labelled modes of one backend (see :func:`bench_qp`)."""
+    from planner.control import GraspForceQP
+
+    ws_qp = GraspForceQP(p, nrm, 0.8, solver=solver, native=True)
+    rebuild_qp = GraspForceQP(p, nrm, 0.8, solver=solver, native=False)
+    modes = {
+        "in place (QPWorkspace updated, warm)": lambda w: ws_qp.solve(w, 1.0),
+        "rebuilt per solve (backend set up anew)": lambda w: rebuild_qp.solve(w, 1.0),
+        "cold (GraspForceQP built + solved)": lambda w: GraspForceQP(
+            p, nrm, 0.8, solver=solver
+        ).solve(w, 1.0),
+    }
     rows = []
-    for s in solvers:
-        for mode in ("warm", "cold"):
-            times, errs, ok = [], [], 0
-            qp = GraspForceQP(p, nrm, 0.8, solver=s, native=True) if mode == "warm" else None
-            for w in wrenches[: 10 if quick else 50]:
+    for label, fn in modes.items():
+        times, errs, ok = [], [], 0
+        for _ in range(rounds):
+            for w, f_ref in zip(wrenches, ref, strict=True):
                 t0 = time.perf_counter()
                 try:
-                    if mode == "cold":
-                        d = GraspForceQP(p, nrm, 0.8, solver=s, native=False).solve(w, 1.0)
-                    else:
-                        d = qp.solve(w, 1.0)
+                    d = fn(w)
                 except Exception:  # noqa: BLE001 - a failed solve counts against success
                     times.append(time.perf_counter() - t0)
                     continue
                 times.append(time.perf_counter() - t0)
                 ok += 1
-                errs.append(float(np.max(np.abs(d.forces - ref.solve(w, 1.0).forces))))
-            rows.append(
-                {
-                    "benchmark": "grasp-force QP per solve (3 contacts)",
-                    "setting": f"{s} {mode}"
-                    + (" (native in place)" if mode == "warm" and s in ("osqp", "daqp") else ""),
-                    "time_ms": statistics.median(times) * 1e3,
-                    "success": f"{ok}/{len(times)}",
-                    "accuracy": f"max |f - f_daqp| = {max(errs) if errs else float('nan'):.1e} N",
-                }
-            )
+                errs.append(float(np.max(np.abs(d.forces - f_ref))))
+        target = 0.02 if (solver == "daqp" and label.startswith("in place")) else None
+        rows.append(_qp_row(f"{solver}: {label}", times, errs, ok, target))
+    return rows
+
+
+def _reference_rows(p, nrm, wrenches) -> list[dict]:
+    """The solver alone (daqp.solve on prebuilt dense data) and through qpsolvers."""
+    import daqp
+    import qpsolvers
+
+    from planner.control import GraspForceQP
+
+    qp = GraspForceQP(p, nrm, 0.8, solver="daqp")
+    A = np.vstack([qp.G, qp.C, qp.N])
+    nc = qp.C.shape[0]
+    sense = np.zeros(A.shape[0], dtype=np.int32)
+    sense[:3] = 5
+    H, f = qp.H, np.zeros(qp.H.shape[0])
+    G_in, h_in = np.vstack([qp.C, -qp.N]), np.r_[np.zeros(nc), -np.ones(3)]
+
+    bounds = {
+        id(w): (np.r_[w, np.zeros(nc), np.full(3, 1e30)], np.r_[w, np.full(nc, -1e30), np.ones(3)])
+        for w in wrenches
+    }
+
+    def raw(w):
+        up, lo = bounds[id(w)]
+        return daqp.solve(H, f, A, up, lo, sense)
+
+    rows = []
+    for label, fn in (
+        ("daqp.solve alone (all data prebuilt)", raw),
+        (
+            "qpsolvers.solve_qp(..., solver='daqp')",
+            lambda w: qpsolvers.solve_qp(H, f, G_in, h_in, qp.G, w, solver="daqp"),
+        ),
+    ):
+        tc = [time_call(lambda w=w, fn=fn: fn(w), repeat=5, min_time=0.02) for w in wrenches[:10]]
+        rows.append(
+            {
+                "benchmark": "grasp-force QP per solve (3 planar contacts, 6 variables)",
+                "setting": f"reference: {label}",
+                "time_ms": statistics.median(t["median_s"] for t in tc) * 1e3,
+            }
+        )
+    return rows
+
+
+def bench_qp(quick: bool) -> list[dict]:
+    """Per-solve time of the grasp-force QP, three modes per backend, labelled as measured.
+
+    * in place: one :class:`~planner.control.GraspForceQP` whose
+      :class:`~planner.optim.QPWorkspace` is updated (``b = w``, ``h``) and re-solved;
+      DAQP, ProxQP, OSQP and Clarabel through their own update APIs, warm-started;
+    * rebuilt per solve: the backend is set up on the full problem at every solve (the grasp
+      matrix and cones are kept);
+    * cold: the whole ``GraspForceQP`` (grasp matrix, cones, backend) built for every solve.
+    """
+    from planner.control import GraspForceQP
+    from planner.optim import available_solvers
+
+    t = np.array([0.0, 2.3, 4.1])
+    p, nrm = circle_contacts(t)
+    rng = np.random.default_rng(1)
+    wrenches = rng.normal(scale=[1.0, 1.0, 0.02], size=(10 if quick else 50, 3))
+    ref_qp = GraspForceQP(p, nrm, 0.8, solver="daqp")
+    ref = [ref_qp.solve(w, 1.0).forces for w in wrenches]
+    rows = _reference_rows(p, nrm, wrenches)
+    for s in available_solvers():
+        rows += _time_modes(p, nrm, wrenches, ref, s, 1 if quick else 5)
     return rows
 
 
@@ -225,11 +294,23 @@ def bench_gait(quick: bool) -> tuple[list[dict], list[str]]:
     return rows, notes
 
 
+def qp_note(rows: list[dict]) -> str:
+    """GraspForceQP.solve (daqp, in place) against the solver alone, for the report."""
+    t = {r["setting"]: r["time_ms"] * 1e3 for r in rows if "grasp-force QP" in r["benchmark"]}
+    ours = t.get("daqp: in place (QPWorkspace updated, warm)", float("nan"))
+    alone = next((v for k, v in t.items() if k.startswith("reference: daqp.solve")), float("nan"))
+    return (
+        f"grasp-force QP: GraspForceQP.solve (daqp, in place) median {ours:.1f} us vs "
+        f"daqp.solve alone {alone:.1f} us ({ours / alone:.2f}x); target <= 20 us"
+    )
+
+
 def main() -> None:
     args = arg_parser(__doc__.splitlines()[0]).parse_args()
     rows = bench_maps(args.quick) + bench_calls(args.quick) + bench_qp(args.quick)
     grows, notes = bench_gait(args.quick)
     rows += grows
+    notes.append(qp_note(rows))
     write_report(
         "bench_grasp",
         rows,
