@@ -68,3 +68,31 @@ def test_infeasible_and_bad_inputs():
         match=r"objective: expected one of \[.min_norm., .max_margin.\], got .fast.",
     ):
         GraspForceQP(p, n, 0.5, objective="fast")
+
+
+def test_infeasible_grasp_force_problem_replays(tmp_path):
+    from planner.optim import QPProblem, replay
+
+    p = np.array([[-0.05, 0.0], [0.05, 0.0]])
+    n = np.array([[1.0, 0.0], [-1.0, 0.0]])
+    with pytest.raises(InfeasibleProblem) as err:
+        GraspForceQP(p, n, 0.0, solver="daqp").solve([0.0, 5.0, 0.0], squeeze=1.0)
+    path = err.value.save(tmp_path / "grasp_force")
+    pb = QPProblem.load(path)
+    assert pb.A.shape == (3, 4) and np.allclose(pb.b, [0.0, 5.0, 0.0])
+    assert np.allclose(pb.h[-2:], [-1.0, -1.0])  # the squeeze rows
+    with pytest.raises(InfeasibleProblem):
+        replay(path)
+
+
+@pytest.mark.parametrize("solver", available_solvers())
+def test_in_place_solves_track_changing_wrenches_and_squeezes(solver):
+    p, n = three_contacts()
+    qp = GraspForceQP(p, n, 0.8, solver=solver)
+    rng = np.random.default_rng(2)
+    for _ in range(4):
+        w, sq = rng.normal(scale=[1.0, 1.0, 0.02]), rng.uniform(0.5, 2.0)
+        got = qp.solve(w, sq)
+        ref = GraspForceQP(p, n, 0.8, solver=solver, native=False).solve(w, sq)
+        assert np.allclose(got.forces, ref.forces, atol=1e-5)
+        assert np.all(got.normal >= sq - 1e-6)
