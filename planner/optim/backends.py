@@ -50,7 +50,18 @@ def _rows(pb: QPProblem) -> np.ndarray:
     return np.vstack(mats) if mats else np.zeros((0, pb.n))
 
 
-class _Daqp:
+class _Backend:
+    """What every adapter offers besides ``update`` and ``solve``."""
+
+    def solve(self):  # pragma: no cover - every adapter overrides it
+        raise NotImplementedError
+
+    def solve_x(self) -> np.ndarray | None:
+        """The primal solution only (``None``: no solution); adapters may skip multipliers."""
+        return self.solve()[0]
+
+
+class _Daqp(_Backend):
     """DAQP through ``daqp.Model``: bounds ``[box; A; G]``, equality rows with sense 5."""
 
     def __init__(self, pb: QPProblem, settings: dict, initvals) -> None:
@@ -100,6 +111,12 @@ class _Daqp:
             self._set(box, b, h)
             self._model.update(bupper=self._up, blower=self._lo)
 
+    def solve_x(self) -> np.ndarray | None:
+        if not self._setup_ok:
+            return None
+        x, _, flag, _ = self._model.solve()
+        return x if flag >= 1 else None
+
     def solve(self):
         if not self._setup_ok:
             return None, None, None, None
@@ -113,7 +130,7 @@ class _Daqp:
         return x, y, z, (lam[:nb] if nb else None)
 
 
-class _Proxqp:
+class _Proxqp(_Backend):
     """ProxQP's dense backend: ``A x = b`` and ``l <= C x <= u`` with ``C = [G; I]``.
 
     Bounds are plain rows of ``C`` (one code path for the multipliers).
@@ -182,7 +199,7 @@ class _Proxqp:
         )
 
 
-class _Osqp:
+class _Osqp(_Backend):
     """OSQP: rows ``[A; G; I]`` with ``l <= rows x <= u`` (I only when there are bounds)."""
 
     def __init__(self, pb: QPProblem, settings: dict, initvals) -> None:
@@ -244,7 +261,7 @@ class _Osqp:
         )
 
 
-class _Clarabel:
+class _Clarabel(_Backend):
     """Clarabel: ``[A; G; I_ub; -I_lb] x + s = [b; h; ub; -lb]``, ``s`` in zero/nonneg cones."""
 
     def __init__(self, pb: QPProblem, settings: dict, initvals) -> None:
@@ -314,7 +331,7 @@ class _Clarabel:
         return x, zc[:n_eq] if n_eq else None, zc[n_eq : n_eq + n_in] if n_in else None, z_box
 
 
-class _Rebuild:
+class _Rebuild(_Backend):
     """Any other qpsolvers backend: the problem is handed to ``qpsolvers`` at every solve."""
 
     def __init__(self, pb: QPProblem, settings: dict, initvals, name: str) -> None:

@@ -142,7 +142,7 @@ class QPWorkspace:
         Raises:
             InfeasibleProblem: the backend reports no solution.
         """
-        x = self._backend.solve()[0]
+        x = self._backend.solve_x()
         if x is None:
             raise self._failure("found no solution")
         return x
