@@ -175,13 +175,14 @@ def _reference_rows(p, nrm, wrenches) -> list[dict]:
     H, f = qp.H, np.zeros(qp.H.shape[0])
     G_in, h_in = np.vstack([qp.C, -qp.N]), np.r_[np.zeros(nc), -np.ones(3)]
 
-    bounds = {
-        id(w): (np.r_[w, np.zeros(nc), np.full(3, 1e30)], np.r_[w, np.full(nc, -1e30), np.ones(3)])
+    wrenches = list(wrenches[:10])
+    bounds = [
+        (np.r_[w, np.zeros(nc), np.full(3, 1e30)], np.r_[w, np.full(nc, -1e30), np.ones(3)])
         for w in wrenches
-    }
+    ]
 
-    def raw(w):
-        up, lo = bounds[id(w)]
+    def raw(i):
+        up, lo = bounds[i]
         return daqp.solve(H, f, A, up, lo, sense)
 
     rows = []
@@ -189,10 +190,10 @@ def _reference_rows(p, nrm, wrenches) -> list[dict]:
         ("daqp.solve alone (all data prebuilt)", raw),
         (
             "qpsolvers.solve_qp(..., solver='daqp')",
-            lambda w: qpsolvers.solve_qp(H, f, G_in, h_in, qp.G, w, solver="daqp"),
+            lambda i: qpsolvers.solve_qp(H, f, G_in, h_in, qp.G, wrenches[i], solver="daqp"),
         ),
     ):
-        tc = [time_call(lambda w=w, fn=fn: fn(w), repeat=5, min_time=0.02) for w in wrenches[:10]]
+        tc = [time_call(lambda i=i, fn=fn: fn(i), repeat=5, min_time=0.02) for i in range(10)]
         rows.append(
             {
                 "benchmark": "grasp-force QP per solve (3 planar contacts, 6 variables)",
