@@ -9,12 +9,13 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from planner import checks
 from planner.detection import path as P
-from planner.detection._validate import as_points, positive
-from planner.detection.algorithms import _prepare, default_scale, detect_features
-from planner.detection.types import CurvatureFeature
+from planner.detection.algorithms import check_sampling, detect_features
+from planner.detection.signals import default_scale, prepare_path
 from planner.errors import InvalidParameter
 from planner.geometry.envelope import offset_envelope
+from planner.geometry.features import CurvatureFeature
 
 
 def detect_multiscale(
@@ -49,17 +50,19 @@ def detect_multiscale(
     Raises:
         InvalidParameter: a radius below ``tip_radius`` or not positive.
     """
-    r = positive("tip_radius", tip_radius)
-    c = as_points("centers", centers)
-    rs = [positive("radii", ri) for ri in radii]
+    r = checks.positive("tip_radius", tip_radius, "m")
+    c = checks.points("centers", centers, min_count=8)
+    check_sampling(c, r)
+    checks.choice("material_side", material_side, ("auto", "right", "left"))
+    rs = [checks.positive("radii", ri, "m") for ri in radii]
     for ri in rs:
         if ri < r * (1 - 1e-12):
             raise InvalidParameter(
                 f"radii: {ri!r} is smaller than tip_radius {r!r}; "
                 f"only r_i >= r_f can be simulated (§3.2.2)"
             )
-    scale = positive("smoothing_scale", smoothing_scale or 1.5 * default_scale(c, r, 3))
-    prep = _prepare(c, r, scale, material_side, None, None)
+    scale = checks.positive("smoothing_scale", smoothing_scale or 1.5 * default_scale(c, r, 3), "m")
+    prep = prepare_path(c, r, scale, material_side)
     o = prep.orientation
     kt = -o * P.signed_curvature(prep.dc, prep.ddc)
     keep = kt < 1.0 / r

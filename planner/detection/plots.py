@@ -1,5 +1,5 @@
-"""Figures of the detection kinds (thesis Figs. 3.12, B.5-B.6): the trace with the features
-marked, and the curvature signals with their thresholds."""
+"""Figures of feature detection (thesis Figs. 3.12, B.5-B.6): the trace with the features
+marked, the curvature signals with their thresholds, and the multiscale features."""
 
 from __future__ import annotations
 
@@ -7,7 +7,8 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from planner.detection.types import CurvatureFeature, CurvatureSignal
+from planner.detection.types import CurvatureSignal
+from planner.geometry.features import CurvatureFeature
 
 _COLORS = {1: "tab:orange", 2: "tab:green", 3: "tab:red", 4: "tab:purple"}
 
@@ -85,6 +86,8 @@ def trace_figure(
         for f in truth or []:
             p = np.asarray(f.position) * mm
             ax.plot(p[0], p[1], "o", ms=4, color="k")
+    if truth:
+        axes[0].plot([], [], "o", ms=4, color="k", label="true feature (observable)")
         ax.set_aspect("equal", adjustable="datalim")
         ax.set_xlabel("x [mm]")
         ax.set_ylabel("y [mm]")
@@ -151,4 +154,41 @@ def signal_figure(
     return fig
 
 
-__all__ = ["signal_figure", "trace_figure"]
+def multiscale_figure(
+    features: Mapping[float, Sequence[CurvatureFeature]],
+    macros: Mapping[float, Sequence[str]],
+    title: str = "Multiscale features",
+):
+    """The features seen by each fingertip radius along the path (§3.2.2): one row per
+    radius, convex regions red, concave blue, peaks marked, macro kinds written beside.
+
+    Args:
+        features: radius [m] -> its features (arclengths along the real centre path [m]).
+        macros: radius [m] -> the kinds of its macro features.
+    """
+    from matplotlib.figure import Figure
+
+    radii = sorted(features)
+    fig = Figure(figsize=(9, 1.0 + 0.7 * len(radii)))
+    ax = fig.add_subplot(1, 1, 1)
+    for row, r in enumerate(radii):
+        for f in features[r]:
+            color = "tab:red" if f.sign > 0 else "tab:blue"
+            a, b = f.start * 1e3, max(f.end * 1e3, f.start * 1e3 + 0.1)
+            ax.fill_between([a, b], row - 0.3, row + 0.3, color=color, alpha=0.35, lw=0)
+            ax.plot(f.peak * 1e3, row, "^" if f.sign > 0 else "v", color=color, ms=7)
+        kinds = ", ".join(macros.get(r, [])) or "no feature"
+        ax.annotate(kinds, (1.01, row), xycoords=("axes fraction", "data"), va="center", fontsize=8)
+    ax.set_yticks(range(len(radii)), [f"r = {r * 1e3:g} mm" for r in radii])
+    ax.set_ylim(-0.6, len(radii) - 0.4)
+    ax.set_xlabel("arclength along the fingertip-centre path [mm]")
+    ax.plot([], [], "^", color="tab:red", label="convex (+)")
+    ax.plot([], [], "v", color="tab:blue", label="concave (-)")
+    ax.legend(fontsize=7, loc="upper left")
+    ax.grid(True, axis="x", lw=0.3)
+    ax.set_title(title, fontsize=10)
+    fig.subplots_adjust(left=0.12, right=0.8, bottom=0.6 / fig.get_figheight() + 0.05, top=0.85)
+    return fig
+
+
+__all__ = ["multiscale_figure", "signal_figure", "trace_figure"]
