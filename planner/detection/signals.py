@@ -39,8 +39,10 @@ from planner.errors import InvalidParameter
 #: default Gaussian smoothing scale as a fraction of the fingertip radius, per algorithm
 SCALE_FRACTION = {1: 1 / 6, 2: 1 / 10, 3: 1 / 10, 4: 1 / 10}
 _SAMPLES_PER_SCALE = 4.0
-#: turning [rad] beyond 1/r_f on the wrong side that decides the material side of a path
-SIDE_EVIDENCE = 0.05
+#: turning [rad] beyond 1/r_f that counts as evidence of the material side of a path
+SIDE_EVIDENCE = 0.003
+#: the material side is the one with this many times less excess turning than the other
+SIDE_RATIO = 3.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -124,16 +126,19 @@ def infer_material_side(dc: np.ndarray, ddc: np.ndarray, tip_radius: float) -> i
 
     Returns:
         +1 (material on the right of travel), -1 (left), or ``None`` when the path does not
-        tell (no excess of at least :data:`SIDE_EVIDENCE` rad on either side, or both).
+        tell: less than :data:`SIDE_EVIDENCE` rad of excess on both sides, or excesses
+        within a factor :data:`SIDE_RATIO`. At the thesis' noise (0.1 mm) that happens
+        for features whose interference kinks are shallow (a wire well under 1 mm, a groove
+        the fingertip bridges): pass normals or contacts, or ``material_side``, for those.
     """
     k_ccw = P.signed_curvature(dc, ddc)
     ds = np.hypot(dc[:, 0], dc[:, 1])
     thr = 1.0 / tip_radius
     if_right = float(np.sum(np.maximum(-k_ccw - thr, 0.0) * ds))  # convex if material right
     if_left = float(np.sum(np.maximum(k_ccw - thr, 0.0) * ds))
-    if max(if_right, if_left) < SIDE_EVIDENCE or min(if_right, if_left) > 0.5 * max(
-        if_right, if_left
-    ):
+    if max(if_right, if_left) < SIDE_EVIDENCE:
+        return None
+    if SIDE_RATIO * min(if_right, if_left) > max(if_right, if_left):
         return None
     return 1 if if_right < if_left else -1
 
