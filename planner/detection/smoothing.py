@@ -21,8 +21,7 @@ def _check_window(window, method: str) -> int:
     """``window`` [samples] of the ``method`` filter as an int >= 1."""
     if isinstance(window, float) or not checks.integer("window", window, minimum=1):
         raise InvalidParameter(
-            f"window: expected an integer >= 1 [samples] for the {method!r} filter, "
-            f"got {window!r}"
+            f"window: expected an integer >= 1 [samples] for the {method!r} filter, got {window!r}"
         )
     return int(window)
 

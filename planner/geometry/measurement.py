@@ -269,9 +269,7 @@ def simulate_trace(
     speed = checks.positive("speed", DEFAULT_SPEED if speed is None else speed, "m/s")
     noisy = center_sigma > 0 or contact_sigma > 0 or normal_sigma > 0
     if noisy and rng is None:
-        raise InvalidParameter(
-            "rng: expected a numpy Generator when noise is requested, got None"
-        )
+        raise InvalidParameter("rng: expected a numpy Generator when noise is requested, got None")
     h = min(spacing / 4, r / 50)
     traced = traced_curve(profile, r, spacing=h)
     s_all = traced.s

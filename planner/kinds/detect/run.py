@@ -249,8 +249,7 @@ def run(config, ctx) -> RunResult:
         out["events"].append(
             Event(
                 "tip_radius_mismatch",
-                f"the data file says tip_radius={trace.tip_radius} m; the scenario's {r} m "
-                "is used",
+                f"the data file says tip_radius={trace.tip_radius} m; the scenario's {r} m is used",
             )
         )
     for name in ("contacts", "normals"):
