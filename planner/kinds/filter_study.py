@@ -219,7 +219,9 @@ def run(config: Config, ctx) -> RunResult:
     figures = {}
     if ctx.plots:
         with ctx.timer("plots"):
-            figures["filter_errors"] = _figure(config, scores, windows, sigmas)
+            from planner.detection.plots import filter_errors_figure
+
+            figures["filter_errors"] = filter_errors_figure(config.filters, scores, windows, sigmas)
     return RunResult(
         status="ok",
         metrics=metrics,
@@ -227,62 +229,6 @@ def run(config: Config, ctx) -> RunResult:
         figures=figures,
         files={"filter_study.csv": _table(scores)},
     )
-
-
-def _figure(config, scores, windows, sigmas):
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(11, 4.5))
-    ax1 = fig.add_subplot(1, 2, 1)
-    for m in config.filters:
-        if m in ("gaussian", "none", "dual_point"):
-            continue
-        ms = [s for s in scores if s.setting.method == m]
-        ax1.plot([s.setting.window for s in ms], [s.errors for s in ms], "o-", label=m)
-    g = [s for s in scores if s.setting.method == "gaussian"]
-    if g:
-        best_sig = min(g, key=lambda s: s.errors).setting.sigma
-        gs = [s for s in g if s.setting.sigma == best_sig]
-        ax1.plot(
-            [s.setting.window for s in gs],
-            [s.errors for s in gs],
-            "s-",
-            label=f"gaussian, sigma={best_sig:g}",
-        )
-    for m in ("none",):
-        ms = [s for s in scores if s.setting.method == m]
-        if ms:
-            ax1.axhline(ms[0].errors, color="0.5", ls=":", label="no filter")
-    ax1.set_xlabel("window [samples]")
-    ax1.set_ylabel("false positives + false negatives per trace")
-    ax1.set_title("App. B.2 scheme errors by filter window")
-    ax1.legend(fontsize=8)
-    ax1.grid(True, lw=0.3)
-    ax2 = fig.add_subplot(1, 2, 2)
-    if g:
-        mat = np.full((len(sigmas), len(windows)), np.nan)
-        for s in g:
-            mat[sigmas.index(s.setting.sigma), windows.index(s.setting.window)] = s.errors
-        im = ax2.imshow(mat, origin="lower", aspect="auto", cmap="viridis_r")
-        ax2.set_xticks(range(len(windows)), [str(w) for w in windows])
-        ax2.set_yticks(range(len(sigmas)), [f"{s:g}" for s in sigmas])
-        for i in range(len(sigmas)):
-            for j in range(len(windows)):
-                ax2.text(
-                    j,
-                    i,
-                    f"{mat[i, j]:.1f}",
-                    ha="center",
-                    va="center",
-                    fontsize=7,
-                    color="w" if mat[i, j] > np.nanmax(mat) / 2 else "k",
-                )
-        fig.colorbar(im, ax=ax2, label="FP + FN per trace")
-        ax2.set_xlabel("Gaussian window [samples]")
-        ax2.set_ylabel("Gaussian sigma [samples]")
-        ax2.set_title("Gaussian filter (thesis best: window 25-40, sigma 5-10)", fontsize=9)
-    fig.subplots_adjust(left=0.07, right=0.97, bottom=0.12, top=0.92, wspace=0.25)
-    return fig
 
 
 __all__ = ["Config", "run"]

@@ -297,7 +297,7 @@ def _global_map(config: Config, names: list[str], samples: list, out: dict):
 
 
 def _figures(ctx, feats: list[dict], skeletons: list, gs, path) -> dict:
-    from planner.skeleton.plots import plot_dvma_pruning, plot_feature_map
+    from planner.skeleton.plots import dvma_figure, feature_map_figure
 
     figures = {}
     limit = 1 if ctx.quick else MAX_DVMA_PLOTS
@@ -305,13 +305,13 @@ def _figures(ctx, feats: list[dict], skeletons: list, gs, path) -> dict:
         if sk is None or feat["traced"] != "around" or len(figures) >= limit:
             continue
         name = feat["name"]
-        figures[f"dvma_{name}"] = plot_dvma_pruning(
+        figures[f"dvma_{name}"] = dvma_figure(
             feat["samples"], sk, f"{name}: DVMA before and after pruning"
         )
     if gs is not None:
         names = [f["name"] for f in feats]
         good = [s for s in skeletons if s is not None]
-        figures["feature_map"] = plot_feature_map(
+        figures["feature_map"] = feature_map_figure(
             gs, good, path, names, f"Global skeleton and regions of {len(names)} features"
         )
     return figures
