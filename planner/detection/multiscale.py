@@ -71,42 +71,45 @@ def detect_multiscale(
     s_real = prep.s[keep]
     if o < 0:  # offset_envelope expects the material on the right of travel
         est, nrm, s_real = est[::-1], nrm[::-1], s_real[::-1]
-    out: dict[float, list[CurvatureFeature]] = {}
-    for ri in rs:
-        env = offset_envelope(est, nrm, ri, closed=False)
-        pts = env.points[::-1] if o < 0 else env.points
-        src = env.source[::-1] if o < 0 else env.source
-        if pts.shape[0] < 8:
-            out[ri] = []
-            continue
-        ok = src >= 0
-        s_path = P.arclength(pts)
-        s_map = np.interp(np.arange(src.size), np.flatnonzero(ok), s_real[src[ok]])
-        feats = detect_features(
-            pts,
-            ri,
-            3,
-            material_side="right" if o > 0 else "left",
-            smoothing_scale=max(scale, default_scale(pts, ri, 3)),
-            merge_gap=ri / 2,
-        )
-        res = []
-        for f in feats:
-            st, en, pk = np.interp([f.start, f.end, f.peak], s_path, s_map)
-            pos = prep.frame.from_plane(np.asarray(f.position)[None, :2])[0]
-            res.append(
-                CurvatureFeature(
-                    sign=f.sign,
-                    start=float(min(st, en)),
-                    end=float(max(st, en)),
-                    peak=float(pk),
-                    position=pos,
-                    peak_curvature=f.peak_curvature,
-                    algorithm=3,
-                )
+    return {ri: _redetect(prep, est, nrm, s_real, ri, scale) for ri in rs}
+
+
+def _redetect(prep, est, nrm, s_real, ri: float, scale: float) -> list[CurvatureFeature]:
+    """Features a virtual fingertip of radius ``ri`` [m] sees on the estimated surface
+    ``est`` (M, 2) [m] with outward normals ``nrm`` (M, 2), material on the right of travel;
+    ``s_real`` (M,) their arclength on the real centre path [m]."""
+    o = prep.orientation
+    env = offset_envelope(est, nrm, ri, closed=False)
+    pts = env.points[::-1] if o < 0 else env.points
+    src = env.source[::-1] if o < 0 else env.source
+    if pts.shape[0] < 8:
+        return []
+    ok = src >= 0
+    s_path = P.arclength(pts)
+    s_map = np.interp(np.arange(src.size), np.flatnonzero(ok), s_real[src[ok]])
+    feats = detect_features(
+        pts,
+        ri,
+        3,
+        material_side="right" if o > 0 else "left",
+        smoothing_scale=max(scale, default_scale(pts, ri, 3)),
+        merge_gap=ri / 2,
+    )
+    res = []
+    for f in feats:
+        st, en, pk = np.interp([f.start, f.end, f.peak], s_path, s_map)
+        res.append(
+            CurvatureFeature(
+                sign=f.sign,
+                start=float(min(st, en)),
+                end=float(max(st, en)),
+                peak=float(pk),
+                position=prep.frame.from_plane(np.asarray(f.position)[None, :2])[0],
+                peak_curvature=f.peak_curvature,
+                algorithm=3,
             )
-        out[ri] = res
-    return out
+        )
+    return res
 
 
 __all__ = ["detect_multiscale"]
