@@ -20,8 +20,10 @@ from planner.geometry.features import CurvatureFeature
 ALGORITHMS = (1, 2, 3, 4)
 #: fewest fingertip-centre samples per tip radius of path (the smoothing needs several)
 MIN_SAMPLES_PER_RADIUS = 5
-#: largest plausible extent of a fingertip path [m] (a larger one is likely in millimetres)
-MAX_EXTENT_M = 2.0
+#: largest plausible extent of a fingertip path [m]: larger than any object a fingertip
+#: explores (a 60 mm trace passed in millimetres spans 60 "m"; shorter ones in millimetres
+#: fail the samples-per-tip-radius check)
+MAX_PATH_EXTENT_M = 10.0
 MIN_SAMPLES = 8
 
 
@@ -39,7 +41,7 @@ def check_sampling(centers: np.ndarray, tip_radius: float) -> None:
     """
     extent = float(np.max(np.ptp(centers, axis=0)))
     h = P.median_spacing(centers)
-    if extent > MAX_EXTENT_M:
+    if extent > MAX_PATH_EXTENT_M:
         raise InvalidParameter(
             f"centers: expected a fingertip path in metres, got one spanning {extent:.4g} m "
             f"(looks like millimetres: divide by 1000)"
