@@ -39,7 +39,8 @@ def check_sampling(centers: np.ndarray, tip_radius: float) -> None:
     Raises:
         InvalidParameter: saying what looks wrong.
     """
-    extent = float(np.max(np.ptp(centers, axis=0)))
+    sub = centers[:: max(1, len(centers) // 100_000)]  # plenty for a plausibility check
+    extent = float(np.max(sub.max(axis=0) - sub.min(axis=0)))
     h = P.median_spacing(centers)
     if extent > MAX_PATH_EXTENT_M:
         raise InvalidParameter(
@@ -125,7 +126,7 @@ def curvature_signal(
     return replace(sig, upper=upper, lower=lower, scale=float(scale))
 
 
-def _concave_position(sig: CurvatureSignal, p: int, tip_radius: float) -> np.ndarray:
+def _concave_position(sig: CurvatureSignal, p: int, tip_radius: float, ds: float) -> np.ndarray:
     """Where a concave feature found at an interference point (a corner of the traced curve)
     most likely is: the true corner lies in the unobservable region between the two contacts
     ``a`` (before) and ``b`` (after), ``a = c - r_f n_a`` (eq. 3.11) just outside the smoothed
@@ -134,7 +135,7 @@ def _concave_position(sig: CurvatureSignal, p: int, tip_radius: float) -> np.nda
     point (eq. 3.11), the deepest point reached; otherwise the contact on the more convex
     side (a wire, the top edge of a step) is projected onto the tangent line of the flatter
     side (exact for a step)."""
-    m = max(2, int(np.ceil(3 * sig.scale / max(np.median(np.diff(sig.s)), 1e-300))))
+    m = max(2, int(np.ceil(3 * sig.scale / max(ds, 1e-300))))
     n = sig.s.size
     i, j = max(p - m, 0), min(p + m, n - 1)
     if i == p or j == p:
@@ -182,11 +183,12 @@ def features_from_signal(
     instead of on the fillet of the estimated surface.
     """
     regions = threshold_regions(sig.curvature, sig.s, sig.upper, sig.lower, merge_gap)
+    ds = float(np.median(np.diff(sig.s))) if sig.s.size > 1 else 0.0  # once, not per feature
     out = []
     for sign, a, b, p in regions:
         pos = sig.surface[p].copy()
         if sign < 0 and tip_radius is not None and sig.algorithm in (2, 3):
-            pos = _concave_position(sig, p, tip_radius)
+            pos = _concave_position(sig, p, tip_radius, ds)
         out.append(
             CurvatureFeature(
                 sign=sign,
