@@ -2,26 +2,24 @@
 
 import numpy as np
 import pytest
+from feature_traces import feature_trace
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from planner.detection import curvature_signal, detect_features, macro_features, score_features
-from planner.detection.synthetic import THESIS_NORMAL_SIGMA, Shape, simulate
+from planner.detection import (
+    DetectionSettings,
+    curvature_signal,
+    detect_features,
+    macro_features,
+    score_features,
+)
 from planner.errors import InvalidParameter
 
 R = 0.01
 
 
 def _trace(kind="wire", size=0.65e-3, angle=np.pi / 4, seed=0, noise=1.0, r=R, **kw):
-    return simulate(
-        Shape(kind, size, angle=angle, **kw),
-        r,
-        spacing=2e-5,
-        center_sigma=1e-4 * noise,
-        contact_sigma=2.5e-4 * noise,
-        normal_sigma=THESIS_NORMAL_SIGMA * noise,
-        rng=np.random.default_rng(seed),
-    )
+    return feature_trace(kind, size, angle=angle, seed=seed, noise=noise, r=r, **kw)
 
 
 def _signs(fs):
@@ -66,23 +64,23 @@ def test_algorithm3_sign_patterns(kind, size, expected):
     tr = _trace(kind, size)
     feats = detect_features(tr.centers, R)
     assert _signs(feats) == expected
-    sc = score_features(feats, tr.observable, R / 2)
+    sc = score_features(feats, tr.truth.observable, R / 2)
     assert sc.fp == 0 and sc.fn == 0
 
 
 def test_wire_localization_and_macro_bump():
     tr = _trace("wire", 0.65e-3, seed=3)
     feats = detect_features(tr.centers, R)
-    sc = score_features(feats, tr.observable, R / 2)
+    sc = score_features(feats, tr.truth.observable, R / 2)
     assert sc.f1 == 1.0
     assert sc.localization < 0.4e-3
     conv = [f for f in feats if f.sign > 0][0]
-    truth = [f for f in tr.observable if f.sign > 0][0]
+    truth = [f for f in tr.truth.observable if f.sign > 0][0]
     assert np.linalg.norm(conv.position - truth.position) < 0.3e-3
     macros = macro_features(feats, R)
     assert [m.kind for m in macros] == ["bump"]
     for f in feats:
-        assert 0 <= f.start <= f.peak <= f.end <= tr.s[-1] + 1e-3
+        assert 0 <= f.start <= f.peak <= f.end <= tr.truth.s[-1] + 1e-3
 
 
 def test_thesis_findings_on_45_degree_wire():
@@ -141,7 +139,7 @@ def test_bad_inputs():
         detect_features(c, R, algorithm=5)
     with pytest.raises(InvalidParameter, match="unknown setting"):
         detect_features(c, R, smoothness=3)
-    with pytest.raises(InvalidParameter, match="needs contacts"):
+    with pytest.raises(InvalidParameter, match="contacts: algorithm 1 needs"):
         detect_features(c, R, algorithm=1)
     with pytest.raises(InvalidParameter, match="normals"):
         detect_features(c, R, algorithm=2)
@@ -155,3 +153,91 @@ def test_bad_inputs():
         detect_features(c[:3], R)
     with pytest.raises(InvalidParameter, match="material_side"):
         detect_features(c, R, material_side="below")
+
+
+# --- the material side read from the path; a trace recorded backwards --------------------
+
+
+@pytest.mark.parametrize(
+    "kind,size", [("step", 2e-3), ("step", -2e-3), ("wire", 1.5e-3), ("ridge", 2e-3)]
+)
+def test_reversed_trace_without_normals_gives_the_same_features(kind, size):
+    # regression: with centres only, a right-to-left trace over a step and a bump was read
+    # as ['step', 'pit'] (the material assumed on the right of travel)
+    tr = _trace(kind, size, seed=6)
+    fwd = detect_features(tr.centers, R)
+    back = detect_features(tr.centers[::-1], R)
+    assert [m.kind for m in macro_features(back, R)] == [m.kind for m in macro_features(fwd, R)]
+    assert _signs(back) == _signs(fwd)[::-1]
+
+
+def test_step_and_bump_read_backwards():
+    step = _trace("step", 2e-3, angle=0.0, seed=1).centers
+    bump = _trace("wire", 1.5e-3, angle=0.0, seed=2).centers
+    both = np.concatenate([step, bump[1:] + step[-1] - bump[0]])
+    kinds = [m.kind for m in macro_features(detect_features(both[::-1], R), R)]
+    assert sorted(kinds) == ["bump", "step"]
+
+
+@settings(max_examples=12, deadline=None, derandomize=True)
+@given(
+    kind=st.sampled_from(["step", "wire", "ridge"]),
+    size=st.floats(1.5e-3, 3e-3),
+    angle=st.floats(-0.6, 0.6),
+    seed=st.integers(0, 1000),
+)
+def test_reversal_property_mirrors_arclengths(kind, size, angle, seed):
+    tr = _trace(kind, size, angle=angle, seed=seed, noise=0.5, spacing=4e-5)
+    fwd = detect_features(tr.centers, R)
+    back = detect_features(tr.centers[::-1], R)
+    assert len(back) == len(fwd) > 0
+    length = tr.truth.s[-1]
+    for f, b in zip(fwd, reversed(back), strict=True):
+        assert b.sign == f.sign
+        # same feature: the mirrored arclength (noise moves the peaks a little)
+        assert abs((length - b.peak) - f.peak) < R / 4
+        assert np.linalg.norm(b.position - f.position) < R / 4
+
+
+def test_infer_side_needs_evidence_on_a_smooth_path():
+    from planner.detection.path import gaussian_derivatives
+    from planner.detection.signals import infer_material_side
+
+    x = np.linspace(0, 0.05, 2000)
+    line = np.column_stack([x, 0.001 * np.sin(x / 0.01)])
+    _, d1, d2 = gaussian_derivatives(line, 3.0)
+    assert infer_material_side(d1, d2, R) is None  # nothing tells: the caller's default
+
+
+# --- nonsense input is rejected with a reason ---------------------------------------------
+
+
+def test_millimetres_passed_as_metres_are_rejected():
+    tr = _trace("wire", 0.65e-3, seed=3)
+    with pytest.raises(InvalidParameter, match="looks like millimetres"):
+        detect_features(tr.centers * 1e3, R)
+
+
+def test_too_few_samples_per_tip_radius_are_rejected():
+    tr = _trace("wire", 0.65e-3, seed=3)
+    few = tr.centers[:: len(tr.centers) // 10]
+    with pytest.raises(InvalidParameter, match="samples per tip radius"):
+        detect_features(few, R)
+
+
+def test_settings_object_checks_itself():
+    s = DetectionSettings(smoothing_scale=1e-3, material_side="left")
+    assert DetectionSettings.of(s, merge_gap=0.0).material_side == "left"
+    for bad, match in [
+        ({"smoothing_scale": -1.0}, "smoothing_scale"),
+        ({"material_side": "below"}, "material_side"),
+        ({"upper": 0.0}, "upper"),
+        ({"lower": 1.0}, "lower"),
+        ({"normal_arclength": "time"}, "normal_arclength"),
+    ]:
+        with pytest.raises(InvalidParameter, match=match):
+            DetectionSettings(**bad)
+    tr = _trace("wire", 0.65e-3, seed=3)
+    a = detect_features(tr.centers, R, settings=s.of(material_side="right"))
+    b = detect_features(tr.centers, R, smoothing_scale=1e-3, material_side="right")
+    assert _signs(a) == _signs(b) == "-+-"

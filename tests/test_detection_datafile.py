@@ -69,10 +69,17 @@ def test_bad_values_name_their_line(tmp_path):
     rows[7] = "0.06,nan,0"
     (iss,) = _issues(_csv(tmp_path, "\n".join(rows)))
     assert iss.line == 8 and "NaN" in iss.message
+    assert iss.path == "cx"  # regression: the real column, not "c*[7]"
+    rows = _rows(cols="t_ms,cx_mm,cy_mm").splitlines()
+    rows[7] = "0.065,1,inf"
+    (iss,) = _issues(_csv(tmp_path, "\n".join(rows)))
+    assert iss.path == "cy_mm" and iss.line == 8
     rows = _rows().splitlines()
     rows[10] = "0.0,0.009,0"  # time goes back
     (iss,) = _issues(_csv(tmp_path, "\n".join(rows)))
     assert iss.line == 11 and "not strictly increasing" in iss.message
+    # regression: plain numbers, not np.float64(...)
+    assert "np.float64" not in iss.message and "(t=0 after 0.08)" in iss.message
     rows = _rows().splitlines()
     rows[3] = "0.02,0.002"
     (iss,) = _issues(_csv(tmp_path, "\n".join(rows)))

@@ -1,20 +1,20 @@
 """detect_features against the geometry package's exact profiles and their ground truth
 (``Profile.curvature_features``): traced with ``curves.traced_curve`` (independent of the
-detection package's own synthetic traces), and simulated with
-:func:`planner.detection.profile_trace.simulate_profile` (noise, observable truth)."""
+detection package), and simulated with :func:`planner.geometry.measurement.simulate_trace`
+(noise, observable truth)."""
 
 import numpy as np
 import pytest
 
 from planner.detection import detect_features, macro_features, score_features
-from planner.detection.profile_trace import simulate_profile
-from planner.detection.synthetic import (
+from planner.errors import InvalidParameter
+from planner.geometry import curves, shapes
+from planner.geometry.measurement import (
     THESIS_CENTER_SIGMA,
     THESIS_CONTACT_SIGMA,
     THESIS_NORMAL_SIGMA,
 )
-from planner.errors import InvalidParameter
-from planner.geometry import curves, shapes
+from planner.geometry.measurement import simulate_trace as simulate_profile
 
 R = 0.01
 
@@ -42,7 +42,7 @@ def test_signs_and_positions_match_profile_truth(name, make, kind, noise):
     assert [m.kind for m in macro_features(feats, R)] == [kind]
 
 
-# --- simulate_profile: traces over catalogue profiles scored against their exact truth -------
+# --- simulate_trace: traces over catalogue profiles scored against their exact truth -------
 
 THESIS_NOISE = {
     "center_sigma": THESIS_CENTER_SIGMA,
@@ -67,12 +67,12 @@ def test_simulate_profile_alg3_f1_one_at_thesis_noise(make, signs, kind, seed):
     prof = make()
     tr = simulate_profile(prof, R, spacing=2e-5, rng=np.random.default_rng(seed), **THESIS_NOISE)
     exact = prof.curvature_features(R)
-    assert [f.sign for f in tr.truth] == [f.sign for f in exact]
-    assert [f.peak for f in tr.truth] == [f.peak for f in exact]
-    assert "".join("+" if f.sign > 0 else "-" for f in tr.observable) == signs
+    assert [f.sign for f in tr.truth.features] == [f.sign for f in exact]
+    assert [f.peak for f in tr.truth.features] == [f.peak for f in exact]
+    assert "".join("+" if f.sign > 0 else "-" for f in tr.truth.observable) == signs
     feats = detect_features(tr.centers, R, algorithm=3)
-    sc = score_features(feats, tr.observable, R / 2)
-    assert sc.f1 == 1.0, (feats, tr.observable)
+    sc = score_features(feats, tr.truth.observable, R / 2)
+    assert sc.f1 == 1.0, (feats, tr.truth.observable)
     assert sc.localization < 1e-3
     assert [m.kind for m in macro_features(feats, R)] == [kind]
 
@@ -82,13 +82,13 @@ def test_observable_index_is_where_the_contact_passes_the_feature():
     # the interference point; it then rolls over the top corner (convex) with the contact
     # point fixed on it: the index is the middle of that roll.
     tr = simulate_profile(shapes.step(2e-3), R, spacing=2e-5)
-    foot, edge = tr.observable_index
-    on_edge = np.flatnonzero(np.linalg.norm(tr.true_contacts - [0.0, 2e-3], axis=1) < 1e-6)
+    foot, edge = tr.truth.observable_index
+    on_edge = np.flatnonzero(np.linalg.norm(tr.truth.contacts - [0.0, 2e-3], axis=1) < 1e-6)
     assert foot == on_edge[0]  # the first sample past the unobservable foot
     assert abs(edge - (on_edge[0] + on_edge[-1]) / 2) <= 1
     # the interference point: the fingertip touches the plane and the edge at once
-    assert np.linalg.norm(tr.true_centers[foot] - [0.0, 2e-3]) == pytest.approx(R, abs=1e-6)
-    assert tr.t[foot] == pytest.approx(tr.s[foot] / 0.03)
+    assert np.linalg.norm(tr.truth.centers[foot] - [0.0, 2e-3]) == pytest.approx(R, abs=1e-6)
+    assert tr.t[foot] == pytest.approx(tr.truth.s[foot] / 0.03)
 
 
 @pytest.mark.parametrize("width,signs", [(4e-3, "+-+"), (30e-3, "+--+")])
@@ -98,16 +98,16 @@ def test_ravine_bottom_corners_merge_only_when_unobservable_together(width, sign
     prof = shapes.ravine(width, 2e-3)
     tr = simulate_profile(prof, R, spacing=2e-5)
     assert "".join("+" if f.sign > 0 else "-" for f in prof.curvature_features(R)) == "+--+"
-    assert "".join("+" if f.sign > 0 else "-" for f in tr.observable) == signs
-    assert np.all(np.diff(tr.observable_index) >= 0)
+    assert "".join("+" if f.sign > 0 else "-" for f in tr.truth.observable) == signs
+    assert np.all(np.diff(tr.truth.observable_index) >= 0)
     if width < 2 * R:
-        assert tr.observable[1].position == pytest.approx([0.0, -2e-3], abs=1e-12)
+        assert tr.truth.observable[1].position == pytest.approx([0.0, -2e-3], abs=1e-12)
 
 
 def test_simulate_profile_errors():
-    with pytest.raises(InvalidParameter, match="'circle' is closed.*open profile"):
-        simulate_profile(shapes.circle(0.02), R)
+    closed = simulate_profile(shapes.circle(0.02), R, spacing=1e-4)
+    assert closed.truth.observable == () and len(closed.truth.features) == 0
     with pytest.raises(InvalidParameter, match="tip_radius"):
-        simulate_profile(shapes.step(2e-3), -R)
-    with pytest.raises(InvalidParameter, match="random generator"):
-        simulate_profile(shapes.step(2e-3), R, center_sigma=1e-4)
+        simulate_profile(shapes.step(2e-3), -R, spacing=2e-5)
+    with pytest.raises(InvalidParameter, match="rng: expected a numpy Generator"):
+        simulate_profile(shapes.step(2e-3), R, spacing=2e-5, center_sigma=1e-4)

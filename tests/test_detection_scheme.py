@@ -2,12 +2,12 @@
 
 import numpy as np
 import pytest
+from feature_traces import feature_trace
 
 from planner.detection import b2_scheme, detect_multiscale, score_features
 from planner.detection.filter_study import StudyTrace, grid, rate_filters
-from planner.detection.synthetic import Shape, simulate
-from planner.detection.types import CurvatureFeature
 from planner.errors import InvalidParameter
+from planner.geometry.features import CurvatureFeature
 
 R = 0.01
 
@@ -28,15 +28,19 @@ def test_modified_curvature_is_curvature_times_speed_cubed():
 
 
 def test_b2_on_a_filtered_wire_finds_three_features():
-    tr = simulate(
-        Shape("wire", 0.65e-3, angle=np.pi / 4, length=0.02),
-        R,
+    tr = feature_trace(
+        "wire",
+        0.65e-3,
+        angle=np.pi / 4,
+        length=0.02,
         spacing=2e-4,
         center_sigma=1e-4,
-        rng=np.random.default_rng(0),
+        contact_sigma=0.0,
+        normal_sigma=0.0,
     )
+    obs = tr.truth.observable
     study = StudyTrace(
-        tr.t, tr.centers, tuple(f.sign for f in tr.observable), tuple(tr.t[tr.observable_index])
+        tr.t, tr.centers, tuple(f.sign for f in obs), tuple(tr.t[tr.truth.observable_index])
     )
     (good,) = rate_filters([study], grid(["gaussian"], [25], [8]), R, (R / 2) / 0.03)
     (raw,) = rate_filters([study], grid(["none"], [1], [1]), R, (R / 2) / 0.03)
@@ -74,9 +78,7 @@ def test_scoring_counts():
 
 
 def test_multiscale_step():
-    tr = simulate(
-        Shape("step", 2e-3), R, spacing=2e-5, center_sigma=1e-4, rng=np.random.default_rng(0)
-    )
+    tr = feature_trace("step", 2e-3, center_sigma=1e-4, contact_sigma=0.0, normal_sigma=0.0)
     ms = detect_multiscale(tr.centers, R, [0.015, 0.025])
     for ri, fs in ms.items():
         assert "".join("+" if f.sign > 0 else "-" for f in fs) == "-+", ri

@@ -132,7 +132,7 @@ def test_linear_crossings_are_exact_for_a_tent(c, w, amp, sign):
 @pytest.mark.parametrize(
     ("args", "match"),
     [
-        ((np.arange(3.0), np.zeros(4), 1.0), "same length"),
+        ((np.arange(3.0), np.zeros(4), 1.0), "k: expected 3 samples"),
         ((np.zeros((2, 2)), np.zeros((2, 2)), 1.0), "1-D"),
         ((np.array([0.0, 1.0, 1.0]), np.zeros(3), 1.0), "strictly increasing"),
         ((np.arange(3.0), np.array([0, np.nan, 0]), 1.0), "finite"),

@@ -62,22 +62,105 @@ def test_csv_data_file(tmp_path):
         assert isinstance(res.metrics[f"noise_{axis}_normal"], bool)
 
 
+STEP = {"profile": {"type": "step", "height": 0.002}}
+
+
 def test_config_errors(tmp_path):
     base = {"name": "x", "kind": "detect", "tip_radius": 0.01}
     with pytest.raises(ScenarioError, match="exactly one"):
         scenario_from_dict(base)
     with pytest.raises(ScenarioError, match="exactly one"):
-        scenario_from_dict({**base, "simulation": {}, "data_file": "a.csv"})
+        scenario_from_dict({**base, "simulation": STEP, "data_file": "a.csv"})
     with pytest.raises(ScenarioError, match="multiscale_radii"):
-        scenario_from_dict({**base, "simulation": {}, "multiscale_radii": [0.005]})
+        scenario_from_dict({**base, "simulation": STEP, "multiscale_radii": [0.005]})
+    with pytest.raises(ScenarioError, match="simulation.profile: required"):
+        scenario_from_dict({**base, "simulation": {}})
     with pytest.raises(ScenarioError, match="unknown key"):
-        scenario_from_dict({**base, "simulation": {"shape": "wire", "diameter": 1}})
+        scenario_from_dict({**base, "simulation": {**STEP, "shape": "wire"}})
+    with pytest.raises(ScenarioError, match="material_side"):
+        scenario_from_dict({**base, "simulation": STEP, "material_side": "below"})
+    with pytest.raises(ScenarioError, match="samples per tip radius"):
+        scenario_from_dict({**base, "simulation": {**STEP, "spacing": 0.005}})
+    with pytest.raises(ScenarioError, match="smoothing_scale"):
+        scenario_from_dict({**base, "simulation": STEP, "smoothing_scale": 0.05})
     bad = tmp_path / "bad.csv"
     bad.write_text("t,cx\n1,2\n")
     cfg = scenario_from_dict({**base, "data_file": str(bad)})
     with pytest.raises(ScenarioError, match="cy: required column"):
         execute(cfg, out_dir=tmp_path / "run", quick=True)
     assert not (tmp_path / "run").exists()
+
+
+@pytest.mark.parametrize(
+    "override,key",
+    [
+        ("multiscale_radii=[0.001]", "multiscale_radii"),
+        ("simulation.spacing=0.01", "simulation"),
+        ("material_side=up", "material_side"),
+        ("tip_radius=-0.01", "tip_radius"),
+    ],
+)
+def test_bad_value_is_exit_2_one_line_nothing_written(override, key, tmp_path):
+    out = tmp_path / "out"
+    proc = run_cli(
+        "run",
+        str(SCEN / "step_detect_multiscale.yaml"),
+        "--quick",
+        "--out",
+        str(out),
+        "--set",
+        override,
+    )
+    assert proc.returncode == 2, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and key in lines[0] and "Traceback" not in proc.stderr
+    assert not out.exists()
+
+
+def test_sparse_data_file_is_bad_input(tmp_path):
+    # a log sampled far too coarsely for the tip radius is bad input (exit 2), not a failed run
+    t = np.arange(30) * 0.1
+    rows = "\n".join(f"{ti},{ti * 0.1},0" for ti in t)
+    (tmp_path / "coarse.csv").write_text("t,cx,cy\n" + rows + "\n")
+    cfg = scenario_from_dict(
+        {"name": "x", "kind": "detect", "tip_radius": 0.01, "data_file": "coarse.csv"}
+    )
+    with pytest.raises(ScenarioError, match="data_file: centers: expected at least 5 samples"):
+        execute(cfg, out_dir=tmp_path / "run", quick=True, base_dir=tmp_path)
+    assert not (tmp_path / "run").exists()
+
+
+def test_reversed_csv_log_gives_the_same_features(tmp_path):
+    # regression: a right-to-left recording of the bundled log is read alike (the material
+    # side comes from the normals; centres-only reversal: tests/test_detection.py)
+    lines = (SCEN / "data" / "wire_trace.csv").read_text().splitlines()
+    rows = [ln.split(",") for ln in lines if ln[:1].isdigit()]
+    t = [r[0] for r in rows]
+    rev = [[t[i]] + r[1:] for i, r in enumerate(reversed(rows))]
+    hdr = next(ln for ln in lines if ln.startswith("t"))
+    (tmp_path / "rev.csv").write_text(hdr + "\n" + "\n".join(map(",".join, rev)) + "\n")
+    base = {"name": "x", "kind": "detect", "tip_radius": 0.01, "algorithms": [2, 3]}
+    fwd = execute(
+        scenario_from_dict({**base, "data_file": str(SCEN / "data" / "wire_trace.csv")}),
+        out_dir=tmp_path / "f",
+        quick=True,
+        plots=False,
+    ).result.metrics
+    back = execute(
+        scenario_from_dict({**base, "data_file": str(tmp_path / "rev.csv")}),
+        out_dir=tmp_path / "b",
+        quick=True,
+        plots=False,
+    ).result.metrics
+    assert back["alg3_macro"] == fwd["alg3_macro"] == ["bump"]
+    assert back["alg3_signs"] == fwd["alg3_signs"][::-1]
+    assert back["alg2_signs"] == fwd["alg2_signs"][::-1]
+
+
+def test_multiscale_and_csv_figures(tmp_path):
+    res, out = _run("step_detect_multiscale", tmp_path)
+    assert (out / "plots" / "multiscale.png").is_file()
+    assert res.metrics["multiscale_15mm_macro"] == ["step"]
 
 
 # --- simulation.profile: any open profile of the catalogue, truth from the profile ----------
@@ -128,26 +211,11 @@ def test_profile_detect_bundled(tmp_path):
     assert (out / "plots" / "trace.png").is_file()
 
 
-def test_profile_and_shape_together_is_one_line_exit_2(tmp_path):
-    bad = tmp_path / "both.yaml"
-    bad.write_text(
-        "kind: detect\ntip_radius: 0.01\nsimulation:\n  profile: {type: step, height: 0.002}\n"
-        "  shape: step\n  size_mm: 2\n"
-    )
-    proc = run_cli("validate", str(bad))
-    assert proc.returncode == 2
-    assert "Traceback" not in proc.stderr + proc.stdout
-    lines = (proc.stderr + proc.stdout).strip().splitlines()
-    assert len(lines) == 1, lines
-    assert "both.yaml:3: simulation:" in lines[0]
-    assert "'profile'" in lines[0] and "'shape', 'size_mm'" in lines[0]
-
-
 def test_profile_config_errors():
     base = {"name": "x", "kind": "detect", "tip_radius": 0.01}
     with pytest.raises(ScenarioError, match=r"simulation.profile: .*closed profile \('circle'\)"):
         scenario_from_dict({**base, "simulation": {"profile": {"type": "circle", "radius": 0.02}}})
-    with pytest.raises(ScenarioError, match="not both.*'angle_deg'"):
+    with pytest.raises(ScenarioError, match="simulation.angle_deg: unknown key"):
         scenario_from_dict({**base, "simulation": {"profile": {"type": "plane"}, "angle_deg": 30}})
     with pytest.raises(ScenarioError, match="simulation.profile: .*corner radii"):
         spec = {"type": "ridge", "width": 4e-3, "height": 2e-3, "corner_radius": 5e-3}

@@ -126,3 +126,39 @@ def test_npz_data_and_failed_feature(tmp_path):
     p = write(tmp_path, "kind: skeleton\ndata_file: b.npz\noutput: {plots: false}\n")
     out = execute(load_scenario(p), out_dir=tmp_path / "run", quick=True, base_dir=tmp_path)
     assert out.result.status == "failed" and "line" in out.result.reason
+
+
+@pytest.mark.parametrize(
+    "override,key",
+    [
+        ("pruning.min_angle_deg=200", "pruning.min_angle_deg"),
+        ("features.3.traced=along", "features"),
+        ("global_map.tip_radius=0", "global_map.tip_radius"),
+    ],
+)
+def test_bad_value_is_exit_2_one_line_nothing_written(override, key, tmp_path, cli):
+    out = tmp_path / "out"
+    proc = cli(
+        "run", str(SCEN / "feature_map.yaml"), "--quick", "--out", str(out), "--set", override
+    )
+    assert proc.returncode == 2, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and key in lines[0] and "Traceback" not in proc.stderr
+    assert not out.exists()
+
+
+def test_pruning_settings_check_themselves():
+    from planner.errors import InvalidParameter
+    from planner.skeleton import SkeletonSettings
+
+    assert SkeletonSettings.of(min_angle_deg=30.0).min_angle_deg == 30.0
+    for bad, match in [
+        ({"min_angle_deg": 180.0}, "min_angle_deg"),
+        ({"max_edge_length": -1.0}, "max_edge_length"),
+        ({"link_factor": 0.0}, "link_factor"),
+        ({"branching": "yes"}, "branching"),
+    ]:
+        with pytest.raises(InvalidParameter, match=match):
+            SkeletonSettings(**bad)
+    with pytest.raises(InvalidParameter, match="unknown setting"):
+        SkeletonSettings.of(smoothness=1)

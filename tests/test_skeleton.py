@@ -143,7 +143,7 @@ def test_pseudo_skeleton_is_the_traced_path():
 @pytest.mark.parametrize(
     "bad, match",
     [
-        (np.zeros((10, 3)), r"shape \(M, 2\)"),
+        (np.zeros((10, 3)), r"boundary: expected shape \(N, 2\)"),
         (np.array([[0, 0], [1, 0], [0, 1], [np.nan, 1], [1, 1]]), "finite"),
         (np.array([[0, 0], [1, 0], [0, 1]]), "at least 4"),
         (np.column_stack([np.linspace(0, 1, 20), np.zeros(20)]), "enclose no area|Voronoi"),

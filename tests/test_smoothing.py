@@ -2,12 +2,12 @@
 
 import numpy as np
 import pytest
+from feature_traces import feature_trace
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from planner.detection import FILTERS, curvature_limit_smoothing, smooth
 from planner.detection.smoothing import dual_point, gaussian_kernel
-from planner.detection.synthetic import Shape, simulate
 from planner.errors import InvalidParameter
 
 
@@ -67,9 +67,10 @@ def test_bad_arguments():
 
 def test_curvature_limits_hold_after_smoothing():
     r = 0.01
-    tr = simulate(
-        Shape("step", 3e-3), r, spacing=2e-5, center_sigma=1e-4, rng=np.random.default_rng(4)
+    tr = feature_trace(
+        "step", 3e-3, r=r, center_sigma=1e-4, contact_sigma=0.0, normal_sigma=0.0, seed=4
     )
+    profile = tr.truth.profile.sample(1e-5).points
     res = curvature_limit_smoothing(tr.centers, r)
     assert res.removed_traced >= 0 and res.removed_estimated >= 0
     # one pass of delete-and-smooth (as §3.3.3 prescribes): the limits hold almost
@@ -78,7 +79,5 @@ def test_curvature_limits_hold_after_smoothing():
     assert np.mean(res.estimated_curvature < -1.0 / r) < 0.05
     assert np.max(res.traced_curvature) < 2.0 / r
     # the estimated surface lies near the true profile (within the unobservable fillet)
-    d = np.min(
-        np.linalg.norm(res.estimated[:, None, :] - tr.profile[None, ::20, :], axis=2), axis=1
-    )
+    d = np.min(np.linalg.norm(res.estimated[:, None, :] - profile[None, ::20, :], axis=2), axis=1)
     assert np.median(d) < 3e-4

@@ -1,256 +1,132 @@
-"""The four feature-detection algorithms of thesis Fig. 3.8 (§3.3.1-3.3.2).
-
-All four threshold a curvature signal (outward convention, convex > 0) and map each region to
-the estimated surface, eq. (3.11) ``s_e = s_t - r_f z_t``:
-
-1. curvature of the estimated surface built from the tactile **contact points**,
-   thresholds ``+-1/r_f`` (Definition 1). The sensor measures the contact relative to the
-   fingertip, so that relative vector is what is smoothed (in time) before the fingertip
-   pose is added back; across an interference point the smoothed contact then sweeps the
-   r_f fillet, and concave features are missed, as §3.4.2 reports;
-2. derivative of the **contact normal** angle with respect to arclength, thresholds
-   ``+-1/r_f``. §3.3.1 says "arclength of the contact path", but the findings of §3.4.2
-   (spikes at concave features, convex ones missed "because the normal direction does not
-   change as quickly at those points") only hold for the arclength of the fingertip's own
-   travel (time at constant speed): against the contact path the normal turns fastest over
-   convex features, where the contact point dwells. The default ``normal_arclength="center"``
-   follows the experiment; ``"contact"`` is the literal reading;
-3. curvature ``k_t`` of the **traced curve** (fingertip-centre path). Under the fingertip the
-   object curvature is ``k_obj = k_t / (1 - r_f k_t)``, so a convex feature
-   ``k_obj > 1/r_f`` shows as ``k_t > 1/(2 r_f)``; a concave feature never shows as a smooth
-   ``k_obj < -1/r_f`` but as an interference point, a corner of the traced curve whose
-   smoothed curvature is strongly negative: thresholds ``+-1/(2 r_f)``;
-4. estimated surface from the traced curve first (eq. 3.11, with the curvature limitation of
-   §3.3.3: traced points with ``k_t >= 1/r_f`` are deleted), then its numeric curvature,
-   thresholds ``+-1/r_f``.
-"""
+"""Feature detection with the four algorithms of thesis Fig. 3.8 (§3.3.1-3.3.2): the
+curvature signal of one algorithm (:mod:`planner.detection.signals`) thresholded into
+curvature features (Definition 1, App. B.2 steps 6-7)."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import replace
 
 import numpy as np
 
+from planner import checks
 from planner.detection import path as P
-from planner.detection._validate import as_points, choice, positive
+from planner.detection import signals as S
 from planner.detection.regions import threshold_regions
-from planner.detection.types import CurvatureFeature, CurvatureSignal
+from planner.detection.settings import DetectionSettings
+from planner.detection.types import CurvatureSignal
 from planner.errors import InvalidParameter
+from planner.geometry.features import CurvatureFeature
 
 ALGORITHMS = (1, 2, 3, 4)
-SETTINGS = ("smoothing_scale", "material_side", "merge_gap", "upper", "lower", "normal_arclength")
-#: default Gaussian smoothing scale as a fraction of the fingertip radius, per algorithm
-SCALE_FRACTION = {1: 1 / 6, 2: 1 / 10, 3: 1 / 10, 4: 1 / 10}
-_SAMPLES_PER_SCALE = 4.0
+#: fewest fingertip-centre samples per tip radius of path (the smoothing needs several)
+MIN_SAMPLES_PER_RADIUS = 5
+#: largest plausible extent of a fingertip path [m]: larger than any object a fingertip
+#: explores (a 60 mm trace passed in millimetres spans 60 "m"; shorter ones in millimetres
+#: fail the samples-per-tip-radius check)
+MAX_PATH_EXTENT_M = 10.0
+MIN_SAMPLES = 8
 
 
-@dataclass(frozen=True, eq=False)
-class _Prepared:
-    frame: P.PlanarFrame
-    centers: np.ndarray  # (M, 2) smoothed, decimated, in-plane
-    dc: np.ndarray  # (M, 2) derivative w.r.t. decimated index
-    ddc: np.ndarray
-    block: int
-    sigma: float  # Gaussian sigma [decimated samples]
-    index: np.ndarray  # (M,) fractional input index of each sample
-    s: np.ndarray  # (M,) arclength along the centre path [m]
-    orientation: int  # +1: material on the right of travel; -1: on the left
-    outward: np.ndarray  # (M, 2) outward unit normal of the traced curve
-    spacing: float  # arclength between decimated samples [m]
+def check_sampling(centers: np.ndarray, tip_radius: float) -> None:
+    """Reject fingertip paths that cannot be what they claim: millimetres passed as metres,
+    or samples too sparse for the tip radius (fewer than :data:`MIN_SAMPLES_PER_RADIUS` per
+    r_f of travel).
 
+    Args:
+        centers: (N, D) checked fingertip centres [m].
+        tip_radius: r_f [m].
 
-def default_scale(
-    centers: np.ndarray,
-    tip_radius: float,
-    algorithm: int,
-    normals: np.ndarray | None = None,
-    contacts: np.ndarray | None = None,
-) -> float:
-    """Default smoothing scale [m] of an algorithm for these data.
-
-    The noise of the input each algorithm differentiates (centres for 3-4, contacts for 1,
-    the normal angle for 2) is estimated from the data (:func:`path.noise_sigma`) and the
-    scale chosen so that the noise of the curvature signal stays a factor
-    :data:`path.NOISE_MARGIN` below the threshold (:func:`path.auto_scale`), within
-    ``[r_f/25, r_f/4]`` (``[r_f/10, r_f/4]`` for the tactile algorithms 1-2, whose data
-    carry sensor artefacts that white noise does not model). At the thesis' noise (0.1 mm)
-    and sampling this is about ``SCALE_FRACTION[algorithm] * r_f``.
+    Raises:
+        InvalidParameter: saying what looks wrong.
     """
-    r = tip_radius
-    frame = P.planar_frame(centers, None if normals is None else normals.mean(axis=0))
-    uv = frame.to_plane(centers)
-    h = P.median_spacing(uv)
-    lo, hi = (r / 10 if algorithm in (1, 2) else r / 25), r / 4
-    if algorithm == 1 and contacts is not None:
-        sig = P.noise_sigma(frame.to_plane(contacts))
-        return P.auto_scale(sig, h, 1.0 / r, 2, lo, hi)
-    if algorithm == 2 and normals is not None:
-        nv = frame.vectors_to_plane(normals)
-        phi = np.unwrap(np.arctan2(nv[:, 1], nv[:, 0]))
-        return P.auto_scale(P.noise_sigma(phi), h, 1.0 / r, 1, lo, hi)
-    return P.auto_scale(P.noise_sigma(uv), h, 1.0 / (2 * r), 2, lo, hi)
+    sub = centers[:: max(1, len(centers) // 100_000)]  # plenty for a plausibility check
+    extent = float(np.max(sub.max(axis=0) - sub.min(axis=0)))
+    h = P.median_spacing(centers)
+    if extent > MAX_PATH_EXTENT_M:
+        raise InvalidParameter(
+            f"centers: expected a fingertip path in metres, got one spanning {extent:.4g} m "
+            f"(looks like millimetres: divide by 1000)"
+        )
+    if h > tip_radius / MIN_SAMPLES_PER_RADIUS:
+        per = tip_radius / h if h > 0 else float("inf")
+        raise InvalidParameter(
+            f"centers: expected at least {MIN_SAMPLES_PER_RADIUS} samples per tip radius "
+            f"({tip_radius:g} m), got samples {h:.3g} m apart ({per:.2g} per tip radius); "
+            f"sample faster, or check that centers and tip_radius are both in metres"
+        )
 
 
-def _check_settings(settings: dict) -> None:
-    unknown = sorted(set(settings) - set(SETTINGS))
-    if unknown:
-        raise InvalidParameter(f"unknown setting(s) {unknown}; valid settings are {list(SETTINGS)}")
+#: algorithm -> its signal function (:mod:`planner.detection.signals`)
+_SIGNALS = {
+    1: lambda prep, c, nrm, con, r, cfg: S.contact_signal(prep, c, con, r),
+    2: lambda prep, c, nrm, con, r, cfg: S.normal_signal(prep, nrm, con, r, cfg.normal_arclength),
+    3: lambda prep, c, nrm, con, r, cfg: S.traced_signal(prep, r),
+    4: lambda prep, c, nrm, con, r, cfg: S.estimated_signal(prep, r),
+}
 
 
-def _prepare(
-    centers: np.ndarray,
-    tip_radius: float,
-    scale: float,
-    side: str,
-    hint: np.ndarray | None,
-    measured_outward: np.ndarray | None,
-) -> _Prepared:
-    """Decimate (block means), smooth and differentiate the fingertip-centre path."""
-    frame = P.planar_frame(centers, hint)
-    uv = frame.to_plane(centers)
-    h = P.median_spacing(uv)
-    if h <= 0:
-        raise InvalidParameter("centers: the fingertip does not move (all samples equal)")
-    n = uv.shape[0]
-    block = int(max(1, min(scale / _SAMPLES_PER_SCALE / h, n // 8)))
-    dec, index = P.block_means(uv, block)
-    sigma = scale / (h * block)
-    cs, dc, ddc = P.gaussian_derivatives(dec, sigma)
-    left = P.left_normals(dc)
-    if side == "right":
-        o = 1
-    elif side == "left":
-        o = -1
-    elif measured_outward is not None:
-        m, _ = P.block_means(frame.vectors_to_plane(measured_outward), block)
-        o = 1 if float(np.sum(left * m)) >= 0 else -1
-    elif centers.shape[1] == 3:
-        o = 1 if float(left[:, 1].mean()) >= 0 else -1
-    else:
-        o = 1
-    s = P.arclength(cs, start=h * (block - 1) / 2.0)
-    return _Prepared(frame, cs, dc, ddc, block, sigma, index, s, o, o * left, h * block)
+def _inputs(centers, tip_radius, algorithm, normals, contacts):
+    """Checked ``(r, centers, normals, contacts)``; normals from contacts by eq. (3.19)."""
+    r = checks.positive("tip_radius", tip_radius, "m")
+    checks.choice("algorithm", algorithm, ALGORITHMS)
+    c = checks.points("centers", centers, min_count=MIN_SAMPLES)
+    n_pts, d = c.shape
+    nrm = None if normals is None else checks.points("normals", normals, n=n_pts, dims=(d,))
+    con = None if contacts is None else checks.points("contacts", contacts, n=n_pts, dims=(d,))
+    if algorithm == 1 and con is None:
+        raise InvalidParameter(
+            "contacts: algorithm 1 needs (N, D) tactile contact points [m], got None"
+        )
+    if algorithm == 2 and nrm is None and con is None:
+        raise InvalidParameter(
+            "normals: algorithm 2 needs normals (N, D) or contacts (N, D) to compute them "
+            "with eq. (3.19), got neither"
+        )
+    check_sampling(c, r)
+    if nrm is not None:
+        lens = np.linalg.norm(nrm, axis=1)
+        if np.any(lens < 1e-9):
+            i = int(np.argmax(lens < 1e-9))
+            raise InvalidParameter(
+                f"normals: expected unit outward normals, got row {i} of zero length"
+            )
+        nrm = nrm / lens[:, None]
+    elif con is not None:
+        diff = c - con
+        nrm = diff / np.maximum(np.linalg.norm(diff, axis=1), 1e-300)[:, None]  # eq. (3.19)
+    return r, c, nrm, con
 
 
 def curvature_signal(
-    centers, tip_radius: float, algorithm: int = 3, normals=None, contacts=None, **settings
+    centers,
+    tip_radius: float,
+    algorithm: int = 3,
+    normals=None,
+    contacts=None,
+    settings: DetectionSettings | None = None,
+    **overrides,
 ) -> CurvatureSignal:
-    """The curvature signal one algorithm of Fig. 3.8 thresholds (see the module docstring).
+    """The curvature signal one algorithm of Fig. 3.8 thresholds
+    (:mod:`planner.detection.signals`).
 
     Args and settings: as :func:`detect_features`.
 
     Returns:
         A :class:`CurvatureSignal` with its thresholds.
     """
-    _check_settings(settings)
-    r = positive("tip_radius", tip_radius)
-    choice("algorithm", algorithm, ALGORITHMS)
-    c = as_points("centers", centers)
-    n_pts, d = c.shape
-    nrm = None if normals is None else as_points("normals", normals, n=n_pts, dims=(d,))
-    con = None if contacts is None else as_points("contacts", contacts, n=n_pts, dims=(d,))
-    if algorithm == 1 and con is None:
-        raise InvalidParameter("algorithm 1 needs contacts: (N, D) tactile contact points [m]")
-    if algorithm == 2 and nrm is None and con is None:
-        raise InvalidParameter(
-            "algorithm 2 needs normals (N, D) or contacts (N, D) to compute them with eq. (3.19)"
-        )
-    if nrm is not None:
-        lens = np.linalg.norm(nrm, axis=1)
-        if np.any(lens < 1e-9):
-            raise InvalidParameter(
-                f"normals: row {int(np.argmax(lens < 1e-9))} has zero "
-                f"length; expected unit outward normals"
-            )
-        nrm = nrm / lens[:, None]
-    elif con is not None:
-        diff = c - con
-        lens = np.linalg.norm(diff, axis=1)
-        nrm = diff / np.maximum(lens, 1e-300)[:, None]  # eq. (3.19)
-    scale = settings.get("smoothing_scale")
-    scale = default_scale(c, r, algorithm, nrm, con) if scale is None else scale
-    scale = positive("smoothing_scale", scale)
-    side = choice("material_side", settings.get("material_side", "auto"), ("auto", "right", "left"))
+    cfg = DetectionSettings.of(settings, **overrides)
+    r, c, nrm, con = _inputs(centers, tip_radius, algorithm, normals, contacts)
+    scale = cfg.smoothing_scale
+    scale = S.default_scale(c, r, algorithm, nrm, con) if scale is None else scale
     hint = None if nrm is None else nrm.mean(axis=0)
-    prep = _prepare(c, r, scale, side, hint, nrm)
-    o = prep.orientation
-    if algorithm == 3:
-        k = -o * P.signed_curvature(prep.dc, prep.ddc)
-        surf = prep.centers - r * prep.outward  # eq. (3.11)
-        upper, lower = 1.0 / (2 * r), -1.0 / (2 * r)
-        s, idx, traced = prep.s, prep.index, prep.centers
-    elif algorithm == 4:
-        kt = -o * P.signed_curvature(prep.dc, prep.ddc)
-        valid = kt < 1.0 / r  # curvature limitation, §3.3.3
-        surf = (prep.centers - r * prep.outward)[valid]  # eq. (3.11)
-        if surf.shape[0] < 3:
-            raise InvalidParameter(
-                "algorithm 4: fewer than 3 traced points survive the "
-                "curvature limitation k_t < 1/r_f; the data are too noisy "
-                "for this smoothing_scale"
-            )
-        k = -o * P.curvature_by_arclength(surf, prep.spacing)
-        upper, lower = 1.0 / r, -1.0 / r
-        s, idx, traced = prep.s[valid], prep.index[valid], prep.centers[valid]
-    else:
-        block = prep.block
-        if con is not None:
-            cp, _ = P.block_means(prep.frame.to_plane(con), block)
-            cps, dcp, ddcp = P.gaussian_derivatives(cp, prep.sigma)
-        nv, _ = P.block_means(prep.frame.vectors_to_plane(nrm), block)
-        ns, _, _ = P.gaussian_derivatives(nv, prep.sigma)
-        ns /= np.maximum(np.linalg.norm(ns, axis=1), 1e-300)[:, None]
-        if algorithm == 1:
-            # the tactile sensor measures the contact relative to the fingertip: smooth that
-            # (the contact location on the sensor), then add the smoothed fingertip pose
-            rel, _ = P.block_means(prep.frame.to_plane(con) - prep.frame.to_plane(c), block)
-            rs, _, _ = P.gaussian_derivatives(rel, prep.sigma)
-            mag, _, _ = P.gaussian_derivatives(np.linalg.norm(rel, axis=1)[:, None], prep.sigma)
-            rs *= (mag[:, 0] / np.maximum(np.linalg.norm(rs, axis=1), 1e-300))[:, None]
-            surf = prep.centers + rs
-            k = -o * P.curvature_by_arclength(surf, prep.spacing)
-        else:
-            phi = np.unwrap(np.arctan2(ns[:, 1], ns[:, 0]))
-            dphi = np.gradient(phi)
-            along = choice(
-                "normal_arclength",
-                settings.get("normal_arclength", "center"),
-                ("center", "contact"),
-            )
-            surf = cps if con is not None else prep.centers - r * ns
-            if along == "center":
-                dsurf = prep.dc
-            elif con is not None:
-                dsurf = dcp
-            else:
-                dsurf = np.gradient(surf, axis=0)
-            ds = np.linalg.norm(dsurf, axis=1)
-            ds = np.maximum(ds, 1e-3 * max(float(np.median(ds)), 1e-300))
-            k = -o * dphi / ds
-        upper, lower = 1.0 / r, -1.0 / r
-        s, idx, traced = prep.s, prep.index, prep.centers
-    if settings.get("upper") is not None:
-        upper = float(settings["upper"])
-    if settings.get("lower") is not None:
-        lower = float(settings["lower"])
-    if not upper > 0 or not lower < 0:
-        raise InvalidParameter(
-            f"thresholds: expected upper > 0 > lower [1/m], got upper={upper!r}, lower={lower!r}"
-        )
-    return CurvatureSignal(
-        algorithm=algorithm,
-        s=s,
-        curvature=k,
-        upper=upper,
-        lower=lower,
-        surface=prep.frame.from_plane(surf),
-        traced=prep.frame.from_plane(traced),
-        index=idx,
-        scale=scale,
-    )
+    prep = S.prepare_path(c, r, scale, cfg.material_side, hint, nrm)
+    sig = _SIGNALS[algorithm](prep, c, nrm, con, r, cfg)
+    upper = sig.upper if cfg.upper is None else float(cfg.upper)
+    lower = sig.lower if cfg.lower is None else float(cfg.lower)
+    return replace(sig, upper=upper, lower=lower, scale=float(scale))
 
 
-def _concave_position(sig: CurvatureSignal, p: int, tip_radius: float) -> np.ndarray:
+def _concave_position(sig: CurvatureSignal, p: int, tip_radius: float, ds: float) -> np.ndarray:
     """Where a concave feature found at an interference point (a corner of the traced curve)
     most likely is: the true corner lies in the unobservable region between the two contacts
     ``a`` (before) and ``b`` (after), ``a = c - r_f n_a`` (eq. 3.11) just outside the smoothed
@@ -259,7 +135,7 @@ def _concave_position(sig: CurvatureSignal, p: int, tip_radius: float) -> np.nda
     point (eq. 3.11), the deepest point reached; otherwise the contact on the more convex
     side (a wire, the top edge of a step) is projected onto the tangent line of the flatter
     side (exact for a step)."""
-    m = max(2, int(np.ceil(3 * sig.scale / max(np.median(np.diff(sig.s)), 1e-300))))
+    m = max(2, int(np.ceil(3 * sig.scale / max(ds, 1e-300))))
     n = sig.s.size
     i, j = max(p - m, 0), min(p + m, n - 1)
     if i == p or j == p:
@@ -307,11 +183,12 @@ def features_from_signal(
     instead of on the fillet of the estimated surface.
     """
     regions = threshold_regions(sig.curvature, sig.s, sig.upper, sig.lower, merge_gap)
+    ds = float(np.median(np.diff(sig.s))) if sig.s.size > 1 else 0.0  # once, not per feature
     out = []
     for sign, a, b, p in regions:
         pos = sig.surface[p].copy()
         if sign < 0 and tip_radius is not None and sig.algorithm in (2, 3):
-            pos = _concave_position(sig, p, tip_radius)
+            pos = _concave_position(sig, p, tip_radius, ds)
         out.append(
             CurvatureFeature(
                 sign=sign,
@@ -327,7 +204,13 @@ def features_from_signal(
 
 
 def detect_features(
-    centers, tip_radius: float, algorithm: int = 3, normals=None, contacts=None, **settings
+    centers,
+    tip_radius: float,
+    algorithm: int = 3,
+    normals=None,
+    contacts=None,
+    settings: DetectionSettings | None = None,
+    **overrides,
 ) -> list[CurvatureFeature]:
     """Detect curvature features (Definition 1) in fingertip data with one algorithm of
     thesis Fig. 3.8.
@@ -336,28 +219,20 @@ def detect_features(
     standard deviation ``smoothing_scale`` (in arclength) and differentiated (Gaussian
     derivatives); curvature is eq. (B.5); regions beyond the thresholds are features.
     The defaults work on data at the thesis' noise level (centre noise ~0.1-0.2 mm, contact
-    noise ~0.25-0.5 mm) without tuning.
+    noise ~0.25-0.5 mm) without tuning. The material side is read from the normals or
+    contacts when given, else from the path itself, so a trace recorded in either direction
+    gives the same features (arclengths mirrored).
 
     Args:
-        centers: (N, 2) or (N, 3) fingertip-centre positions in time order [m].
+        centers: (N, 2) or (N, 3) fingertip-centre positions in time order [m]; at least
+            :data:`MIN_SAMPLES_PER_RADIUS` samples per tip radius of travel.
         tip_radius: fingertip radius r_f [m].
-        algorithm: 1, 2, 3 or 4 (thesis Fig. 3.8; see the module docstring). Default 3.
+        algorithm: 1, 2, 3 or 4 (thesis Fig. 3.8; :mod:`planner.detection.signals`).
         normals: (N, D) measured outward contact normals (unit), or ``None``.
         contacts: (N, D) measured contact points [m], or ``None``.
-        **settings:
-            smoothing_scale: Gaussian smoothing scale along the path [m] (default: chosen
-                from the noise estimated in the data, :func:`default_scale`; about
-                ``tip_radius/10`` at the thesis' noise level).
-            material_side: ``"auto"`` (default: from normals/contacts when given; else the
-                object is on the right of the direction of travel, as for an open profile
-                traced in +x with material below; for 3-D data without normals, below in
-                world z), ``"right"`` or ``"left"``.
-            merge_gap: same-sign regions closer than this are merged [m]
-                (default ``smoothing_scale``: noise dips inside one feature).
-            upper, lower: override the convex/concave thresholds of the signal [1/m].
-            normal_arclength: algorithm 2 only: differentiate the normal with respect to the
-                arclength of the fingertip-centre path (``"center"``, default) or of the
-                contact path (``"contact"``).
+        settings: a :class:`DetectionSettings` (default: all defaults).
+        **overrides: fields of :class:`DetectionSettings` to change, e.g.
+            ``smoothing_scale=1e-3``, ``material_side="left"``.
 
     Returns:
         Curvature features in path order, each with ``.sign``, ``.start``, ``.end``,
@@ -365,13 +240,21 @@ def detect_features(
         ``.position`` (point on the estimated surface, same dimension as ``centers`` [m]).
 
     Raises:
-        InvalidParameter: bad shapes, non-finite values, unknown algorithm or setting, or a
-            missing input the algorithm needs.
+        InvalidParameter: bad shapes, non-finite values, an unknown algorithm or setting, a
+            missing input the algorithm needs, millimetres passed as metres, or samples too
+            sparse for the tip radius.
     """
-    sig = curvature_signal(centers, tip_radius, algorithm, normals, contacts, **settings)
-    gap = settings.get("merge_gap")
-    gap = sig.scale if gap is None else float(gap)
+    cfg = DetectionSettings.of(settings, **overrides)
+    sig = curvature_signal(centers, tip_radius, algorithm, normals, contacts, cfg)
+    gap = sig.scale if cfg.merge_gap is None else float(cfg.merge_gap)
     return features_from_signal(sig, gap, float(tip_radius))
 
 
-__all__ = ["ALGORITHMS", "curvature_signal", "detect_features", "features_from_signal"]
+__all__ = [
+    "ALGORITHMS",
+    "MIN_SAMPLES_PER_RADIUS",
+    "check_sampling",
+    "curvature_signal",
+    "detect_features",
+    "features_from_signal",
+]

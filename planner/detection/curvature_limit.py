@@ -13,9 +13,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from planner import checks
 from planner.detection import path as P
-from planner.detection._validate import as_points, positive
-from planner.detection.algorithms import _prepare, default_scale
+from planner.detection.algorithms import check_sampling
+from planner.detection.signals import default_scale, prepare_path
 
 
 @dataclass(frozen=True, eq=False)
@@ -56,10 +57,12 @@ def curvature_limit_smoothing(
     Returns:
         A :class:`CurvatureLimited`.
     """
-    r = positive("tip_radius", tip_radius)
-    c = as_points("centers", centers)
-    scale = positive("smoothing_scale", smoothing_scale or default_scale(c, r, 3))
-    prep = _prepare(c, r, scale, material_side, None, None)
+    r = checks.positive("tip_radius", tip_radius, "m")
+    c = checks.points("centers", centers, min_count=8)
+    check_sampling(c, r)
+    checks.choice("material_side", material_side, ("auto", "right", "left"))
+    scale = checks.positive("smoothing_scale", smoothing_scale or default_scale(c, r, 3), "m")
+    prep = prepare_path(c, r, scale, material_side)
     o = prep.orientation
     raw, _ = P.block_means(prep.frame.to_plane(c), prep.block)
     kt = -o * P.signed_curvature(prep.dc, prep.ddc)

@@ -23,12 +23,12 @@ Every problem found is reported at once, one line each, as a
 from __future__ import annotations
 
 import csv
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from planner.errors import InputIssue, ScenarioError
+from planner.geometry.measurement import FingertipTrace
 
 MIN_SAMPLES = 20
 #: largest plausible extent of a fingertip path in metres (a larger one is likely in mm)
@@ -38,29 +38,12 @@ _UNITS = {"t": ("s", "ms"), "c": ("m", "mm"), "p": ("m", "mm"), "n": ()}
 _GROUPS = {"c": "fingertip centre", "p": "contact point", "n": "contact normal"}
 
 
-@dataclass(frozen=True, eq=False)
-class FingertipData:
-    """A fingertip trace read from a file (SI units).
-
-    Attributes:
-        t: (N,) time stamps [s].
-        centers: (N, D) fingertip-centre positions [m], D = 2 or 3.
-        contacts: (N, D) contact points [m] or ``None``.
-        normals: (N, D) outward unit contact normals or ``None``.
-        tip_radius: fingertip radius stored in the file [m] (NPZ only) or ``None``.
-        source: the file name.
-    """
-
-    t: np.ndarray
-    centers: np.ndarray
-    contacts: np.ndarray | None
-    normals: np.ndarray | None
-    tip_radius: float | None
-    source: str
-
-
-def read_trace_file(path: str | Path) -> FingertipData:
+def read_trace_file(path: str | Path) -> FingertipTrace:
     """Read a CSV or NPZ fingertip trace (format in the module docstring).
+
+    Returns:
+        A :class:`~planner.geometry.measurement.FingertipTrace` in SI units (``truth`` is
+        ``None``; ``tip_radius`` is the file's (NPZ) or ``None``; ``source`` the path).
 
     Raises:
         ScenarioError: every problem found (missing file, unknown extension, missing or
@@ -147,7 +130,7 @@ def _check_groups(present: set[str], src: str, line: int, issues: list[InputIssu
     return dim
 
 
-def _read_csv(p: Path, src: str) -> FingertipData:
+def _read_csv(p: Path, src: str) -> FingertipTrace:
     try:
         text = p.read_text()
     except (OSError, UnicodeDecodeError) as exc:
@@ -207,6 +190,11 @@ def _read_csv(p: Path, src: str) -> FingertipData:
             return None
         return np.column_stack([arr[n] for n in names])
 
+    def header(g: str) -> list[str]:
+        return [raw[g + a] for a in ("x", "y", "z")[:dim] if g + a in raw]
+
+    raw = {b: reader[0][j].strip() for b, (j, _) in cols.items()}
+
     return _finish(
         src,
         arr["t"],
@@ -215,11 +203,11 @@ def _read_csv(p: Path, src: str) -> FingertipData:
         stack("n"),
         None,
         lambda r: int(lines_arr[r]) if r < lines_arr.size else 0,
-        {"t": "t", "centers": "c*", "contacts": "p*", "normals": "n*"},
+        {"t": raw["t"], "centers": header("c"), "contacts": header("p"), "normals": header("n")},
     )
 
 
-def _read_npz(p: Path, src: str) -> FingertipData:
+def _read_npz(p: Path, src: str) -> FingertipTrace:
     try:
         with np.load(p, allow_pickle=False) as z:
             files = {k: np.asarray(z[k]) for k in z.files}
@@ -293,13 +281,14 @@ def _read_npz(p: Path, src: str) -> FingertipData:
     )
 
 
-def _finish(src, t, c, p, n, tip, line_of, names) -> FingertipData:
+def _finish(src, t, c, p, n, tip, line_of, names) -> FingertipTrace:
     """Content checks shared by CSV and NPZ."""
+    label = {k: ",".join(v) if isinstance(v, list) else v for k, v in names.items()}
     issues: list[InputIssue] = []
     if t.size < MIN_SAMPLES:
         issues.append(
             InputIssue(
-                src, 0, names["t"], f"too few samples: {t.size}; expected at least {MIN_SAMPLES}"
+                src, 0, label["t"], f"too few samples: {t.size}; expected at least {MIN_SAMPLES}"
             )
         )
     for key, a in (("t", t), ("centers", c), ("contacts", p), ("normals", n)):
@@ -308,7 +297,10 @@ def _finish(src, t, c, p, n, tip, line_of, names) -> FingertipData:
         bad = ~np.isfinite(a.reshape(a.shape[0], -1)).all(axis=1)
         if bad.any():
             r = int(np.argmax(bad))
-            where = names[key] if a.ndim == 1 else f"{names[key]}[{r}]"
+            where = names[key]
+            if a.ndim == 2:  # the column (CSV) or the array and column (NPZ) of the value
+                col = int(np.argmax(~np.isfinite(a[r])))
+                where = where[col] if isinstance(where, list) else f"{where}[:, {col}]"
             issues.append(
                 InputIssue(
                     src,
@@ -326,9 +318,9 @@ def _finish(src, t, c, p, n, tip, line_of, names) -> FingertipData:
                 InputIssue(
                     src,
                     line_of(r),
-                    names["t"],
+                    label["t"],
                     f"time is not strictly increasing at row {r} "
-                    f"(t={t[r]!r} after {t[r - 1]!r}); sort the samples "
+                    f"(t={float(t[r]):.9g} after {float(t[r - 1]):.9g}); sort the samples "
                     f"and remove duplicates",
                 )
             )
@@ -341,14 +333,14 @@ def _finish(src, t, c, p, n, tip, line_of, names) -> FingertipData:
                 InputIssue(
                     src,
                     0,
-                    names[key],
+                    label[key],
                     f"the path spans {ext:.4g} m, implausible for a "
                     f"fingertip; are the values in millimetres? Use "
                     f"metres, or a _mm column suffix in CSV",
                 )
             )
         elif key == "centers" and ext == 0:
-            issues.append(InputIssue(src, 0, names[key], "the fingertip does not move"))
+            issues.append(InputIssue(src, 0, label[key], "the fingertip does not move"))
     if n is not None and np.isfinite(n).all():
         lens = np.linalg.norm(n, axis=1)
         bad = np.abs(lens - 1) > 0.05
@@ -358,14 +350,14 @@ def _finish(src, t, c, p, n, tip, line_of, names) -> FingertipData:
                 InputIssue(
                     src,
                     line_of(r),
-                    names["normals"],
+                    label["normals"],
                     f"normals must be unit vectors; row {r} has length "
                     f"{lens[r]:.4g} ({int(bad.sum())} such rows)",
                 )
             )
     if issues:
         raise ScenarioError(issues)
-    return FingertipData(t=t, centers=c, contacts=p, normals=n, tip_radius=tip, source=src)
+    return FingertipTrace(t=t, centers=c, tip_radius=tip, contacts=p, normals=n, source=src)
 
 
-__all__ = ["FingertipData", "MAX_EXTENT_M", "MIN_SAMPLES", "read_trace_file"]
+__all__ = ["MAX_EXTENT_M", "MIN_SAMPLES", "read_trace_file"]

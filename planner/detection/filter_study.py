@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from planner.detection._validate import positive
+from planner import checks
 from planner.detection.scheme_b2 import b2_scheme
 from planner.detection.scoring import score_features
 from planner.detection.smoothing import FILTERS, smooth
@@ -116,8 +116,8 @@ def rate_filters(
     Returns:
         One :class:`FilterScore` per setting, in the order given.
     """
-    r = positive("tip_radius", tip_radius)
-    tol = positive("tolerance", tolerance, "s")
+    r = checks.positive("tip_radius", tip_radius, "m")
+    tol = checks.positive("tolerance", tolerance, "s")
     out = []
     for st in settings:
         fps, fns = [], []

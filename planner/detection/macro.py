@@ -13,14 +13,16 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-import numpy as np
-
-from planner.detection._validate import positive
-from planner.detection.types import CurvatureFeature, MacroFeature
+from planner import checks
 from planner.errors import InvalidParameter
-from planner.geometry.features import MACRO_KINDS, classify_pattern, group_features_1d
-
-_EXTRA = {"-++-": "ridge", "+--+": "ravine"}
+from planner.geometry.features import (
+    FLAT_CRESTS,
+    CurvatureFeature,
+    MacroFeature,
+    classify_pattern,
+    macro_features_1d,
+    sign_text,
+)
 
 
 def classify_signs(signs: Sequence[int], tip_radius: float) -> str:
@@ -33,10 +35,7 @@ def classify_signs(signs: Sequence[int], tip_radius: float) -> str:
     Returns:
         One of ``"bump", "pit", "ridge", "ravine", "step", "cusp", "unknown"``.
     """
-    pattern = "".join("+" if x > 0 else "-" for x in signs)
-    if pattern in _EXTRA:
-        return _EXTRA[pattern]
-    return classify_pattern(list(signs), None, tip_radius)
+    return FLAT_CRESTS.get(sign_text(signs)) or classify_pattern(list(signs), None, tip_radius)
 
 
 def macro_features(features: Sequence[CurvatureFeature], tip_radius: float) -> list[MacroFeature]:
@@ -56,7 +55,7 @@ def macro_features(features: Sequence[CurvatureFeature], tip_radius: float) -> l
     Raises:
         InvalidParameter: ``tip_radius <= 0`` or a feature without the needed attributes.
     """
-    r = positive("tip_radius", tip_radius)
+    r = checks.positive("tip_radius", tip_radius, "m")
     feats = list(features)
     for i, f in enumerate(feats):
         if not all(hasattr(f, a) for a in ("sign", "start", "end", "position")):
@@ -66,23 +65,7 @@ def macro_features(features: Sequence[CurvatureFeature], tip_radius: float) -> l
             )
         if f.sign not in (1, -1):
             raise InvalidParameter(f"features[{i}].sign: expected +1 or -1, got {f.sign!r}")
-    out = []
-    for group in group_features_1d(feats, r):
-        signs = [f.sign for f in group]
-        kind = classify_signs(signs, r)
-        assert kind in MACRO_KINDS
-        pos = np.mean([np.asarray(f.position, dtype=float) for f in group], axis=0)
-        out.append(
-            MacroFeature(
-                kind=kind,
-                position=pos,
-                start=float(group[0].start),
-                end=float(max(f.end for f in group)),
-                signs="".join("+" if x > 0 else "-" for x in signs),
-                features=tuple(group),
-            )
-        )
-    return out
+    return macro_features_1d(feats, r, flat_crests=True)
 
 
 __all__ = ["classify_signs", "macro_features"]

@@ -9,12 +9,13 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from planner import checks
 from planner.detection import path as P
-from planner.detection._validate import as_points, positive
-from planner.detection.algorithms import _prepare, default_scale, detect_features
-from planner.detection.types import CurvatureFeature
+from planner.detection.algorithms import check_sampling, detect_features
+from planner.detection.signals import default_scale, prepare_path
 from planner.errors import InvalidParameter
 from planner.geometry.envelope import offset_envelope
+from planner.geometry.features import CurvatureFeature
 
 
 def detect_multiscale(
@@ -49,17 +50,19 @@ def detect_multiscale(
     Raises:
         InvalidParameter: a radius below ``tip_radius`` or not positive.
     """
-    r = positive("tip_radius", tip_radius)
-    c = as_points("centers", centers)
-    rs = [positive("radii", ri) for ri in radii]
+    r = checks.positive("tip_radius", tip_radius, "m")
+    c = checks.points("centers", centers, min_count=8)
+    check_sampling(c, r)
+    checks.choice("material_side", material_side, ("auto", "right", "left"))
+    rs = [checks.positive("radii", ri, "m") for ri in radii]
     for ri in rs:
         if ri < r * (1 - 1e-12):
             raise InvalidParameter(
                 f"radii: {ri!r} is smaller than tip_radius {r!r}; "
                 f"only r_i >= r_f can be simulated (§3.2.2)"
             )
-    scale = positive("smoothing_scale", smoothing_scale or 1.5 * default_scale(c, r, 3))
-    prep = _prepare(c, r, scale, material_side, None, None)
+    scale = checks.positive("smoothing_scale", smoothing_scale or 1.5 * default_scale(c, r, 3), "m")
+    prep = prepare_path(c, r, scale, material_side)
     o = prep.orientation
     kt = -o * P.signed_curvature(prep.dc, prep.ddc)
     keep = kt < 1.0 / r
@@ -68,42 +71,45 @@ def detect_multiscale(
     s_real = prep.s[keep]
     if o < 0:  # offset_envelope expects the material on the right of travel
         est, nrm, s_real = est[::-1], nrm[::-1], s_real[::-1]
-    out: dict[float, list[CurvatureFeature]] = {}
-    for ri in rs:
-        env = offset_envelope(est, nrm, ri, closed=False)
-        pts = env.points[::-1] if o < 0 else env.points
-        src = env.source[::-1] if o < 0 else env.source
-        if pts.shape[0] < 8:
-            out[ri] = []
-            continue
-        ok = src >= 0
-        s_path = P.arclength(pts)
-        s_map = np.interp(np.arange(src.size), np.flatnonzero(ok), s_real[src[ok]])
-        feats = detect_features(
-            pts,
-            ri,
-            3,
-            material_side="right" if o > 0 else "left",
-            smoothing_scale=max(scale, default_scale(pts, ri, 3)),
-            merge_gap=ri / 2,
-        )
-        res = []
-        for f in feats:
-            st, en, pk = np.interp([f.start, f.end, f.peak], s_path, s_map)
-            pos = prep.frame.from_plane(np.asarray(f.position)[None, :2])[0]
-            res.append(
-                CurvatureFeature(
-                    sign=f.sign,
-                    start=float(min(st, en)),
-                    end=float(max(st, en)),
-                    peak=float(pk),
-                    position=pos,
-                    peak_curvature=f.peak_curvature,
-                    algorithm=3,
-                )
+    return {ri: _redetect(prep, est, nrm, s_real, ri, scale) for ri in rs}
+
+
+def _redetect(prep, est, nrm, s_real, ri: float, scale: float) -> list[CurvatureFeature]:
+    """Features a virtual fingertip of radius ``ri`` [m] sees on the estimated surface
+    ``est`` (M, 2) [m] with outward normals ``nrm`` (M, 2), material on the right of travel;
+    ``s_real`` (M,) their arclength on the real centre path [m]."""
+    o = prep.orientation
+    env = offset_envelope(est, nrm, ri, closed=False)
+    pts = env.points[::-1] if o < 0 else env.points
+    src = env.source[::-1] if o < 0 else env.source
+    if pts.shape[0] < 8:
+        return []
+    ok = src >= 0
+    s_path = P.arclength(pts)
+    s_map = np.interp(np.arange(src.size), np.flatnonzero(ok), s_real[src[ok]])
+    feats = detect_features(
+        pts,
+        ri,
+        3,
+        material_side="right" if o > 0 else "left",
+        smoothing_scale=max(scale, default_scale(pts, ri, 3)),
+        merge_gap=ri / 2,
+    )
+    res = []
+    for f in feats:
+        st, en, pk = np.interp([f.start, f.end, f.peak], s_path, s_map)
+        res.append(
+            CurvatureFeature(
+                sign=f.sign,
+                start=float(min(st, en)),
+                end=float(max(st, en)),
+                peak=float(pk),
+                position=prep.frame.from_plane(np.asarray(f.position)[None, :2])[0],
+                peak_curvature=f.peak_curvature,
+                algorithm=3,
             )
-        out[ri] = res
-    return out
+        )
+    return res
 
 
 __all__ = ["detect_multiscale"]

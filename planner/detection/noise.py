@@ -6,9 +6,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import stats
 
-from planner.detection._validate import as_series
+from planner import checks
 from planner.errors import InvalidParameter
 
 
@@ -93,8 +92,8 @@ def noise_analysis(t, x, bins: int = 8, confidence: float = 0.95, degree: int = 
         InvalidParameter: bad shapes, fewer than 20 samples, non-finite or non-increasing
             t, constant x, or bad bins/confidence/degree.
     """
-    tt = as_series("t", t, min_samples=20)
-    xx = as_series("x", x, n=tt.size, min_samples=20)
+    tt = checks.series("t", t, min_count=20, unit="s")
+    xx = checks.series("x", x, n=tt.size, min_count=20, unit="m")
     if np.any(np.diff(tt) <= 0):
         i = int(np.argmax(np.diff(tt) <= 0))
         raise InvalidParameter(
@@ -116,6 +115,8 @@ def noise_analysis(t, x, bins: int = 8, confidence: float = 0.95, degree: int = 
         )
     edges = np.linspace(res.min(), res.max(), bins + 1)
     obs, _ = np.histogram(res, edges)
+    from scipy import stats  # heavy: loaded on first use only
+
     cdf = stats.norm.cdf((edges - mean) / sigma)  # eq. (B.3)-(B.4)
     cdf[0], cdf[-1] = 0.0, 1.0
     exp = res.size * np.diff(cdf)

@@ -1,5 +1,6 @@
-"""Figures of the detection kinds (thesis Figs. 3.12, B.5-B.6): the trace with the features
-marked, and the curvature signals with their thresholds."""
+"""Figures of feature detection (thesis Figs. 3.12, B.5-B.6): the trace with the features
+marked, the curvature signals with their thresholds, the multiscale features, and the
+filter comparison of App. B.4."""
 
 from __future__ import annotations
 
@@ -7,7 +8,8 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from planner.detection.types import CurvatureFeature, CurvatureSignal
+from planner.detection.types import CurvatureSignal
+from planner.geometry.features import CurvatureFeature
 
 _COLORS = {1: "tab:orange", 2: "tab:green", 3: "tab:red", 4: "tab:purple"}
 
@@ -85,6 +87,8 @@ def trace_figure(
         for f in truth or []:
             p = np.asarray(f.position) * mm
             ax.plot(p[0], p[1], "o", ms=4, color="k")
+    if truth:
+        axes[0].plot([], [], "o", ms=4, color="k", label="true feature (observable)")
         ax.set_aspect("equal", adjustable="datalim")
         ax.set_xlabel("x [mm]")
         ax.set_ylabel("y [mm]")
@@ -151,4 +155,110 @@ def signal_figure(
     return fig
 
 
-__all__ = ["signal_figure", "trace_figure"]
+def multiscale_figure(
+    features: Mapping[float, Sequence[CurvatureFeature]],
+    macros: Mapping[float, Sequence[str]],
+    title: str = "Multiscale features",
+):
+    """The features seen by each fingertip radius along the path (§3.2.2): one row per
+    radius, convex regions red, concave blue, peaks marked, macro kinds written beside.
+
+    Args:
+        features: radius [m] -> its features (arclengths along the real centre path [m]).
+        macros: radius [m] -> the kinds of its macro features.
+    """
+    from matplotlib.figure import Figure
+
+    radii = sorted(features)
+    fig = Figure(figsize=(9, 1.0 + 0.7 * len(radii)))
+    ax = fig.add_subplot(1, 1, 1)
+    for row, r in enumerate(radii):
+        for f in features[r]:
+            color = "tab:red" if f.sign > 0 else "tab:blue"
+            a, b = f.start * 1e3, max(f.end * 1e3, f.start * 1e3 + 0.1)
+            ax.fill_between([a, b], row - 0.3, row + 0.3, color=color, alpha=0.35, lw=0)
+            ax.plot(f.peak * 1e3, row, "^" if f.sign > 0 else "v", color=color, ms=7)
+        kinds = ", ".join(macros.get(r, [])) or "no feature"
+        ax.annotate(kinds, (1.01, row), xycoords=("axes fraction", "data"), va="center", fontsize=8)
+    ax.set_yticks(range(len(radii)), [f"r = {r * 1e3:g} mm" for r in radii])
+    ax.set_ylim(-0.6, len(radii) - 0.4)
+    ax.set_xlabel("arclength along the fingertip-centre path [mm]")
+    ax.plot([], [], "^", color="tab:red", label="convex (+)")
+    ax.plot([], [], "v", color="tab:blue", label="concave (-)")
+    ax.legend(fontsize=7, loc="upper left")
+    ax.grid(True, axis="x", lw=0.3)
+    ax.set_title(title, fontsize=10)
+    fig.subplots_adjust(left=0.12, right=0.8, bottom=0.6 / fig.get_figheight() + 0.05, top=0.85)
+    return fig
+
+
+def filter_errors_figure(
+    filters: Sequence[str], scores: Sequence, windows: Sequence[int], sigmas: Sequence[float]
+):
+    """False positives + false negatives per trace of the App. B.2 scheme by filter window
+    (left) and, for the Gaussian filter, by window and sigma (right; cf. App. B.4).
+
+    Args:
+        filters: the filters rated.
+        scores: :class:`planner.detection.filter_study.FilterScore` of every setting.
+        windows: the windows of the grid [samples].
+        sigmas: the Gaussian sigmas of the grid [samples].
+    """
+    from matplotlib.figure import Figure
+
+    windows, sigmas = list(windows), list(sigmas)
+
+    fig = Figure(figsize=(11, 4.5))
+    ax1 = fig.add_subplot(1, 2, 1)
+    for m in filters:
+        if m in ("gaussian", "none", "dual_point"):
+            continue
+        ms = [s for s in scores if s.setting.method == m]
+        ax1.plot([s.setting.window for s in ms], [s.errors for s in ms], "o-", label=m)
+    g = [s for s in scores if s.setting.method == "gaussian"]
+    if g:
+        best_sig = min(g, key=lambda s: s.errors).setting.sigma
+        gs = [s for s in g if s.setting.sigma == best_sig]
+        ax1.plot(
+            [s.setting.window for s in gs],
+            [s.errors for s in gs],
+            "s-",
+            label=f"gaussian, sigma={best_sig:g}",
+        )
+    for m in ("none",):
+        ms = [s for s in scores if s.setting.method == m]
+        if ms:
+            ax1.axhline(ms[0].errors, color="0.5", ls=":", label="no filter")
+    ax1.set_xlabel("window [samples]")
+    ax1.set_ylabel("false positives + false negatives per trace")
+    ax1.set_title("App. B.2 scheme errors by filter window")
+    ax1.legend(fontsize=8)
+    ax1.grid(True, lw=0.3)
+    ax2 = fig.add_subplot(1, 2, 2)
+    if g:
+        mat = np.full((len(sigmas), len(windows)), np.nan)
+        for s in g:
+            mat[sigmas.index(s.setting.sigma), windows.index(s.setting.window)] = s.errors
+        im = ax2.imshow(mat, origin="lower", aspect="auto", cmap="viridis_r")
+        ax2.set_xticks(range(len(windows)), [str(w) for w in windows])
+        ax2.set_yticks(range(len(sigmas)), [f"{s:g}" for s in sigmas])
+        for i in range(len(sigmas)):
+            for j in range(len(windows)):
+                ax2.text(
+                    j,
+                    i,
+                    f"{mat[i, j]:.1f}",
+                    ha="center",
+                    va="center",
+                    fontsize=7,
+                    color="w" if mat[i, j] > np.nanmax(mat) / 2 else "k",
+                )
+        fig.colorbar(im, ax=ax2, label="FP + FN per trace")
+        ax2.set_xlabel("Gaussian window [samples]")
+        ax2.set_ylabel("Gaussian sigma [samples]")
+        ax2.set_title("Gaussian filter (thesis best: window 25-40, sigma 5-10)", fontsize=9)
+    fig.subplots_adjust(left=0.07, right=0.97, bottom=0.12, top=0.92, wspace=0.25)
+    return fig
+
+
+__all__ = ["filter_errors_figure", "multiscale_figure", "signal_figure", "trace_figure"]

@@ -1,17 +1,11 @@
-"""Threshold a curvature signal into feature regions (App. B.2 steps 6-7)."""
+"""Threshold a curvature signal into feature regions (App. B.2 steps 6-7): Definition 1
+(:func:`planner.geometry.features.threshold_runs`) plus the merging of noise dips."""
 
 from __future__ import annotations
 
 import numpy as np
 
-
-def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
-    """Inclusive (first, last) index pairs of the runs of True in a 1-D boolean mask."""
-    m = np.concatenate([[False], mask, [False]]).astype(np.int8)
-    d = np.diff(m)
-    starts = np.flatnonzero(d == 1)
-    ends = np.flatnonzero(d == -1) - 1
-    return list(zip(starts.tolist(), ends.tolist(), strict=True))
+from planner.geometry.features import threshold_runs
 
 
 def threshold_regions(
@@ -34,16 +28,17 @@ def threshold_regions(
     """
     sig = np.where(np.isfinite(signal), signal, 0.0)
     out: list[tuple[int, int, int, int]] = []
-    for sign, mask in ((1, sig > upper), (-1, sig < lower)):
-        runs = _runs(mask)
+    for sign in (1, -1):
         merged: list[list[int]] = []
-        for a, b in runs:
+        for _, a, b, _ in (r for r in threshold_runs(sig, upper, lower) if r[0] == sign):
             if merged and s[a] - s[merged[-1][1]] < merge_gap:
                 merged[-1][1] = b
             else:
                 merged.append([a, b])
         for a, b in merged:
-            seg = sign * sig[a : b + 1]
-            out.append((sign, a, b, a + int(np.argmax(seg))))
+            out.append((sign, a, b, a + int(np.argmax(sign * sig[a : b + 1]))))
     out.sort(key=lambda r: r[1])
     return out
+
+
+__all__ = ["threshold_regions"]

@@ -20,10 +20,10 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.ndimage import gaussian_filter1d
 
-from planner.detection._validate import as_series, choice, positive
+from planner import checks
 from planner.detection.regions import threshold_regions
-from planner.detection.types import CurvatureFeature
 from planner.errors import InvalidParameter
+from planner.geometry.features import CurvatureFeature
 
 
 @dataclass(frozen=True, eq=False)
@@ -85,15 +85,15 @@ def b2_scheme(
     Returns:
         A :class:`SchemeResult`.
     """
-    r = positive("tip_radius", tip_radius)
-    xx = as_series("x", x)
-    yy = as_series("y", y, n=xx.size)
-    tt = np.arange(xx.size, dtype=float) if t is None else as_series("t", t, n=xx.size)
-    if isinstance(decimate, bool) or not isinstance(decimate, (int, np.integer)) or decimate < 1:
-        raise InvalidParameter(f"decimate: expected a positive integer, got {decimate!r}")
-    if not sigma >= 0:
-        raise InvalidParameter(f"sigma: expected >= 0 [samples], got {sigma!r}")
-    o = 1 if choice("material_side", material_side, ("right", "left")) == "right" else -1
+    r = checks.positive("tip_radius", tip_radius, "m")
+    xx = checks.series("x", x, min_count=8, unit="m")
+    yy = checks.series("y", y, n=xx.size, unit="m")
+    tt = (
+        np.arange(xx.size, dtype=float) if t is None else checks.series("t", t, n=xx.size, unit="s")
+    )
+    decimate = checks.integer("decimate", decimate, minimum=1)
+    sigma = checks.nonnegative("sigma", sigma, "samples")
+    o = 1 if checks.choice("material_side", material_side, ("right", "left")) == "right" else -1
     xs, ys, ts = xx[::decimate], yy[::decimate], tt[::decimate]
     if xs.size < 5:
         raise InvalidParameter(f"decimate: only {xs.size} samples are left; expected >= 5")

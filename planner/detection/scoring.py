@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from planner.detection._validate import positive
+from planner import checks
 from planner.errors import InvalidParameter
 
 
@@ -84,7 +84,7 @@ def score_features(
     Returns:
         A :class:`Score`.
     """
-    tol = positive("tolerance", tolerance)
+    tol = checks.positive("tolerance", tolerance, "m")
     if key not in ("position", "peak", "start", "end"):
         raise InvalidParameter(
             f"key: got {key!r}; expected one of ['position', 'peak', 'start', 'end']"

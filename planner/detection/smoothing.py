@@ -11,17 +11,17 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage, signal
 
-from planner.detection._validate import choice
+from planner import checks
 from planner.errors import InvalidParameter
 
 FILTERS = ("none", "average", "median", "dual_point", "gaussian", "wiener")
 
 
 def _check_window(window, method: str) -> int:
-    if isinstance(window, bool) or not isinstance(window, (int, np.integer)) or window < 1:
+    """``window`` [samples] of the ``method`` filter as an int >= 1."""
+    if isinstance(window, float) or not checks.integer("window", window, minimum=1):
         raise InvalidParameter(
-            f"window: expected a positive integer number of samples for "
-            f"the {method!r} filter, got {window!r}"
+            f"window: expected an integer >= 1 [samples] for the {method!r} filter, got {window!r}"
         )
     return int(window)
 
@@ -39,10 +39,7 @@ def gaussian_kernel(window: int, sigma: float) -> np.ndarray:
     """Normalised Gaussian weights of ``window`` taps and standard deviation ``sigma``
     [samples] (App. B.3, "Gaussian filter")."""
     window = _check_window(window, "gaussian")
-    if not np.isfinite(sigma) or sigma <= 0:
-        raise InvalidParameter(
-            f"sigma: expected a positive standard deviation [samples], got {sigma!r}"
-        )
+    sigma = checks.positive("sigma", sigma, "samples")
     u = np.arange(window) - (window - 1) / 2.0
     w = np.exp(-0.5 * (u / sigma) ** 2)
     return w / w.sum()
@@ -50,10 +47,7 @@ def gaussian_kernel(window: int, sigma: float) -> np.ndarray:
 
 def _even_gaussian(window: int, sigma: float) -> np.ndarray:
     """A centred (window + 1)-tap Gaussian whose end taps are halved (an even window)."""
-    if not np.isfinite(sigma) or sigma <= 0:
-        raise InvalidParameter(
-            f"sigma: expected a positive standard deviation [samples], got {sigma!r}"
-        )
+    sigma = checks.positive("sigma", sigma, "samples")
     u = np.arange(window + 1) - window / 2.0
     w = np.exp(-0.5 * (u / sigma) ** 2)
     w[0] *= 0.5
@@ -108,14 +102,14 @@ def smooth(x, method: str = "gaussian", window: int = 25, sigma: float | None = 
     Raises:
         InvalidParameter: unknown method, bad window/sigma, or a non-finite input.
     """
-    choice("method", method, FILTERS)
+    checks.choice("method", method, FILTERS)
     arr = np.asarray(x, dtype=float)
     if arr.ndim not in (1, 2) or arr.shape[0] < 2:
         raise InvalidParameter(
             f"x: expected (N,) or (N, D) samples with N >= 2, got shape {arr.shape}"
         )
     if not np.isfinite(arr).all():
-        raise InvalidParameter("x: contains NaN or infinite values; remove them first")
+        raise InvalidParameter("x: expected finite samples [m], got NaN or infinite values")
     if method == "none":
         return arr.copy()
     window = _check_window(window, method)

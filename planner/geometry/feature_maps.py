@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from planner import checks
 from planner.errors import InvalidParameter
 
 
@@ -149,25 +150,23 @@ def curvature_feature_map(u, v, k1, k2, tip_radius: float, *, p1=None, p2=None) 
     """
     from scipy import ndimage
 
-    u = np.asarray(u, dtype=float)
-    v = np.asarray(v, dtype=float)
+    r = checks.positive("tip_radius", tip_radius, "m")
+    u = checks.series("u", u, min_count=2, unit="m")
+    v = checks.series("v", v, min_count=2, unit="m")
     k1 = np.asarray(k1, dtype=float)
     k2 = np.asarray(k2, dtype=float)
-    r = float(tip_radius)
-    if not (np.isfinite(r) and r > 0):
-        raise InvalidParameter(f"tip_radius must be a finite number > 0 [m], got {tip_radius!r}")
-    if u.ndim != 1 or v.ndim != 1 or u.size < 2 or v.size < 2:
-        raise InvalidParameter(f"u and v must be 1-D with >= 2 samples, got {u.shape}, {v.shape}")
-    if k1.shape != (u.size, v.size) or k2.shape != k1.shape:
-        raise InvalidParameter(
-            f"k1 and k2 must have shape (len(u), len(v)) = "
-            f"{(u.size, v.size)}, got {k1.shape} and {k2.shape}"
-        )
-    if not (np.all(np.isfinite(k1)) and np.all(np.isfinite(k2))):
-        raise InvalidParameter("k1 and k2 must be finite (no NaN or inf)")
+    for name, k in (("k1", k1), ("k2", k2)):
+        if k.shape != (u.size, v.size):
+            raise InvalidParameter(
+                f"{name}: expected shape (len(u), len(v)) = {(u.size, v.size)} [1/m], got {k.shape}"
+            )
+        if not np.all(np.isfinite(k)):
+            raise InvalidParameter(f"{name}: expected finite curvatures [1/m], got NaN or inf")
     du, dv = float(np.mean(np.diff(u))), float(np.mean(np.diff(v)))
     if du <= 0 or dv <= 0:
-        raise InvalidParameter("u and v must be increasing")
+        raise InvalidParameter(
+            f"u, v: expected increasing grid coordinates [m], got mean steps {du:g}, {dv:g}"
+        )
     thr = 1.0 / r
     swap = np.abs(k2) > np.abs(k1)
     k1, k2 = np.where(swap, k2, k1), np.where(swap, k1, k2)
@@ -256,11 +255,12 @@ def multiscale_feature_maps(x, y, z, tip_radius: float, radii) -> tuple[FeatureM
     from planner.geometry.surfaces.height_field import grid_principal_curvatures
     from planner.geometry.surfaces.offsets import offset_surfaces
 
-    radii = [float(r) for r in np.atleast_1d(radii)]
-    bad = [r for r in radii if not (np.isfinite(r) and r >= float(tip_radius))]
+    tip_radius = checks.positive("tip_radius", tip_radius, "m")
+    radii = [checks.positive("radii", r, "m") for r in np.atleast_1d(radii)]
+    bad = [r for r in radii if not r >= tip_radius]
     if bad:
         raise InvalidParameter(
-            f"every radius must be >= tip_radius = {tip_radius!r} (the "
+            f"radii: expected every radius >= tip_radius = {tip_radius!r} [m] (the "
             f"unobservable regions hide finer features), got {bad}"
         )
     estimated = offset_surfaces(x, y, z, tip_radius).estimated

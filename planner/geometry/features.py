@@ -42,6 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from planner import checks
 from planner.errors import InvalidParameter
 from planner.geometry.feature_maps import (  # 2-D maps, re-exported
     CurvatureRegion,
@@ -54,82 +55,153 @@ from planner.geometry.feature_maps import (  # 2-D maps, re-exported
 MACRO_KINDS = ("bump", "pit", "ridge", "ravine", "step", "cusp", "unknown")
 
 
-@dataclass(frozen=True)
-class CurvatureFeature1D:
-    """A curvature feature along a path (Definition 1 of §3.2.2).
+@dataclass(frozen=True, eq=False)
+class CurvatureFeature:
+    """A curvature feature (Definition 1 of §3.2.2): a region where the curvature exceeds
+    ``+1/r_f`` (convex) or falls below ``-1/r_f`` (concave). The one type for exact profile
+    features (:meth:`planner.geometry.profiles.Profile.curvature_features`), features of a
+    curvature signal (:func:`curvature_features_1d`) and detected features
+    (:func:`planner.detection.detect_features`).
 
     Attributes:
-        sign: +1 for a convex feature (``k > 1/r_f``), -1 for a concave one (``k < -1/r_f``).
-        start: where the curvature crosses the threshold entering the feature, linearly
-            interpolated between samples [units of ``s``]; ``s[0]`` if the signal starts inside.
-        end: where it crosses the threshold leaving the feature [units of ``s``]; ``s[-1]`` if
-            the signal ends inside.
-        peak: the sample of ``s`` where ``|k|`` is largest inside the feature [units of ``s``].
-        peak_curvature: the curvature at ``peak`` (signed) [1/units of ``s``].
-        open_start: the feature begins at the first sample (its true start is unknown).
-        open_end: the feature ends at the last sample (its true end is unknown).
+        sign: ``+1`` convex (positive curvature), ``-1`` concave.
+        start: where the region begins along the path [m] (profile arclength for exact
+            features; fingertip-centre arclength from the first sample for detections).
+        end: where it ends [m] (``end >= start``; equal for a sharp corner).
+        peak: where the curvature (or the detection signal) is extreme [m].
+        position: (2,) or (3,) point of the surface at ``peak`` [m], or ``None`` when the
+            path has no points (a bare curvature signal).
+        peak_curvature: curvature (or detection signal) at the peak [1/m], outward
+            convention (convex > 0; ``±inf`` at a sharp corner).
+        algorithm: which algorithm of thesis Fig. 3.8 found it (1-4), 0 for ground truth or
+            the App. B.2 scheme.
+        open_start: the region begins at the first sample (its true start is unknown).
+        open_end: the region ends at the last sample (its true end is unknown).
     """
 
     sign: int
     start: float
     end: float
     peak: float
-    peak_curvature: float
+    position: np.ndarray | None = None
+    peak_curvature: float = float("nan")
+    algorithm: int = 0
     open_start: bool = False
     open_end: bool = False
 
     @property
-    def width(self) -> float:
-        """Length of the feature, ``end - start`` [units of ``s``]."""
+    def extent(self) -> float:
+        """Length of the region, ``end - start`` [m]."""
         return self.end - self.start
 
+    @property
+    def width(self) -> float:
+        """Same as :attr:`extent` [m]."""
+        return self.end - self.start
 
-@dataclass(frozen=True)
-class MacroFeature1D:
-    """A macro feature along a path (Definition 2 and Table 3.1 of §3.2.2).
+    def __repr__(self) -> str:
+        pos = "None"
+        if self.position is not None:
+            pos = "(" + ", ".join(f"{v:.4g}" for v in np.asarray(self.position)) + ")"
+        return (
+            f"CurvatureFeature(sign={self.sign:+d}, start={self.start:.4g}, "
+            f"end={self.end:.4g}, peak={self.peak:.4g}, position={pos})"
+        )
+
+
+@dataclass(frozen=True, eq=False)
+class MacroFeature:
+    """A group of curvature features each within ``r_f`` of the next (Definition 2 and
+    Table 3.1 of §3.2.2).
 
     Attributes:
-        kind: one of ``"bump", "pit", "ridge", "ravine", "step", "cusp", "unknown"``.
-        members: the grouped curvature features, in order of ``start``.
-        start: start of the first member [units of ``s``].
-        end: end of the last member [units of ``s``].
-        pattern: the signs of the members as text, e.g. ``"-+-"``.
+        kind: one of :data:`MACRO_KINDS`.
+        start: start of its first curvature feature [m].
+        end: end of its last curvature feature [m].
+        signs: the sign pattern of its members in path order, e.g. ``"-+-"``.
+        features: the member curvature features, in path order.
+        position: (2,) or (3,) mean of the member positions [m], or ``None`` when the
+            members carry no position.
     """
 
     kind: str
-    members: tuple[CurvatureFeature1D, ...]
     start: float
     end: float
-    pattern: str
+    signs: str
+    features: tuple[CurvatureFeature, ...]
+    position: np.ndarray | None = None
+
+    @property
+    def members(self) -> tuple[CurvatureFeature, ...]:
+        """Same as :attr:`features` (the name the surface analysis uses)."""
+        return self.features
+
+    @property
+    def pattern(self) -> str:
+        """Same as :attr:`signs` (the name the surface analysis uses)."""
+        return self.signs
+
+    def __repr__(self) -> str:
+        pos = "None"
+        if self.position is not None:
+            pos = "(" + ", ".join(f"{v:.4g}" for v in np.asarray(self.position)) + ")"
+        return (
+            f"MacroFeature(kind={self.kind!r}, signs={self.signs!r}, "
+            f"start={self.start:.4g}, end={self.end:.4g}, position={pos})"
+        )
 
 
-def _check_radius(tip_radius: float) -> float:
-    try:
-        r = float(tip_radius)
-    except (TypeError, ValueError):
-        raise InvalidParameter(
-            f"tip_radius must be a positive number [m], got {tip_radius!r}"
-        ) from None
-    if not np.isfinite(r) or r <= 0.0:
-        raise InvalidParameter(f"tip_radius must be a finite number > 0 [m], got {tip_radius!r}")
-    return r
+#: former names, kept for :mod:`planner.geometry.surface_analysis`
+CurvatureFeature1D = CurvatureFeature
+MacroFeature1D = MacroFeature
 
 
-def _check_signal(s: np.ndarray, k: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    s = np.asarray(s, dtype=float)
-    k = np.asarray(k, dtype=float)
-    if s.ndim != 1 or k.ndim != 1:
-        raise InvalidParameter(f"s and k must be 1-D arrays, got shapes {s.shape} and {k.shape}")
-    if s.shape != k.shape:
-        raise InvalidParameter(f"s and k must have the same length, got {s.size} and {k.size}")
-    if s.size < 2:
-        raise InvalidParameter(f"need at least 2 samples, got {s.size}")
-    if not (np.all(np.isfinite(s)) and np.all(np.isfinite(k))):
-        raise InvalidParameter("s and k must be finite (no NaN or inf)")
+#: the 1-D extension of Table 3.1 along a fingertip path (``flat_crests=True``)
+FLAT_CRESTS = {"-++-": "ridge", "+--+": "ravine"}
+
+
+def sign_text(signs: Sequence[int]) -> str:
+    """``"+"``/``"-"`` text of a sequence of +1/-1 signs, e.g. ``[-1, 1, -1] -> "-+-"``."""
+    return "".join("+" if x > 0 else "-" for x in signs)
+
+
+def threshold_runs(k: np.ndarray, upper: float, lower: float) -> list[tuple[int, int, int, int]]:
+    """Definition 1 on a sampled signal: the maximal runs of samples with ``k > upper``
+    (sign +1) or ``k < lower`` (sign -1), strict inequalities.
+
+    The one implementation of the thresholding of §3.2.2 (exact profiles, curvature
+    signals, detection signals and the App. B.2 scheme all call it).
+
+    Args:
+        k: (N,) curvature or detection signal [1/m]; non-finite values count as 0
+            (never a feature).
+        upper: convex threshold [1/m] (``1/r_f`` in Definition 1).
+        lower: concave threshold [1/m] (``-1/r_f``).
+
+    Returns:
+        ``[(sign, first, last, peak), ...]`` sample indices (inclusive), sorted by ``first``;
+        ``peak`` is where ``sign * k`` is largest in the run.
+    """
+    sig = np.where(np.isfinite(k), k, 0.0)
+    out: list[tuple[int, int, int, int]] = []
+    for sign, mask in ((1, sig > upper), (-1, sig < lower)):
+        m = np.concatenate([[False], mask, [False]]).astype(np.int8)
+        d = np.diff(m)
+        for a, b in zip(np.flatnonzero(d == 1), np.flatnonzero(d == -1) - 1, strict=True):
+            a, b = int(a), int(b)
+            out.append((sign, a, b, a + int(np.argmax(sign * sig[a : b + 1]))))
+    out.sort(key=lambda r: r[1])
+    return out
+
+
+def _check_signal(s: object, k: object) -> tuple[np.ndarray, np.ndarray]:
+    s = checks.series("s", s, min_count=2, unit="m")
+    k = checks.series("k", k, n=s.size, unit="1/m")
     if np.any(np.diff(s) <= 0.0):
         bad = int(np.argmax(np.diff(s) <= 0.0))
         raise InvalidParameter(
-            f"s must be strictly increasing; s[{bad}]={s[bad]!r} >= s[{bad + 1}]={s[bad + 1]!r}"
+            f"s: expected strictly increasing values [m], got s[{bad}]={float(s[bad])!r} >= "
+            f"s[{bad + 1}]={float(s[bad + 1])!r}"
         )
     return s, k
 
@@ -143,7 +215,7 @@ def _crossing(s: np.ndarray, k: np.ndarray, i: int, level: float) -> float:
 
 def curvature_features_1d(
     s: np.ndarray, k: np.ndarray, tip_radius: float
-) -> list[CurvatureFeature1D]:
+) -> list[CurvatureFeature]:
     """Curvature features of a curvature signal sampled along a path (Definition 1, §3.2.2).
 
     A sample belongs to a positive feature when ``k > 1/r_f`` and to a negative one when
@@ -164,42 +236,29 @@ def curvature_features_1d(
         InvalidParameter: bad shapes, non-finite values, non-increasing ``s`` or
             ``tip_radius <= 0``.
     """
-    r = _check_radius(tip_radius)
+    r = checks.positive("tip_radius", tip_radius, "m")
     s, k = _check_signal(s, k)
     thr = 1.0 / r
-    features: list[CurvatureFeature1D] = []
-    for sign in (1, -1):
-        inside = sign * k > thr
-        if not inside.any():
-            continue
-        edges = np.diff(inside.astype(np.int8))
-        starts = list(np.flatnonzero(edges == 1) + 1)
-        ends = list(np.flatnonzero(edges == -1))
-        if inside[0]:
-            starts.insert(0, 0)
-        if inside[-1]:
-            ends.append(s.size - 1)
-        for i0, i1 in zip(starts, ends, strict=True):
-            seg = slice(i0, i1 + 1)
-            ip = i0 + int(np.argmax(sign * k[seg]))
-            features.append(
-                CurvatureFeature1D(
-                    sign=sign,
-                    start=float(s[0]) if i0 == 0 else _crossing(s, k, i0 - 1, sign * thr),
-                    end=float(s[-1]) if i1 == s.size - 1 else _crossing(s, k, i1, sign * thr),
-                    peak=float(s[ip]),
-                    peak_curvature=float(k[ip]),
-                    open_start=bool(i0 == 0),
-                    open_end=bool(i1 == s.size - 1),
-                )
-            )
+    last = s.size - 1
+    features = [
+        CurvatureFeature(
+            sign=sign,
+            start=float(s[0]) if i0 == 0 else _crossing(s, k, i0 - 1, sign * thr),
+            end=float(s[-1]) if i1 == last else _crossing(s, k, i1, sign * thr),
+            peak=float(s[ip]),
+            peak_curvature=float(k[ip]),
+            open_start=bool(i0 == 0),
+            open_end=bool(i1 == last),
+        )
+        for sign, i0, i1, ip in threshold_runs(k, thr, -thr)
+    ]
     features.sort(key=lambda f: f.start)
     return features
 
 
 def group_features_1d(
-    features: Sequence[CurvatureFeature1D], tip_radius: float
-) -> list[tuple[CurvatureFeature1D, ...]]:
+    features: Sequence[CurvatureFeature], tip_radius: float
+) -> list[tuple[CurvatureFeature, ...]]:
     """Group curvature features whose gap is at most ``r_f`` (Definition 2, §3.2.2).
 
     Args:
@@ -210,9 +269,9 @@ def group_features_1d(
         Groups in order of ``start``; each group's members are in order of ``start`` and the
         gap ``next.start - previous.end`` between consecutive members is ``<= r_f``.
     """
-    r = _check_radius(tip_radius)
+    r = checks.positive("tip_radius", tip_radius, "m")
     ordered = sorted(features, key=lambda f: f.start)
-    groups: list[list[CurvatureFeature1D]] = []
+    groups: list[list[CurvatureFeature]] = []
     for f in ordered:
         if groups and f.start - max(m.end for m in groups[-1]) <= r:
             groups[-1].append(f)
@@ -236,8 +295,8 @@ def classify_pattern(
     Returns:
         One of :data:`MACRO_KINDS`; the rules are in the module docstring.
     """
-    thr = 1.0 / _check_radius(tip_radius)
-    pattern = "".join("+" if x > 0 else "-" for x in signs)
+    thr = 1.0 / checks.positive("tip_radius", tip_radius, "m")
+    pattern = sign_text(signs)
     if len(pattern) == 1:
         return "cusp"
     if pattern in ("-+", "+-"):
@@ -258,12 +317,13 @@ def classify_pattern(
 
 
 def macro_features_1d(
-    features: Sequence[CurvatureFeature1D],
+    features: Sequence[CurvatureFeature],
     tip_radius: float,
     *,
     s: np.ndarray | None = None,
     k2: np.ndarray | None = None,
-) -> list[MacroFeature1D]:
+    flat_crests: bool = False,
+) -> list[MacroFeature]:
     """Group 1-D curvature features into macro features and classify them (Table 3.1).
 
     Features whose gap is at most ``r_f`` are grouped (Definition 2); each group is classified
@@ -279,14 +339,19 @@ def macro_features_1d(
         s: (N,) the path samples, only needed with ``k2``.
         k2: (N,) second principal curvature along the path [1/m]; lets ``-+-`` be told apart
             as bump/ridge and ``+-+`` as pit/ravine. Without it, bump and pit are returned.
+        flat_crests: the 1-D extension of a fingertip path (:data:`FLAT_CRESTS`): a flat
+            crest between two convex edges, ``-++-``, is a ridge and a flat floor between
+            two concave edges, ``+--+``, a ravine (a rectangular ridge/ravine crossed at
+            right angles).
 
     Returns:
-        Macro features in order of ``start``.
+        Macro features in order of ``start``; ``position`` is the mean of the member
+        positions when they all have one.
 
     Raises:
         InvalidParameter: ``tip_radius <= 0``, or ``k2`` given without a matching ``s``.
     """
-    r = _check_radius(tip_radius)
+    r = checks.positive("tip_radius", tip_radius, "m")
     if (s is None) != (k2 is None):
         raise InvalidParameter(
             "pass both s and k2 (the path samples and the second principal"
@@ -294,19 +359,27 @@ def macro_features_1d(
         )
     if s is not None:
         s, k2 = _check_signal(s, k2)
-    out: list[MacroFeature1D] = []
+    out: list[MacroFeature] = []
     for group in group_features_1d(features, r):
         signs = [f.sign for f in group]
+        pattern = sign_text(signs)
         inner = None
         if k2 is not None and len(group) == 3:
             inner = float(np.interp(group[1].peak, s, k2))
+        kind = classify_pattern(signs, inner, r)
+        if flat_crests and pattern in FLAT_CRESTS:
+            kind = FLAT_CRESTS[pattern]
+        pos = None
+        if all(f.position is not None for f in group):
+            pos = np.mean([np.asarray(f.position, dtype=float) for f in group], axis=0)
         out.append(
-            MacroFeature1D(
-                kind=classify_pattern(signs, inner, r),
-                members=group,
-                start=group[0].start,
-                end=max(f.end for f in group),
-                pattern="".join("+" if x > 0 else "-" for x in signs),
+            MacroFeature(
+                kind=kind,
+                start=float(group[0].start),
+                end=float(max(f.end for f in group)),
+                signs=pattern,
+                features=group,
+                position=pos,
             )
         )
     return out
@@ -319,10 +392,15 @@ __all__ = [
     "MacroRegion",
     "curvature_feature_map",
     "multiscale_feature_maps",
+    "FLAT_CRESTS",
+    "CurvatureFeature",
     "CurvatureFeature1D",
+    "MacroFeature",
     "MacroFeature1D",
     "classify_pattern",
     "curvature_features_1d",
     "group_features_1d",
     "macro_features_1d",
+    "sign_text",
+    "threshold_runs",
 ]

@@ -16,7 +16,9 @@ from functools import cached_property
 
 import numpy as np
 
+from planner import checks
 from planner.errors import InvalidParameter
+from planner.geometry.features import CurvatureFeature, threshold_runs
 from planner.geometry.primitives import Arc, Line, Piece, joint_turn, left_normal
 
 
@@ -39,24 +41,8 @@ class CurveSamples:
     corner: np.ndarray
 
 
-@dataclass(frozen=True)
-class ProfileFeature:
-    """A ground-truth curvature feature of a profile (Definition 1, §3.2.2).
-
-    Attributes:
-        sign: +1 convex (k > 1/r_f), -1 concave (k < -1/r_f).
-        start, end: arclength interval along the profile [m] (equal for a sharp corner).
-        peak: arclength of the extreme curvature [m].
-        peak_curvature: extreme outward curvature [1/m] (±inf at a corner).
-        position: (2,) point of the profile at ``peak`` [m].
-    """
-
-    sign: int
-    start: float
-    end: float
-    peak: float
-    peak_curvature: float
-    position: tuple[float, float]
+#: former name of the profile's ground-truth features, kept for :mod:`planner.geometry.curves`
+ProfileFeature = CurvatureFeature
 
 
 @dataclass(frozen=True)
@@ -200,7 +186,7 @@ class Profile:
         d = np.asarray(offset, float)
         return Profile(tuple(p.transformed(R, d) for p in self.pieces), self.closed, self.name)
 
-    def curvature_features(self, tip_radius: float) -> list[ProfileFeature]:
+    def curvature_features(self, tip_radius: float) -> list[CurvatureFeature]:
         """Ground-truth curvature features for a fingertip of radius ``tip_radius`` [m]
         (Definition 1: regions with k > 1/r_f or k < -1/r_f).
 
@@ -208,9 +194,7 @@ class Profile:
         are resolved on a fine grid (1e-4 of the piece length) with linear interpolation of
         the threshold crossings. Adjacent features of equal sign are merged.
         """
-        if not tip_radius > 0:
-            raise InvalidParameter(f"tip_radius must be > 0 [m], got {tip_radius!r}")
-        thr = 1.0 / tip_radius
+        thr = 1.0 / checks.positive("tip_radius", tip_radius, "m")
         raw: list[list] = []  # [sign, start, end, peak, peak_k]
         s0 = 0.0
         n = len(self.pieces)
@@ -221,36 +205,7 @@ class Profile:
                 if abs(k) > thr:
                     raw.append([int(np.sign(k)), s0, s0 + L, s0 + L / 2, k])
             elif not isinstance(piece, Line):
-                sig = np.linspace(0.0, L, 10001)
-                _, _, k = piece.evaluate(sig)
-                for sign in (1, -1):
-                    above = sign * k > thr
-                    if not above.any():
-                        continue
-                    d = np.diff(above.astype(int))
-                    starts = list(np.flatnonzero(d == 1) + 1)
-                    ends = list(np.flatnonzero(d == -1))
-                    if above[0]:
-                        starts.insert(0, 0)
-                    if above[-1]:
-                        ends.append(len(k) - 1)
-                    for a, b in zip(starts, ends, strict=True):
-                        sa = (
-                            sig[a]
-                            if a == 0
-                            else np.interp(
-                                thr, [sign * k[a - 1], sign * k[a]], [sig[a - 1], sig[a]]
-                            )
-                        )
-                        sb = (
-                            sig[b]
-                            if b == len(k) - 1
-                            else np.interp(
-                                thr, [sign * k[b + 1], sign * k[b]], [sig[b + 1], sig[b]]
-                            )
-                        )
-                        j = a + int(np.argmax(sign * k[a : b + 1]))
-                        raw.append([sign, s0 + sa, s0 + sb, s0 + sig[j], float(k[j])])
+                raw += _parametric_features(piece, s0, L, thr)
             s0 += L
             turn = self.joint_turns[i]
             if turn != 0.0 and (i < n - 1 or self.closed):
@@ -271,13 +226,13 @@ class Profile:
         for sign, a, b, pk, kk in merged:
             pos, _, _ = self.evaluate(pk)
             out.append(
-                ProfileFeature(
-                    int(sign),
-                    float(a),
-                    float(b),
-                    float(pk),
-                    float(kk),
-                    (float(pos[0, 0]), float(pos[0, 1])),
+                CurvatureFeature(
+                    sign=int(sign),
+                    start=float(a),
+                    end=float(b),
+                    peak=float(pk),
+                    position=pos[0].copy(),
+                    peak_curvature=float(kk),
                 )
             )
         return out
@@ -326,3 +281,24 @@ class Profile:
         nrm = np.stack([np.interp(th, phi, N[:, 0]), np.interp(th, phi, N[:, 1])], axis=-1)
         nrm /= np.linalg.norm(nrm, axis=1, keepdims=True)
         return pts, nrm
+
+
+def _crossing_at(sig: np.ndarray, k: np.ndarray, i: int, j: int, level: float) -> float:
+    """Where ``k`` (linear between samples ``i`` and ``j``) equals ``level``, in ``sig``."""
+    return float(np.interp(level, [k[i], k[j]], [sig[i], sig[j]]))
+
+
+def _parametric_features(piece: Piece, s0: float, length: float, thr: float) -> list[list]:
+    """Definition 1 features ``[sign, start, end, peak, peak_k]`` of a smooth parametric
+    piece starting at arclength ``s0`` [m], on a grid of 1e-4 of its ``length`` [m] with
+    linearly interpolated threshold crossings (``thr`` = 1/r_f [1/m])."""
+    sig = np.linspace(0.0, length, 10001)
+    _, _, k = piece.evaluate(sig)
+    last = len(k) - 1
+    out = []
+    for sign, a, b, j in threshold_runs(k, thr, -thr):
+        sk = sign * k
+        sa = sig[a] if a == 0 else _crossing_at(sig, sk, a - 1, a, thr)
+        sb = sig[b] if b == last else _crossing_at(sig, sk, b + 1, b, thr)
+        out.append([sign, s0 + sa, s0 + sb, s0 + sig[j], float(k[j])])
+    return out

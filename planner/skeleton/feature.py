@@ -41,11 +41,12 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import shapely
 
+from planner import checks
 from planner.errors import InvalidParameter
 from planner.skeleton import graph as g
-from planner.skeleton._checks import check_points, check_positive, dedupe
 from planner.skeleton.region import (
     boundary_loops,
+    dedupe,
     estimate_noise,
     local_spacing,
     region_polygon,
@@ -80,6 +81,38 @@ class SkeletonSettings:
     keep_largest: bool = True
     branching: bool = True
     link_factor: float = 3.0
+
+    def __post_init__(self) -> None:
+        for key in ("max_edge_length", "min_generator_distance", "min_branch_length"):
+            if getattr(self, key) is not None:
+                checks.nonnegative(key, getattr(self, key), "m")
+        checks.in_range(
+            "min_angle_deg", self.min_angle_deg, 0.0, 180.0, "deg", closed=(True, False)
+        )
+        checks.positive("link_factor", self.link_factor)
+        for key in ("keep_largest", "branching"):
+            if not isinstance(getattr(self, key), bool | np.bool_):
+                raise InvalidParameter(f"{key}: expected True or False, got {getattr(self, key)!r}")
+
+    @classmethod
+    def of(cls, settings: SkeletonSettings | None = None, **overrides: object) -> SkeletonSettings:
+        """``settings`` (default: all defaults) with the keyword ``overrides`` applied.
+
+        Raises:
+            InvalidParameter: an unknown setting or a bad value.
+        """
+        base = cls() if settings is None else settings
+        if not isinstance(base, cls):
+            raise InvalidParameter(
+                f"settings: expected a SkeletonSettings, got {type(base).__name__}"
+            )
+        known = sorted(cls.__dataclass_fields__)
+        unknown = sorted(set(overrides) - set(known))
+        if unknown:
+            raise InvalidParameter(
+                f"feature_skeleton: unknown setting(s) {unknown}; expected any of {known}"
+            )
+        return replace(base, **overrides) if overrides else base
 
     def resolved(
         self, spacing: float, noise: float, spacing_high: float | None = None
@@ -192,7 +225,7 @@ def dvma(boundary: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     Returns:
         ``(vertices (V, 2) [m], edges (E, 2) int)`` (Fig. 4.11, before pruning).
     """
-    pts = dedupe(check_points(boundary, min_count=4))
+    pts = dedupe(checks.points("boundary", boundary, dims=(2,), min_count=4))
     vor = voronoi(pts)
     rv = np.asarray(vor.ridge_vertices, dtype=np.int64).reshape(-1, 2)
     return vor.vertices, rv[(rv >= 0).all(axis=1)]
@@ -203,7 +236,8 @@ def feature_skeleton(
     spacing: float | None = None,
     *,
     noise: float | None = None,
-    **settings: object,
+    settings: SkeletonSettings | None = None,
+    **overrides: object,
 ) -> Skeleton:
     """The skeleton (medial axis transform) of one feature from its boundary samples.
 
@@ -219,7 +253,8 @@ def feature_skeleton(
             spacing where the samples are sparser than this.
         noise: standard deviation of the boundary noise [m]; estimated from the samples
             when ``None``.
-        **settings: fields of :class:`SkeletonSettings` (``max_edge_length``,
+        settings: the pruning :class:`SkeletonSettings` (default: all derived).
+        **overrides: fields of :class:`SkeletonSettings` to change (``max_edge_length``,
             ``min_generator_distance``, ``min_branch_length`` [m], ``min_angle_deg``,
             ``keep_largest``, ``branching``, ``link_factor``).
 
@@ -231,30 +266,10 @@ def feature_skeleton(
     Raises:
         InvalidParameter: bad shapes or values, unknown settings, samples enclosing no area.
     """
-    pts = dedupe(check_points(boundary, min_count=4))
-    known = SkeletonSettings.__dataclass_fields__
-    unknown = sorted(set(settings) - set(known))
-    if unknown:
-        raise InvalidParameter(
-            f"feature_skeleton: unknown setting(s) {unknown}; expected any of {sorted(known)}"
-        )
-    for key in ("max_edge_length", "min_generator_distance", "min_branch_length"):
-        if settings.get(key) is not None:
-            settings[key] = check_positive(settings[key], key, allow_zero=True)
-    if "min_angle_deg" in settings:
-        ang = check_positive(
-            settings["min_angle_deg"], "min_angle_deg", allow_none=False, allow_zero=True
-        )
-        if ang >= 180:
-            raise InvalidParameter(f"min_angle_deg: expected 0 <= value < 180, got {ang}")
-        settings["min_angle_deg"] = ang
-    if "link_factor" in settings:
-        settings["link_factor"] = check_positive(
-            settings["link_factor"], "link_factor", allow_none=False
-        )
-    base = SkeletonSettings(**settings)  # type: ignore[arg-type]
-    spacing = check_positive(spacing, "spacing")
-    noise = check_positive(noise, "noise", allow_zero=True)
+    pts = dedupe(checks.points("boundary", boundary, dims=(2,), min_count=4))
+    base = SkeletonSettings.of(settings, **overrides)
+    spacing = None if spacing is None else checks.positive("spacing", spacing, "m")
+    noise = None if noise is None else checks.nonnegative("noise", noise, "m")
 
     vor = voronoi(pts)
     pairs = np.asarray(vor.ridge_points, dtype=np.int64)
@@ -364,13 +379,13 @@ def pseudo_skeleton(path: np.ndarray, spacing: float | None = None) -> Skeleton:
     Returns:
         A :class:`Skeleton` that is a single path.
     """
-    pts = check_points(path, "path", min_count=2)
+    pts = checks.points("path", path, dims=(2,), min_count=2)
     keep = np.ones(len(pts), dtype=bool)
     keep[1:] = (np.diff(pts, axis=0) != 0).any(axis=1)
     pts = pts[keep]
     if len(pts) < 2:
         raise InvalidParameter("path: expected at least 2 distinct consecutive samples")
-    spacing = check_positive(spacing, "spacing")
+    spacing = None if spacing is None else checks.positive("spacing", spacing, "m")
     if spacing is None:
         spacing = float(np.median(np.hypot(*np.diff(pts, axis=0).T)))
     edges = g.path_edges(np.arange(len(pts)))

@@ -25,10 +25,16 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
+from planner import checks
 from planner.errors import InvalidParameter
 from planner.skeleton import graph as g
-from planner.skeleton._checks import check_points, check_positive, dedupe
-from planner.skeleton.feature import feature_skeleton, pseudo_skeleton, voronoi
+from planner.skeleton.feature import (
+    SkeletonSettings,
+    feature_skeleton,
+    pseudo_skeleton,
+    voronoi,
+)
+from planner.skeleton.region import dedupe
 from planner.skeleton.segments import clip_segments, merge_segments, point_segment_distance
 
 GENERATORS = ("boundary", "skeleton")
@@ -96,7 +102,7 @@ class GlobalSkeleton:
                 raise InvalidParameter(f"{name}: expected a feature index in [0, {F}), got {k!r}")
         if i == j:
             raise InvalidParameter(f"i, j: expected two different features, got {i} twice")
-        r = check_positive(tip_radius, "tip_radius", allow_none=False, allow_zero=True)
+        r = checks.nonnegative("tip_radius", tip_radius, "m")
         return bool(self.pair_clearance[i, j] >= r)
 
     def segments(self) -> np.ndarray:
@@ -104,7 +110,7 @@ class GlobalSkeleton:
         return self.points[self.edges]
 
 
-def _check_boundaries(boundaries: object, min_count: int) -> list[np.ndarray]:
+def check_boundaries(boundaries: object, min_count: int) -> list[np.ndarray]:
     if isinstance(boundaries, np.ndarray) and boundaries.ndim == 3:
         boundaries = list(boundaries)  # (F, M, 2): F features of M samples each
     if isinstance(boundaries, np.ndarray) or not hasattr(boundaries, "__len__"):
@@ -115,11 +121,12 @@ def _check_boundaries(boundaries: object, min_count: int) -> list[np.ndarray]:
     if len(boundaries) < 2:
         raise InvalidParameter(f"boundaries: expected at least 2 features, got {len(boundaries)}")
     return [
-        dedupe(check_points(b, f"boundaries[{i}]", min_count)) for i, b in enumerate(boundaries)
+        dedupe(checks.points(f"boundaries[{i}]", b, dims=(2,), min_count=min_count))
+        for i, b in enumerate(boundaries)
     ]
 
 
-def _domain(points: np.ndarray, margin: float | None) -> shapely.Polygon:
+def domain_polygon(points: np.ndarray, margin: float | None) -> shapely.Polygon:
     lo, hi = points.min(axis=0), points.max(axis=0)
     if margin is None:
         margin = 0.1 * float(max(hi - lo))
@@ -128,7 +135,7 @@ def _domain(points: np.ndarray, margin: float | None) -> shapely.Polygon:
     return shapely.box(*(lo - margin), *(hi + margin))
 
 
-def _with_far_points(points: np.ndarray) -> np.ndarray:
+def with_far_points(points: np.ndarray) -> np.ndarray:
     """Append 8 points 10 extents away so that every cell of ``points`` is bounded."""
     c = 0.5 * (points.min(axis=0) + points.max(axis=0))
     r = 10.0 * (float(np.hypot(*(points - c).T).max()) + 1e-9)
@@ -156,7 +163,8 @@ def global_skeleton(
     *,
     generators: Literal["boundary", "skeleton"] = "boundary",
     margin: float | None = None,
-    **skeleton_settings: object,
+    settings: SkeletonSettings | None = None,
+    noise: float | None = None,
 ) -> GlobalSkeleton:
     """Global skeleton, regions and clearance of several features (thesis §4.5.3).
 
@@ -169,24 +177,26 @@ def global_skeleton(
             skeleton points; a feature enclosing no area uses its samples as pseudo-skeleton).
         margin: the domain is the samples' bounding box grown by ``margin`` [m] (default 10 %
             of its larger side).
-        **skeleton_settings: passed to :func:`feature_skeleton` (``generators="skeleton"``).
+        settings: pruning settings of each :func:`feature_skeleton`
+            (``generators="skeleton"``; default: all derived).
+        noise: boundary noise for :func:`feature_skeleton` [m] (``None``: estimated).
 
     Returns:
         :class:`GlobalSkeleton` (``points``, ``edges``, ``clearance`` [m], ``regions``).
     """
     if generators not in GENERATORS:
         raise InvalidParameter(f"generators: expected one of {GENERATORS}, got {generators!r}")
-    margin = check_positive(margin, "margin", allow_zero=True)
-    bnd = _check_boundaries(boundaries, 1)
+    margin = None if margin is None else checks.nonnegative("margin", margin, "m")
+    bnd = check_boundaries(boundaries, 1)
     F = len(bnd)
     allb = np.concatenate(bnd)
-    domain = _domain(allb, margin)
+    domain = domain_polygon(allb, margin)
     skels: tuple = ()
     if generators == "skeleton":
         sk = []
         for i, b in enumerate(bnd):
             try:
-                sk.append(feature_skeleton(b, **skeleton_settings))
+                sk.append(feature_skeleton(b, noise=noise, settings=settings))
             except InvalidParameter:
                 if len(b) < 2:
                     raise InvalidParameter(
@@ -201,7 +211,7 @@ def global_skeleton(
     lab = np.concatenate([np.full(len(x), i) for i, x in enumerate(gens)])
     G, first = np.unique(G, axis=0, return_index=True)
     lab = lab[first]
-    vor = voronoi(_with_far_points(G))
+    vor = voronoi(with_far_points(G))
     lab = np.concatenate([lab, np.full(8, -1)])
     rp = np.asarray(vor.ridge_points, dtype=np.int64)
     rv = np.asarray(vor.ridge_vertices, dtype=np.int64).reshape(-1, 2)

@@ -20,11 +20,11 @@ import shapely
 from scipy.sparse import csgraph
 from scipy.spatial import cKDTree
 
+from planner import checks
 from planner.errors import InfeasibleProblem, InvalidParameter
 from planner.skeleton import graph as g
-from planner.skeleton._checks import check_points, check_positive
 from planner.skeleton.feature import Skeleton, SkeletonSettings, voronoi
-from planner.skeleton.global_map import GlobalSkeleton, _with_far_points
+from planner.skeleton.global_map import GlobalSkeleton, with_far_points
 from planner.skeleton.region import boundary_loops, estimate_spacing, region_polygon
 from planner.skeleton.segments import clip_segments, merge_segments, point_segment_distance
 
@@ -47,7 +47,7 @@ class NavigationPath:
 
 def _point(value: object, name: str) -> np.ndarray:
     """A (1, 2) finite point from an (x, y) pair, or InvalidParameter."""
-    arr = check_points(np.atleast_2d(np.asarray(value, dtype=object)), name)
+    arr = checks.points(name, np.atleast_2d(np.asarray(value, dtype=object)), dims=(2,))
     if arr.shape != (1, 2):
         raise InvalidParameter(f"{name}: expected one (x, y) point [m], got {value!r}")
     return arr
@@ -74,7 +74,7 @@ def safest_path(
         InfeasibleProblem: no path along edges of sufficient clearance.
     """
     s, t = _point(start, "start"), _point(goal, "goal")
-    r = check_positive(tip_radius, "tip_radius", allow_none=False, allow_zero=True)
+    r = checks.nonnegative("tip_radius", tip_radius, "m")
     ok = gs.edge_clearance >= r
     edges = gs.edges[ok]
     if len(edges) == 0:
@@ -159,9 +159,9 @@ def region_report(
     Returns:
         One :class:`RegionInfo` per feature, in input order.
     """
-    r = check_positive(tip_radius, "tip_radius", allow_none=False)
+    r = checks.positive("tip_radius", tip_radius, "m")
     size = max(np.ptp(np.asarray(gs.domain.exterior.coords), axis=0))
-    step = check_positive(step, "step") or size / 50.0
+    step = size / 50.0 if step is None else checks.positive("step", step, "m")
     allb = np.concatenate(gs.boundaries)
     tree = cKDTree(allb)
     feats = []
@@ -170,7 +170,7 @@ def region_report(
             feats.append(region_polygon(b, boundary_loops(b, estimate_spacing(b))))
         except InvalidParameter:
             feats.append(shapely.Polygon())
-    cand = voronoi(_with_far_points(allb)).vertices
+    cand = voronoi(with_far_points(allb)).vertices
     x0, y0, x1, y1 = gs.domain.bounds
     cand = cand[(cand[:, 0] >= x0) & (cand[:, 0] <= x1) & (cand[:, 1] >= y0) & (cand[:, 1] <= y1)]
     out = []
@@ -212,19 +212,22 @@ def negative_medial_axis(
     Returns:
         A :class:`Skeleton` (radii: distance to the nearest sample [m]).
     """
-    from planner.skeleton.global_map import _check_boundaries, _domain
+    from planner.skeleton.global_map import check_boundaries, domain_polygon
 
-    bnd = _check_boundaries(boundaries, 4)
-    spacing = check_positive(spacing, "spacing") or max(estimate_spacing(b) for b in bnd)
+    bnd = check_boundaries(boundaries, 4)
+    if spacing is None:
+        spacing = max(estimate_spacing(b) for b in bnd)
+    spacing = checks.positive("spacing", spacing, "m")
     allb = np.concatenate(bnd)
-    domain = _domain(allb, check_positive(margin, "margin", allow_zero=True))
+    margin = None if margin is None else checks.nonnegative("margin", margin, "m")
+    domain = domain_polygon(allb, margin)
     feats = []
     for b in bnd:
         try:
             feats.append(region_polygon(b, boundary_loops(b, spacing)))
         except InvalidParameter:
             pass
-    vor = voronoi(_with_far_points(allb))
+    vor = voronoi(with_far_points(allb))
     rp = np.asarray(vor.ridge_points, dtype=np.int64)
     rv = np.asarray(vor.ridge_vertices, dtype=np.int64).reshape(-1, 2)
     n = len(allb)

@@ -52,7 +52,7 @@ def _frame(ax, pts: np.ndarray, title: str) -> None:
     ax.set_title(title)
 
 
-def plot_dvma_pruning(boundary: np.ndarray, skeleton: Skeleton, title: str = ""):
+def dvma_figure(boundary: np.ndarray, skeleton: Skeleton, title: str = ""):
     """Two panels like Fig. 4.11/4.13: the DVMA of the samples, and the pruned skeleton.
 
     Args:
@@ -86,7 +86,7 @@ def plot_dvma_pruning(boundary: np.ndarray, skeleton: Skeleton, title: str = "")
     return fig
 
 
-def plot_feature_map(
+def feature_map_figure(
     gs: GlobalSkeleton,
     skeletons: Sequence[Skeleton] = (),
     path: np.ndarray | None = None,
@@ -141,4 +141,4 @@ def plot_feature_map(
     return fig
 
 
-__all__ = ["plot_dvma_pruning", "plot_feature_map"]
+__all__ = ["dvma_figure", "feature_map_figure"]

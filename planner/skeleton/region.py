@@ -257,7 +257,16 @@ def region_polygon(points: np.ndarray, loops: BoundaryLoops | list[np.ndarray]) 
     return region
 
 
+def dedupe(points: np.ndarray) -> np.ndarray:
+    """Drop exactly repeated rows of ``points`` (M, 2), keeping the first occurrence in order."""
+    _, first = np.unique(points, axis=0, return_index=True)
+    if first.size == points.shape[0]:
+        return points
+    return points[np.sort(first)]
+
+
 __all__ = [
+    "dedupe",
     "BoundaryLoops",
     "boundary_loops",
     "estimate_noise",

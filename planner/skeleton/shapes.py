@@ -12,8 +12,8 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
+from planner import checks
 from planner.errors import InvalidParameter
-from planner.skeleton._checks import check_points, check_positive
 
 
 def sample_outline(
@@ -33,17 +33,21 @@ def sample_outline(
     Returns:
         (M, 2) samples [m]; ring after ring (exterior first, then holes).
     """
-    spacing = check_positive(spacing, "spacing", allow_none=False)
-    noise = check_positive(noise, "noise", allow_zero=True, allow_none=False)
+    spacing = checks.positive("spacing", spacing, "m")
+    noise = checks.nonnegative("noise", noise, "m")
     rings = []
     for poly in shapely.get_parts(geom):
         rings.append(poly.exterior)
         rings.extend(poly.interiors)
     out = []
     for ring in rings:
-        n = max(int(round(ring.length / spacing)), 4)
-        d = np.arange(n) * (ring.length / n)
-        out.append(shapely.get_coordinates(shapely.line_interpolate_point(ring, d)))
+        # linear interpolation along the cumulative length: O(samples + vertices), where
+        # shapely.line_interpolate_point walks the ring again for every sample
+        xy = shapely.get_coordinates(ring)
+        cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xy, axis=0).T))])
+        n = max(int(round(cum[-1] / spacing)), 4)
+        d = np.arange(n) * (cum[-1] / n)
+        out.append(np.column_stack([np.interp(d, cum, xy[:, 0]), np.interp(d, cum, xy[:, 1])]))
     pts = np.concatenate(out)
     if noise > 0:
         if rng is None:
@@ -62,9 +66,11 @@ def ridge_polygon(centerline: np.ndarray | list, width: float) -> shapely.Geomet
     Returns:
         shapely Polygon [m] (round caps and joins: its medial axis is the centre line).
     """
-    width = check_positive(width, "width", allow_none=False)
+    width = checks.positive("width", width, "m")
     lines = centerline if isinstance(centerline, list) else [centerline]
-    geoms = [shapely.LineString(check_points(c, "centerline", min_count=2)) for c in lines]
+    geoms = [
+        shapely.LineString(checks.points("centerline", c, dims=(2,), min_count=2)) for c in lines
+    ]
     # simplify(0) first: GEOS 3.14 buffer can drop parts of dense collinear polylines
     geom = shapely.union_all(
         [shapely.buffer(shapely.simplify(x, 0.0), width / 2, quad_segs=32) for x in geoms]
@@ -88,8 +94,8 @@ def ring_polygon(
     radius: float, width: float, center: tuple[float, float] = (0.0, 0.0)
 ) -> shapely.Geometry:
     """An annulus of mid radius ``radius`` and ``width`` [m]; its medial axis is the circle."""
-    radius = check_positive(radius, "radius", allow_none=False)
-    width = check_positive(width, "width", allow_none=False)
+    radius = checks.positive("radius", radius, "m")
+    width = checks.positive("width", width, "m")
     if width >= 2 * radius:
         raise InvalidParameter(f"ring: width {width} must be < 2 * radius = {2 * radius}")
     c = shapely.Point(center)
