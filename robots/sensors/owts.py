@@ -151,7 +151,11 @@ class OWTS:
         norm = np.linalg.norm(n, axis=1)
         on = norm > 1e-12
         u = n / np.where(on, norm, 1.0)[:, None]
-        theta = np.arccos(np.clip(u[:, 2], -1.0, 1.0))
+        # atan2 of (sin, cos) instead of arccos(u_z): near the pole u_z = 1 - theta^2/2 rounds
+        # to a multiple of eps ~ 1.1e-16, so arccos returns theta with an absolute error of
+        # ~eps/theta (4e-11 at theta = 1e-7, 100 % at theta < 1e-8); atan2 keeps the full
+        # relative precision of the tangential components at every theta.
+        theta = np.arctan2(np.hypot(u[:, 0], u[:, 1]), u[:, 2])
         on &= theta <= self.field_of_detection + 1e-12
         rho = theta / self.scale
         phi = np.arctan2(u[:, 1], u[:, 0])
