@@ -8,8 +8,9 @@
     hapex list [scenarios|robots|kinds]
     hapex --version
 
-Exit codes: 0 success; 1 the scenario ran but its task failed; 2 bad input. Errors are one
-line each on stderr, ``FILE:LINE: key.path: message``, all at once; no traceback unless -v.
+Exit codes: 0 success; 1 the scenario ran but its task failed; 2 bad input; 130 interrupted;
+141 stdout closed early (``hapex list | head``). Errors are one line each on stderr,
+``FILE:LINE: key.path: message``, all at once; no traceback unless -v.
 """
 
 from __future__ import annotations
@@ -22,6 +23,8 @@ from collections.abc import Sequence
 from pathlib import Path
 
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = 0, 1, 2
+EXIT_INTERRUPTED = 130  # 128 + SIGINT
+EXIT_BROKEN_PIPE = 141  # 128 + SIGPIPE: the reader of stdout went away
 
 
 class _Parser(argparse.ArgumentParser):
@@ -196,9 +199,7 @@ def _cmd_list(args) -> int:
     return EXIT_OK
 
 
-def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of the ``hapex`` script. Returns the exit code."""
-    os.environ.setdefault("MPLBACKEND", "Agg")
+def _dispatch(argv: Sequence[str] | None) -> int:
     args = _parser().parse_args(argv)
     from planner.errors import HapexError, ScenarioError
 
@@ -219,7 +220,28 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:
         print("interrupted; no run directory was written", file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``hapex`` script. Returns the exit code.
+
+    A reader that closes the pipe early (``hapex list kinds | head -1``) ends the command
+    quietly with exit code 141 (128 + SIGPIPE, what the shell reports for ``yes | head``):
+    the rest of the output is discarded, no traceback is printed.
+    """
+    os.environ.setdefault("MPLBACKEND", "Agg")
+    try:
+        try:
+            return _dispatch(argv)
+        finally:
+            sys.stdout.flush()  # inside the try: a closed pipe fails here, not at exit
+    except BrokenPipeError:
+        # Python flushes stdout again at exit; point it at /dev/null so that flush is quiet.
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+        return EXIT_BROKEN_PIPE
 
 
 if __name__ == "__main__":  # pragma: no cover

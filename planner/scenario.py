@@ -270,6 +270,24 @@ def _dotted(path: Sequence[Any]) -> str:
     return out
 
 
+def _discriminator(err: Mapping[str, Any]) -> str | None:
+    """The key that selects a union member (``type`` of ``profile: {type: ...}``), if any."""
+    if err.get("type") not in ("union_tag_invalid", "union_tag_not_found"):
+        return None
+    return str(err.get("ctx", {}).get("discriminator", "")).strip("'\"") or None
+
+
+def _error_loc(err: Mapping[str, Any]) -> tuple:
+    """The location of a pydantic error, down to the offending key.
+
+    pydantic reports a bad union tag at the union's key (``profile``); the value at fault is
+    the tag itself (``profile.type``), which may come from ``--set`` rather than the file.
+    """
+    loc = tuple(err["loc"])
+    key = _discriminator(err)
+    return loc + (key,) if key and err.get("type") == "union_tag_invalid" else loc
+
+
 def _message(err: Mapping[str, Any]) -> str:
     kind = err.get("type")
     if kind == "extra_forbidden":
@@ -278,7 +296,8 @@ def _message(err: Mapping[str, Any]) -> str:
         return "required key is missing"
     if kind == "union_tag_invalid":
         ctx = err.get("ctx", {})
-        return f"unknown kind {ctx.get('tag')!r}; expected one of {ctx.get('expected_tags')}"
+        key = _discriminator(err) or "kind"
+        return f"unknown {key} {ctx.get('tag')!r}; expected one of {ctx.get('expected_tags')}"
     if kind == "union_tag_not_found":
         return f"missing key {err.get('ctx', {}).get('discriminator', 'kind')}"
     msg = str(err.get("msg", "invalid value"))
@@ -328,7 +347,7 @@ def validate(doc: SourceDoc) -> ScenarioBase:
         issues = []
         seen = set()
         for err in exc.errors():
-            src, line, path = _locate(doc, err["loc"])
+            src, line, path = _locate(doc, _error_loc(err))
             issue = InputIssue(src, line, path, _message(err))
             if str(issue) not in seen:
                 seen.add(str(issue))
