@@ -263,3 +263,26 @@ def test_closed_stdout_pipe_is_quiet(args):
     # 128 + SIGPIPE, as the shell reports for `yes | head`; argparse swallows its own
     # write errors for --help and exits 0
     assert proc.returncode == (0 if args == ("--help",) else 141)
+
+
+def test_bad_input_found_by_a_runner_is_exit_2_nothing_written(tmp_path, monkeypatch, capsys):
+    """A value rule a Config missed, found while running: still exit 2, one line, no run dir."""
+    import planner.scenario as scenario
+    from planner.cli import main
+    from planner.errors import InputIssue, ScenarioError
+
+    spec = scenario.kinds()["trace"]
+
+    def late(config, ctx):
+        raise ScenarioError([InputIssue("(scenario)", 0, "sampling", "too coarse")])
+
+    patched = dict(scenario.kinds(), trace=scenario.KindSpec("trace", spec.config, late, "x"))
+    import planner.runner as runner
+
+    monkeypatch.setattr(scenario, "kinds", lambda: patched)
+    monkeypatch.setattr(runner, "kinds", lambda: patched)
+    out = tmp_path / "run"
+    code = main(["run", str(write(tmp_path, GOOD)), "--no-plots", "--out", str(out)])
+    err = capsys.readouterr().err
+    assert code == 2 and err.strip() == "(scenario):0: sampling: too coarse"
+    assert not out.exists()
