@@ -104,6 +104,9 @@ class EstimatedCurve:
         unobservable: (N,) True on the arcs of radius r_f around interference points, where
             the fingertip never touched the object.
         tip_radius: r_f [m].
+        source: (N,) index of the fingertip centre (in the input given to
+            :func:`estimated_curve`) each point was generated from; -1 for the corners
+            inserted where two branches cross.
     """
 
     points: np.ndarray
@@ -111,6 +114,7 @@ class EstimatedCurve:
     s: np.ndarray
     unobservable: np.ndarray
     tip_radius: float
+    source: np.ndarray
 
     @property
     def unobservable_length(self) -> float:
@@ -279,7 +283,9 @@ def estimated_curve(
     unobs = np.zeros(len(env.points), bool)
     ok = src >= 0
     unobs[ok] = turn[src[ok]] > corner_angle
-    return EstimatedCurve(env.points, env.normals, arclength(env.points), unobs, r)
+    source = np.full(len(src), -1)
+    source[ok] = np.flatnonzero(keep)[vid[src[ok]]]  # generator -> vertex -> caller's index
+    return EstimatedCurve(env.points, env.normals, arclength(env.points), unobs, r, source)
 
 
 def resample_equal_arclength(points: np.ndarray, spacing: float) -> np.ndarray:
