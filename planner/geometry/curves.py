@@ -22,10 +22,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from planner import checks
 from planner.errors import InvalidParameter
 from planner.geometry.envelope import offset_envelope, polyline_normals
 from planner.geometry.offset_removal import polyline_distance
-from planner.geometry.profiles import CurveSamples, Profile, ProfileFeature
+from planner.geometry.profiles import CurveSamples, Profile
 from planner.geometry.shapes import (
     bump,
     circle,
@@ -131,21 +132,15 @@ def arclength(points: np.ndarray) -> np.ndarray:
     return np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(P, axis=0), axis=1))])
 
 
-def _check_radius(tip_radius: float) -> float:
-    if not np.isfinite(tip_radius) or not tip_radius > 0:
-        raise InvalidParameter(f"tip_radius must be a finite number > 0 [m], got {tip_radius!r}")
-    return float(tip_radius)
-
-
 def _default_spacing(profile: Profile, tip_radius: float, spacing: float | None) -> float:
     if spacing is None:
         spacing = min(tip_radius / 100.0, profile.length / 400.0)
-    if not np.isfinite(spacing) or not spacing > 0:
-        raise InvalidParameter(f"spacing must be a finite number > 0 [m], got {spacing!r}")
+    spacing = checks.positive("spacing", spacing, "m")
     if profile.length / spacing > MAX_SAMPLES:
         raise InvalidParameter(
-            f"spacing {spacing:g} m gives more than {MAX_SAMPLES} samples "
-            f"on a profile {profile.length:g} m long"
+            f"spacing: expected at least length / {MAX_SAMPLES} = "
+            f"{profile.length / MAX_SAMPLES:g} [m] (at most {MAX_SAMPLES} samples on a "
+            f"profile {profile.length:g} m long), got {spacing!r}"
         )
     return float(spacing)
 
@@ -158,8 +153,9 @@ def parallel_curve(profile: Profile, offset: float, spacing: float | None = None
         offset: normal offset [m] (> 0 outward, the fingertip side).
         spacing: sampling of the profile [m] (default min(offset/100, length/400)).
     """
-    if not np.isfinite(offset) or offset == 0:
-        raise InvalidParameter(f"offset must be a non-zero finite number [m], got {offset!r}")
+    offset = checks.in_range("offset", offset, -np.inf, np.inf, "m", closed=(False, False))
+    if offset == 0:
+        raise InvalidParameter("offset: expected a non-zero finite number [m], got 0")
     smp = profile.sample(_default_spacing(profile, abs(offset), spacing), fan_radius=abs(offset))
     Q = smp.points + offset * smp.normals
     # caustics: 1 + offset * k changes sign (k crosses -1/offset)
@@ -194,9 +190,11 @@ def traced_curve(profile: Profile, tip_radius: float, spacing: float | None = No
     Returns:
         :class:`TracedCurve`.
     """
-    r = _check_radius(tip_radius)
+    r = checks.positive("tip_radius", tip_radius, "m")
     if not isinstance(profile, Profile):
-        raise InvalidParameter(f"profile must be a Profile, got {type(profile).__name__}")
+        raise InvalidParameter(
+            f"profile: expected a planner.geometry.profiles.Profile, got {type(profile).__name__}"
+        )
     smp = profile.sample(_default_spacing(profile, r, spacing), fan_radius=r)
     # concave corners: their fans, and the two samples that meet there, never touch
     concave = np.isneginf(smp.curvature)
@@ -256,17 +254,14 @@ def estimated_curve(
     Returns:
         :class:`EstimatedCurve`.
     """
-    r = _check_radius(tip_radius)
+    r = checks.positive("tip_radius", tip_radius, "m")
     if isinstance(traced, TracedCurve):
         P = traced.points
         closed = traced.closed if closed is None else closed
     else:
         P = np.asarray(traced, float)
         closed = bool(closed)
-    if P.ndim != 2 or P.shape[1] != 2 or len(P) < 2:
-        raise InvalidParameter(f"traced points must have shape (N >= 2, 2) [m], got {P.shape}")
-    if not np.all(np.isfinite(P)):
-        raise InvalidParameter("traced points contain NaN or infinite values")
+    P = checks.points("traced", P, dims=(2,), min_count=2)
     step = np.linalg.norm(np.diff(P, axis=0), axis=1)
     keep = np.concatenate([[True], step > 1e-15])
     P = P[keep]
@@ -292,14 +287,14 @@ def resample_equal_arclength(points: np.ndarray, spacing: float) -> np.ndarray:
     """Resample a polyline (N, 2) [m] at equal arclength ``spacing`` [m] (linear
     interpolation); the first point is kept, the last sample lies within ``spacing`` of the
     end."""
-    P = np.asarray(points, float)
-    if P.ndim != 2 or len(P) < 2:
-        raise InvalidParameter(f"points must have shape (N >= 2, D), got {P.shape}")
-    if not np.isfinite(spacing) or not spacing > 0:
-        raise InvalidParameter(f"spacing must be a finite number > 0 [m], got {spacing!r}")
+    P = checks.points("points", points, min_count=2)
+    spacing = checks.positive("spacing", spacing, "m")
     s = arclength(P)
     if s[-1] / spacing > MAX_SAMPLES:
-        raise InvalidParameter(f"spacing {spacing:g} m gives more than {MAX_SAMPLES} samples")
+        raise InvalidParameter(
+            f"spacing: expected at least {s[-1] / MAX_SAMPLES:g} [m] (at most {MAX_SAMPLES} "
+            f"samples on a polyline {s[-1]:g} m long), got {spacing!r}"
+        )
     q = np.arange(0.0, s[-1] + 1e-12 * max(s[-1], 1.0), spacing)
     return np.stack([np.interp(q, s, P[:, j]) for j in range(P.shape[1])], axis=-1)
 
@@ -318,7 +313,6 @@ __all__ = [
     "EstimatedCurve",
     "ParallelCurve",
     "Profile",
-    "ProfileFeature",
     "TracedCurve",
     "arclength",
     "bump",

@@ -28,9 +28,9 @@ def surface_figure(surface, tip_radius: float, n: int = 40) -> Figure:
         surface: a parametric surface or height field; tip_radius: ``r_f`` [m];
         n: samples per axis of the wireframe.
     """
-    from planner.geometry.surface_analysis import _finite_box
+    from planner.geometry.surface_analysis import finite_box
 
-    box = _finite_box(surface)
+    box = finite_box(surface)
     uu, vv = np.meshgrid(np.linspace(*box[0], n), np.linspace(*box[1], n), indexing="ij")
     g = surface.evaluate(uu, vv)
     par = g.point + tip_radius * g.gauss_frame[..., :, 2]

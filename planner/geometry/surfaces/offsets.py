@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from planner import checks
 from planner.errors import InvalidParameter
 
 
@@ -112,11 +113,10 @@ def offset_surfaces(
             f"z must have shape (len(x), len(y)) = {(x.size, y.size)}, got {z.shape}"
         )
     dx, dy = _uniform_step(x, "x"), _uniform_step(y, "y")
-    r = float(tip_radius)
-    if not (math.isfinite(r) and r >= max(dx, dy)):
+    r = checks.positive("tip_radius", tip_radius, "m")
+    if r < max(dx, dy):
         raise InvalidParameter(
-            f"tip_radius must be finite and at least one grid step "
-            f"({max(dx, dy):g} m), got {tip_radius!r}"
+            f"tip_radius: expected a number >= one grid step = {max(dx, dy):g} [m], got {r!r}"
         )
     tol = max(1e-3 * r, dx, dy) if tolerance is None else float(tolerance)
     ball = ball_element(dx, dy, r)
