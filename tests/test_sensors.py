@@ -220,3 +220,20 @@ def test_ridge_crossing_changes_sphere_pattern_to_ridge():
             assert (rc.images[k] > 0).any(axis=1).all()
         else:  # the ball's blob at the pad centre
             assert np.linalg.norm(r.centroid) < 1e-3
+
+
+@pytest.mark.parametrize(
+    ("make", "match"),
+    [
+        (lambda: OWTS(radius=-0.008), r"radius: expected a finite number > 0 \[m\], got -0.008"),
+        (lambda: OWTS(field_of_detection=2.0), r"field_of_detection: expected .*\[rad\], got 2.0"),
+        (lambda: OWTS(offsets=(0.0, np.nan)), "offsets: expected finite values"),
+        (lambda: TactileArray(rows=0), "rows: expected an integer >= 1, got 0"),
+        (lambda: TactileArray(spread=-1e-3), r"spread: expected .* >= 0 \[m\], got -0.001"),
+        (lambda: ForceSensor(noise_std=-1.0), r"noise_std: expected .* >= 0 \[N\], got -1.0"),
+        (lambda: Potentiometer(bits=30), r"bits: expected a number in \[1, 24\], got 30"),
+    ],
+)
+def test_sensor_settings_name_value_unit_and_expectation(make, match):
+    with pytest.raises(InvalidParameter, match=match):
+        make()

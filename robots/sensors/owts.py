@@ -22,8 +22,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from planner import checks
 from planner.errors import InvalidParameter
-from robots._checks import as_batch, check_positive
 
 FULL_SCALE_V = 5.0  # [V] A/D input range of each channel
 
@@ -66,19 +66,17 @@ class OWTS:
         field_of_detection: float = np.deg2rad(75.0),
         contact_threshold: float = 1e-3,
     ) -> None:
-        self.radius = check_positive(radius, "radius", "m")
-        self.psd_side = check_positive(psd_side, "psd_side", "m")
-        self.field_of_detection = check_positive(field_of_detection, "field_of_detection", "rad")
-        if self.field_of_detection > np.pi / 2:
-            raise InvalidParameter(
-                f"field_of_detection must be <= pi/2 rad (hemisphere), got {field_of_detection}"
-            )
+        self.radius = checks.positive("radius", radius, "m")
+        self.psd_side = checks.positive("psd_side", psd_side, "m")
+        self.field_of_detection = checks.in_range(  # at most the hemisphere
+            "field_of_detection", field_of_detection, 0.0, np.pi / 2, "rad", closed=(False, True)
+        )
         self.scale = (
             self.field_of_detection / (0.4 * self.psd_side)
             if scale is None
-            else check_positive(scale, "scale", "rad/m")
+            else checks.positive("scale", scale, "rad/m")
         )
-        xo, yo = (float(v) for v in offsets)
+        xo, yo = checks.vector("offsets", offsets, 2)
         self.offsets = (xo, yo)
         reach = 2.0 * self.field_of_detection / self.scale / self.psd_side
         if reach + max(abs(xo), abs(yo)) > 1.0:
@@ -93,7 +91,7 @@ class OWTS:
     # ------------------------------------------------------------------ eqs. C.1, C.2
     def detection(self, voltages) -> DetectionPoint:
         """Eqs. C.1-C.2 for (4,) or (N, 4) voltages [V] (rows without contact give zeros)."""
-        v, _ = as_batch(voltages, 4, "voltages")
+        v, _ = checks.batch("voltages", voltages, 4)
         S = v.sum(axis=1)
         on = S > self.contact_threshold
         Ss = np.where(on, S, 1.0)
@@ -117,7 +115,7 @@ class OWTS:
             unit outward normal [-]. No contact (Σv below ``contact_threshold``, e.g. all
             zeros) gives point = normal = (0, 0, 0).
         """
-        v, single = as_batch(voltages, 4, "voltages")
+        v, single = checks.batch("voltages", voltages, 4)
         S = v.sum(axis=1)
         on = S > self.contact_threshold
         inv = np.where(on, 1.0 / np.where(on, S, 1.0), 0.0)
@@ -144,10 +142,10 @@ class OWTS:
             (4,) or (N, 4) voltages [V]; zeros for no contact and for normals outside the
             field of detection.
         """
-        n, single = as_batch(normal, 3, "normal")
+        n, single = checks.batch("normal", normal, 3)
         inten = np.broadcast_to(np.asarray(intensity, dtype=float), (len(n),))
         if np.any(inten < 0) or np.any(inten > 1) or not np.all(np.isfinite(inten)):
-            raise InvalidParameter(f"intensity must be in [0, 1], got {intensity!r}")
+            raise InvalidParameter(f"intensity: expected numbers in [0, 1], got {intensity!r}")
         norm = np.linalg.norm(n, axis=1)
         on = norm > 1e-12
         u = n / np.where(on, norm, 1.0)[:, None]

@@ -25,8 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from planner import checks
 from planner.errors import InvalidParameter
-from robots._checks import as_batch
 from robots.sensors.owts import FULL_SCALE_V, OWTS
 
 
@@ -83,7 +83,7 @@ class RadialNonlinearity:
 
     def correct(self, sensor: OWTS, voltages) -> np.ndarray:
         """Undo the distortion: raw voltages (N, 4) -> linearized voltages (N, 4) [V]."""
-        v, single = as_batch(voltages, 4, "voltages")
+        v, single = checks.batch("voltages", voltages, 4)
         S, sx, sy, _ = _normalized(v)
         half = 0.5 * sensor.psd_side
         x, y = (sx - sensor.offsets[0]) * half, (sy - sensor.offsets[1]) * half
@@ -123,8 +123,8 @@ def fit_nonlinearity(sensor: OWTS, normals, voltages) -> Calibration:
     Raises:
         InvalidParameter: fewer than 4 usable samples or mismatched shapes.
     """
-    n, _ = as_batch(normals, 3, "normals")
-    v, _ = as_batch(voltages, 4, "voltages")
+    n, _ = checks.batch("normals", normals, 3)
+    v, _ = checks.batch("voltages", voltages, 4)
     if len(n) != len(v):
         raise InvalidParameter(
             f"normals and voltages must have the same length, got {len(n)} and {len(v)}"
@@ -179,10 +179,10 @@ class OWTSSampler:
         sheath_gain: float = 0.0,
         sheath_max: float = np.deg2rad(15.0),
     ) -> None:
-        if noise_angle < 0 or sheath_gain < 0 or sheath_max < 0:
-            raise InvalidParameter("noise_angle, sheath_gain and sheath_max must be >= 0")
-        if not 1 <= int(bits) <= 24:
-            raise InvalidParameter(f"bits must be in 1..24, got {bits}")
+        noise_angle = checks.nonnegative("noise_angle", noise_angle, "rad")
+        sheath_gain = checks.nonnegative("sheath_gain", sheath_gain)
+        sheath_max = checks.nonnegative("sheath_max", sheath_max, "rad")
+        bits = int(checks.in_range("bits", checks.integer("bits", bits), 1, 24))
         self.sensor, self.rng, self.nonlinearity = sensor, rng, nonlinearity
         self.noise_angle, self.bits = float(noise_angle), int(bits)
         self.sheath_gain, self.sheath_max = float(sheath_gain), float(sheath_max)
@@ -201,13 +201,13 @@ class OWTSSampler:
             tangential_force: optional (N, 3) friction force on the fingertip in the TCS [N]
                 (drives the sheath-pulling bias).
         """
-        n, single = as_batch(normals, 3, "normals")
+        n, single = checks.batch("normals", normals, 3)
         s = self.sensor
         norm = np.linalg.norm(n, axis=1)
         on = norm > 1e-12
         u = n / np.where(on, norm, 1.0)[:, None]
         if tangential_force is not None and self.sheath_gain > 0:
-            ft, _ = as_batch(tangential_force, 3, "tangential_force")
+            ft, _ = checks.batch("tangential_force", tangential_force, 3)
             ft = ft - np.sum(ft * u, axis=1)[:, None] * u  # tangential part only
             mag = np.linalg.norm(ft, axis=1)
             ang = np.minimum(self.sheath_gain * mag, self.sheath_max)

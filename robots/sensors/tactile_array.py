@@ -23,8 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from planner import checks
 from planner.errors import InvalidParameter
-from robots._checks import as_batch, check_positive
 
 
 @dataclass(frozen=True)
@@ -77,16 +77,12 @@ class TactileArray:
         oversample: int = 3,
         threshold: float = 50.0,
     ) -> None:
-        if int(rows) < 1 or int(cols) < 1 or int(oversample) < 1:
-            raise InvalidParameter(
-                f"rows, cols, oversample must be >= 1, got {rows}, {cols}, {oversample}"
-            )
-        self.rows, self.cols, self.oversample = int(rows), int(cols), int(oversample)
-        self.pitch = check_positive(pitch, "pitch", "m")
-        self.modulus = check_positive(modulus, "modulus", "Pa")
-        if spread < 0:
-            raise InvalidParameter(f"spread must be >= 0 [m], got {spread}")
-        self.spread = float(spread)
+        self.rows = checks.integer("rows", rows, minimum=1)
+        self.cols = checks.integer("cols", cols, minimum=1)
+        self.oversample = checks.integer("oversample", oversample, minimum=1)
+        self.pitch = checks.positive("pitch", pitch, "m")
+        self.modulus = checks.positive("modulus", modulus, "Pa")
+        self.spread = checks.nonnegative("spread", spread, "m")
         self.threshold = float(threshold)
         self.u = (np.arange(self.cols) - (self.cols - 1) / 2) * self.pitch
         self.v = (np.arange(self.rows) - (self.rows - 1) / 2) * self.pitch
@@ -138,8 +134,8 @@ class TactileArray:
         Returns:
             (N, rows, cols) or (rows, cols) taxel pressures [Pa].
         """
-        c, single = as_batch(centers, 2, "centers")
-        R = check_positive(radius, "radius", "m")
+        c, single = checks.batch("centers", centers, 2)
+        R = checks.positive("radius", radius, "m")
         F = np.broadcast_to(np.asarray(forces, float), (len(c),))
         if np.any(F < 0) or not np.all(np.isfinite(F)):
             raise InvalidParameter(f"forces must be finite and >= 0 [N], got {forces!r}")
@@ -170,11 +166,10 @@ class TactileArray:
         Returns:
             (rows, cols) taxel pressures [Pa].
         """
-        c, _ = as_batch(center, 2, "center")
-        R = check_positive(radius, "radius", "m")
-        if not np.isfinite(force) or force < 0:
-            raise InvalidParameter(f"force must be >= 0 [N], got {force!r}")
-        ell = 2 * max(self.extent) if length is None else check_positive(length, "length", "m")
+        c, _ = checks.batch("center", center, 2)
+        R = checks.positive("radius", radius, "m")
+        force = checks.nonnegative("force", force, "N")
+        ell = 2 * max(self.extent) if length is None else checks.positive("length", length, "m")
         w = force / ell
         b = np.sqrt(4.0 * w * R / (np.pi * self.modulus)) if w > 0 else 0.0
         if b == 0.0:
