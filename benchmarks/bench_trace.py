@@ -23,7 +23,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).parent))
 from _common import arg_parser, time_call, write_report  # noqa: E402
 
-from planner.geometry import curves  # noqa: E402
+from planner.geometry import curves, shapes  # noqa: E402
 
 R = 0.01  # fingertip radius [m]
 
@@ -31,14 +31,14 @@ R = 0.01  # fingertip radius [m]
 def cases():
     a = 0.00065 / 2
     return [
-        ("step_15mm", curves.step(0.015, length=0.08), np.array([[-R, R]])),
+        ("step_15mm", shapes.step(0.015, length=0.08), np.array([[-R, R]])),
         (
             "wire_0.65mm",
-            curves.wire_on_plane(0.00065, length=0.08),
+            shapes.wire_on_plane(0.00065, length=0.08),
             np.array([[-2 * np.sqrt(R * a), R], [2 * np.sqrt(R * a), R]]),
         ),
-        ("gaussian_pit", curves.pit(0.003, 0.004, "gaussian", length=0.08), None),
-        ("ellipse", curves.ellipse(0.05, 0.03), np.empty((0, 2))),
+        ("gaussian_pit", shapes.pit(0.003, 0.004, "gaussian", length=0.08), None),
+        ("ellipse", shapes.ellipse(0.05, 0.03), np.empty((0, 2))),
     ]
 
 

@@ -35,6 +35,17 @@ class _Parser(argparse.ArgumentParser):
         raise SystemExit(EXIT_BAD_INPUT)
 
 
+def _add_set_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--set",
+        dest="overrides",
+        action="append",
+        default=[],
+        metavar="KEY.PATH=VALUE",
+        help="override a scenario key (repeatable)",
+    )
+
+
 def _parser() -> argparse.ArgumentParser:
     from planner import __version__
 
@@ -55,14 +66,7 @@ def _parser() -> argparse.ArgumentParser:
         help="run directory to write (default: runs/<name>-<timestamp>)",
     )
     r.add_argument("--seed", type=int, default=None, help="override the scenario's seed")
-    r.add_argument(
-        "--set",
-        dest="overrides",
-        action="append",
-        default=[],
-        metavar="KEY.PATH=VALUE",
-        help="override a scenario key (repeatable)",
-    )
+    _add_set_option(r)
     r.add_argument("--no-plots", action="store_true", help="do not draw figures")
     r.add_argument(
         "--quick",
@@ -75,14 +79,7 @@ def _parser() -> argparse.ArgumentParser:
 
     v = sub.add_parser("validate", help="check scenario files without running them")
     v.add_argument("scenarios", type=Path, nargs="+", help="scenario YAML files")
-    v.add_argument(
-        "--set",
-        dest="overrides",
-        action="append",
-        default=[],
-        metavar="KEY.PATH=VALUE",
-        help="override a scenario key (repeatable)",
-    )
+    _add_set_option(v)
     v.add_argument("-v", "--verbose", action="store_true")
 
     ls = sub.add_parser("list", help="list bundled scenarios, robots, or scenario kinds")

@@ -6,8 +6,8 @@ type), ``curves`` (parallel, traced and estimated curves of a fingertip on a pro
 parametric pieces), ``measurement`` (simulated fingertip traces), ``features`` and
 ``feature_maps`` (curvature and macro features, Definition 1, Table 3.1), ``surfaces``
 (parametric surfaces, height fields, offset surfaces), ``surface_analysis`` (feature slices
-and maps of a surface) and ``surface_plots`` (their figures: the package's one plotting
-module).
+and maps of a surface) and ``plots`` (figures of profiles and surfaces: the package's one
+plotting module).
 
 The names below are re-exported lazily (on first use), so importing one submodule does not
 load the others (``curves`` pulls in scipy and shapely; ``surfaces`` pulls in CasADi).

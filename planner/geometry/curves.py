@@ -27,22 +27,6 @@ from planner.errors import InvalidParameter
 from planner.geometry.envelope import offset_envelope, polyline_normals
 from planner.geometry.offset_removal import polyline_distance
 from planner.geometry.profiles import CurveSamples, Profile
-from planner.geometry.shapes import (
-    bump,
-    circle,
-    cusp,
-    ellipse,
-    pit,
-    plane,
-    polygon,
-    polyline,
-    ravine,
-    ridge,
-    rounded_rectangle,
-    spline,
-    step,
-    wire_on_plane,
-)
 
 MAX_SAMPLES = 2_000_000
 
@@ -308,6 +292,16 @@ def distance_to_profile(
     return polyline_distance(np.asarray(points, float), smp.points, profile.closed)
 
 
+def __getattr__(name: str):
+    """The profile constructors live in :mod:`planner.geometry.shapes` (also re-exported by
+    :mod:`planner.geometry`); ``curves.step`` and the like keep working for old code."""
+    from planner.geometry import shapes
+
+    if name in shapes.__all__:
+        return getattr(shapes, name)
+    raise AttributeError(f"module 'planner.geometry.curves' has no attribute {name!r}")
+
+
 __all__ = [
     "CurveSamples",
     "EstimatedCurve",
@@ -315,23 +309,9 @@ __all__ = [
     "Profile",
     "TracedCurve",
     "arclength",
-    "bump",
-    "circle",
-    "cusp",
     "distance_to_profile",
-    "ellipse",
     "estimated_curve",
     "parallel_curve",
-    "pit",
-    "plane",
-    "polygon",
-    "polyline",
-    "ravine",
     "resample_equal_arclength",
-    "ridge",
-    "rounded_rectangle",
-    "spline",
-    "step",
     "traced_curve",
-    "wire_on_plane",
 ]

@@ -124,22 +124,7 @@ def ridge(
     """A rectangular ridge of ``width`` x ``height`` [m] centred at ``x0``; its two top
     (convex) corners are rounded with ``corner_radius`` [m] (0: sharp); the base corners are
     sharp and concave."""
-    w, h = _length("width", width), _length("height", height)
-    L, x0 = _length("length", length), _coordinate("x0", x0)
-    corner_radius = checks.nonnegative("corner_radius", corner_radius, "m")
-    pts = np.array(
-        [
-            (x0 - L / 2, 0),
-            (x0 - w / 2, 0),
-            (x0 - w / 2, h),
-            (x0 + w / 2, h),
-            (x0 + w / 2, 0),
-            (x0 + L / 2, 0),
-        ],
-        float,
-    )
-    radii = np.array([0, 0, corner_radius, corner_radius, 0, 0], float)
-    return Profile(tuple(_chain(pts, radii)), name="ridge")
+    return _rectangular(width, _length("height", height), corner_radius, x0, length, "ridge")
 
 
 def ravine(
@@ -151,22 +136,19 @@ def ravine(
 ) -> Profile:
     """A rectangular groove of ``width`` x ``depth`` [m] centred at ``x0``; its two rim
     (convex) corners are rounded with ``corner_radius`` [m]; the bottom corners are sharp."""
-    w, d = _length("width", width), _length("depth", depth)
+    return _rectangular(width, -_length("depth", depth), corner_radius, x0, length, "ravine")
+
+
+def _rectangular(width, rise, corner_radius, x0, length, name) -> Profile:
+    """A rectangular ridge (``rise > 0``) or groove (``rise < 0``) in a plane; the convex
+    corners (top of a ridge, rim of a groove) are rounded with ``corner_radius``."""
+    w = _length("width", width)
     L, x0 = _length("length", length), _coordinate("x0", x0)
-    corner_radius = checks.nonnegative("corner_radius", corner_radius, "m")
-    pts = np.array(
-        [
-            (x0 - L / 2, 0),
-            (x0 - w / 2, 0),
-            (x0 - w / 2, -d),
-            (x0 + w / 2, -d),
-            (x0 + w / 2, 0),
-            (x0 + L / 2, 0),
-        ],
-        float,
-    )
-    radii = np.array([0, corner_radius, 0, 0, corner_radius, 0], float)
-    return Profile(tuple(_chain(pts, radii)), name="ravine")
+    c = checks.nonnegative("corner_radius", corner_radius, "m")
+    xs = (x0 - L / 2, x0 - w / 2, x0 - w / 2, x0 + w / 2, x0 + w / 2, x0 + L / 2)
+    pts = np.column_stack([xs, (0.0, 0.0, rise, rise, 0.0, 0.0)])
+    radii = np.array([0, 0, c, c, 0, 0] if rise > 0 else [0, c, 0, 0, c, 0], float)
+    return Profile(tuple(_chain(pts, radii)), name=name)
 
 
 def _gaussian_piece(height: float, sigma: float, x0: float, L: float) -> Parametric:

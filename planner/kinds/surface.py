@@ -195,7 +195,7 @@ def run(config: Config, ctx):
 
     from planner.geometry.feature_maps import multiscale_feature_maps
     from planner.geometry.surface_analysis import MAX_BALL_CELLS, map_analysis, slice_analysis
-    from planner.results import Event, RunResult
+    from planner.results import RunResult
 
     rf = config.tip_radius
     n_map = min(config.grid_size, 41) if ctx.quick else config.grid_size
@@ -215,6 +215,19 @@ def run(config: Config, ctx):
             multiscale = multiscale_feature_maps(
                 ma.x[::k], ma.y[::k], ma.height[::k, ::k], rf, config.multiscale_radii
             )
+    files = {"features.json": json.dumps(_features_json(sl, fm), indent=1)}
+    figures = _figures(surface, rf, sl, ma, 16 if ctx.quick else 40) if ctx.plots else {}
+    return RunResult(
+        metrics=_metrics(surface, sl, ma, multiscale),
+        arrays=_arrays(sl, ma),
+        events=_events(sl, ma),
+        figures=figures,
+        files=files,
+    )
+
+
+def _metrics(surface, sl, ma, multiscale) -> dict:
+    fm = ma.features
     area = float(ma.inside.sum())
     kinds = [m.kind for m in fm.macros]
     metrics = {
@@ -244,6 +257,15 @@ def run(config: Config, ctx):
         "multiscale_regions": [len(m.regions) for m in multiscale],
         "multiscale_macro_kinds": [[x.kind for x in m.macros] for m in multiscale],
     }
+    return metrics
+
+
+def _events(sl, ma) -> list:
+    import numpy as np
+
+    from planner.results import Event
+
+    fm = ma.features
     events = [
         Event(
             "slice_feature",
@@ -267,6 +289,11 @@ def run(config: Config, ctx):
         )
         for m in fm.macros
     ]
+    return events
+
+
+def _arrays(sl, ma) -> dict:
+    fm = ma.features
     arrays = {
         "slice_u": sl.u,
         "slice_s": sl.s,
@@ -292,9 +319,7 @@ def run(config: Config, ctx):
             unobservable=ma.offsets.unobservable,
             interference=ma.offsets.interference,
         )
-    files = {"features.json": json.dumps(_features_json(sl, fm), indent=1)}
-    figures = _figures(surface, rf, sl, ma, 16 if ctx.quick else 40) if ctx.plots else {}
-    return RunResult(metrics=metrics, arrays=arrays, events=events, figures=figures, files=files)
+    return arrays
 
 
 def _features_json(sl, fm) -> dict:
@@ -341,7 +366,7 @@ def _features_json(sl, fm) -> dict:
 
 
 def _figures(surface, rf, sl, ma, mesh: int) -> dict:
-    from planner.geometry.surface_plots import (
+    from planner.geometry.plots import (
         feature_map_figure,
         offsets_figure,
         slice_figure,
