@@ -16,6 +16,7 @@ SCENARIOS = Path(__file__).parent.parent / "scenarios"
         ("tip_radius=0", "--set:1:0: tip_radius:"),
         ("sampling.spacing=1.0", "--set:1:0: sampling: a spacing of 1 m gives fewer than 3"),
         ("sampling.samples=1", "--set:1:0: sampling.samples:"),
+        ("sampling.spacing=1e-9", "--set:1:0: sampling: a spacing of 1e-09 m gives more than"),
         ("noise.normal_sigma_deg=120", "--set:1:0: noise.normal_sigma_deg:"),
         ("profile.height=0", "--set:1:0: profile: height must be non-zero"),
         ("profile.type=stepp", "--set:1:0: profile.type: unknown type 'stepp'"),

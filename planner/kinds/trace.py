@@ -18,13 +18,19 @@ from planner.kinds._profiles import ProfileSpec, build_profile
 from planner.results import Event, RunResult
 from planner.scenario import ScenarioBase, StrictModel
 
+# The simulator samples the traced curve 4x finer than the measurement, and the curve
+# construction takes at most 2 M samples (planner.geometry.curves.MAX_SAMPLES): 500 000.
+MAX_SAMPLES = 500_000
+
 
 class Sampling(StrictModel):
     """Where the fingertip centre is sampled: give ``spacing``, or ``samples``, or
     ``speed`` with ``rate``."""
 
     spacing: float | None = Field(None, gt=0, description="along the traced curve [m]")
-    samples: int | None = Field(None, ge=2, description="number of samples over the trace")
+    samples: int | None = Field(
+        None, ge=2, le=MAX_SAMPLES, description="number of samples over the trace"
+    )
     speed: float | None = Field(None, gt=0, description="finger speed [m/s]")
     rate: float | None = Field(None, gt=0, description="sample rate [Hz]")
 
@@ -84,6 +90,12 @@ class Config(ScenarioBase):
             raise ValueError(
                 f"sampling: a spacing of {spacing:g} m gives fewer than 3 samples "
                 f"over a profile {profile.length:g} m long"
+            )
+        if spacing is not None and profile.length / spacing > MAX_SAMPLES:
+            raise ValueError(
+                f"sampling: a spacing of {spacing:g} m gives more than {MAX_SAMPLES} samples "
+                f"over a profile {profile.length:g} m long; expected a spacing >= "
+                f"{profile.length / MAX_SAMPLES:g} m"
             )
         return self
 
