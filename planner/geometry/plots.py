@@ -238,32 +238,19 @@ def trace_figure(
 def _trace_layers(ax, profile, centers, smoothed, estimated, detected, truth):
     """The curves and feature markers shared by the main axes and the zoom inset [mm]."""
     k = 1e3
-    ax.plot(profile[:, 0] * k, profile[:, 1] * k, "k-", lw=1.5, label="object")
-    ax.plot(
-        centers[:, 0] * k,
-        centers[:, 1] * k,
-        ".",
-        ms=2,
-        color="tab:orange",
-        alpha=0.6,
-        label="traced (noisy)",
+    curves = (
+        (profile, dict(ls="-", color="k", lw=1.5, label="object")),
+        (
+            centers,
+            dict(
+                ls="none", marker=".", ms=2, color="tab:orange", alpha=0.6, label="traced (noisy)"
+            ),
+        ),
+        (smoothed, dict(ls="-", color="tab:red", lw=1, label="traced (smoothed)")),
+        (estimated, dict(ls="--", color="tab:blue", lw=1.2, label="estimated surface")),
     )
-    ax.plot(
-        smoothed[:, 0] * k,
-        smoothed[:, 1] * k,
-        "-",
-        color="tab:red",
-        lw=1,
-        label="traced (smoothed)",
-    )
-    ax.plot(
-        estimated[:, 0] * k,
-        estimated[:, 1] * k,
-        "--",
-        color="tab:blue",
-        lw=1.2,
-        label="estimated surface",
-    )
+    for pts, style in curves:
+        ax.plot(pts[:, 0] * k, pts[:, 1] * k, **style)
     styles = {
         ("truth", 1): dict(marker="o", mfc="none", mec="k", ms=9, label="true feature +"),
         ("truth", -1): dict(marker="s", mfc="none", mec="k", ms=9, label="true feature -"),
