@@ -25,6 +25,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).parent))
 from _common import arg_parser, time_call, write_report  # noqa: E402
 
+WARM = "warm median"
+
 
 def bench_curvatures(quick: bool) -> list[dict]:
     from planner.geometry import surfaces as S
@@ -55,6 +57,7 @@ def bench_curvatures(quick: bool) -> list[dict]:
                     "setting": "numpy from CasADi graph",
                     "n": n,
                     "time_s": t["median_s"],
+                    "timing": WARM,
                     "rate_Mpts_s": n / t["median_s"] / 1e6,
                     "target": ">= 2 M/s",
                     "check": "ok" if ok else "FAIL",
@@ -70,6 +73,7 @@ def bench_curvatures(quick: bool) -> list[dict]:
                 "setting": "CasADi Function.map (reference)",
                 "n": n,
                 "time_s": dt,
+                "timing": "one call, cold",
                 "rate_Mpts_s": n / dt / 1e6,
                 "target": "",
                 "check": "ok"
@@ -89,7 +93,7 @@ def bump_grid(n: int):
 
 
 def bench_features(quick: bool) -> list[dict]:
-    from planner.geometry.features import curvature_feature_map
+    from planner.geometry.feature_maps import curvature_feature_map
     from planner.geometry.surfaces import grid_principal_curvatures, offset_surfaces
 
     n = 300 if quick else 1000
@@ -107,6 +111,7 @@ def bench_features(quick: bool) -> list[dict]:
             "setting": "FD curvatures + regions + macros",
             "n": n * n,
             "time_s": t["median_s"],
+            "timing": WARM,
             "rate_Mpts_s": n * n / t["median_s"] / 1e6,
             "target": "<= 0.5 s",
             "check": "ok" if [m.kind for m in fm.macros] == ["bump"] else "FAIL",
@@ -120,6 +125,7 @@ def bench_features(quick: bool) -> list[dict]:
             "setting": "regions + macros only (curvatures given)",
             "n": n * n,
             "time_s": t["median_s"],
+            "timing": WARM,
             "rate_Mpts_s": n * n / t["median_s"] / 1e6,
             "target": "",
             "check": "ok",
@@ -135,6 +141,7 @@ def bench_features(quick: bool) -> list[dict]:
                 "setting": f"ball r = {r:g} ({int(r / (x[1] - x[0]))} cells)",
                 "n": n * n,
                 "time_s": dt,
+                "timing": "one call, cold",
                 "rate_Mpts_s": n * n / dt / 1e6,
                 "target": "",
                 "check": "ok" if np.all(off.estimated >= z - 1e-12) else "FAIL",
@@ -158,6 +165,7 @@ def bench_contact(quick: bool) -> list[dict]:
             "setting": "per call (validated inputs)",
             "n": 1,
             "time_s": t["median_s"],
+            "timing": WARM,
             "rate_Mpts_s": 1 / t["median_s"] / 1e6,
             "target": "<= 20 us",
             "check": "ok",
@@ -182,6 +190,7 @@ def bench_contact(quick: bool) -> list[dict]:
             "setting": "sphere rolling+sliding on bump",
             "n": steps,
             "time_s": dt,
+            "timing": "one call, cold",
             "rate_Mpts_s": steps / dt / 1e6,
             "target": "",
             "check": f"residual {tr.residual.max():.1e} m",
@@ -198,9 +207,11 @@ def main() -> None:
         rows,
         title="hapex geometry and contact benchmark",
         out=args.out,
-        columns=["benchmark", "setting", "n", "time_s", "rate_Mpts_s", "target", "check"],
+        columns=["benchmark", "setting", "n", "time_s", "timing", "rate_Mpts_s", "target", "check"],
         notes=[
-            "time_s is the median over repeats (best of batches for per-call rows)",
+            "time_s: 'warm median' = median per call over the timed batches (3 to 7) that "
+            "follow an untimed warm-up call (time_call of benchmarks/_common.py); 'one call, "
+            "cold' = a single timed call (the slow rows, and the CasADi reference)",
             "rate_Mpts_s: points (or calls, or steps) per second / 1e6",
             "machine shared with other jobs: expect +-30 % between runs",
         ],

@@ -8,8 +8,9 @@
     hapex list [scenarios|robots|kinds]
     hapex --version
 
-Exit codes: 0 success; 1 the scenario ran but its task failed; 2 bad input. Errors are one
-line each on stderr, ``FILE:LINE: key.path: message``, all at once; no traceback unless -v.
+Exit codes: 0 success; 1 the scenario ran but its task failed; 2 bad input; 130 interrupted;
+141 stdout closed early (``hapex list | head``). Errors are one line each on stderr,
+``FILE:LINE: key.path: message``, all at once; no traceback unless -v.
 """
 
 from __future__ import annotations
@@ -22,6 +23,8 @@ from collections.abc import Sequence
 from pathlib import Path
 
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = 0, 1, 2
+EXIT_INTERRUPTED = 130  # 128 + SIGINT
+EXIT_BROKEN_PIPE = 141  # 128 + SIGPIPE: the reader of stdout went away
 
 
 class _Parser(argparse.ArgumentParser):
@@ -30,6 +33,17 @@ class _Parser(argparse.ArgumentParser):
     def error(self, message: str) -> None:  # type: ignore[override]
         print(f"hapex: error: {message} (see 'hapex --help')", file=sys.stderr)
         raise SystemExit(EXIT_BAD_INPUT)
+
+
+def _add_set_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--set",
+        dest="overrides",
+        action="append",
+        default=[],
+        metavar="KEY.PATH=VALUE",
+        help="override a scenario key (repeatable)",
+    )
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -52,14 +66,7 @@ def _parser() -> argparse.ArgumentParser:
         help="run directory to write (default: runs/<name>-<timestamp>)",
     )
     r.add_argument("--seed", type=int, default=None, help="override the scenario's seed")
-    r.add_argument(
-        "--set",
-        dest="overrides",
-        action="append",
-        default=[],
-        metavar="KEY.PATH=VALUE",
-        help="override a scenario key (repeatable)",
-    )
+    _add_set_option(r)
     r.add_argument("--no-plots", action="store_true", help="do not draw figures")
     r.add_argument(
         "--quick",
@@ -72,14 +79,7 @@ def _parser() -> argparse.ArgumentParser:
 
     v = sub.add_parser("validate", help="check scenario files without running them")
     v.add_argument("scenarios", type=Path, nargs="+", help="scenario YAML files")
-    v.add_argument(
-        "--set",
-        dest="overrides",
-        action="append",
-        default=[],
-        metavar="KEY.PATH=VALUE",
-        help="override a scenario key (repeatable)",
-    )
+    _add_set_option(v)
     v.add_argument("-v", "--verbose", action="store_true")
 
     ls = sub.add_parser("list", help="list bundled scenarios, robots, or scenario kinds")
@@ -196,9 +196,7 @@ def _cmd_list(args) -> int:
     return EXIT_OK
 
 
-def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of the ``hapex`` script. Returns the exit code."""
-    os.environ.setdefault("MPLBACKEND", "Agg")
+def _dispatch(argv: Sequence[str] | None) -> int:
     args = _parser().parse_args(argv)
     from planner.errors import HapexError, ScenarioError
 
@@ -219,7 +217,28 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:
         print("interrupted; no run directory was written", file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``hapex`` script. Returns the exit code.
+
+    A reader that closes the pipe early (``hapex list kinds | head -1``) ends the command
+    quietly with exit code 141 (128 + SIGPIPE, what the shell reports for ``yes | head``):
+    the rest of the output is discarded, no traceback is printed.
+    """
+    os.environ.setdefault("MPLBACKEND", "Agg")
+    try:
+        try:
+            return _dispatch(argv)
+        finally:
+            sys.stdout.flush()  # inside the try: a closed pipe fails here, not at exit
+    except BrokenPipeError:
+        # Python flushes stdout again at exit; point it at /dev/null so that flush is quiet.
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+        return EXIT_BROKEN_PIPE
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -142,6 +142,24 @@ def _prepare_target(out_dir: Path) -> None:
             )
 
 
+def _save_figures(
+    folder: Path, figures: Mapping[str, Any], plot_formats: tuple[str, ...], dpi: int
+) -> dict[str, str]:
+    """Save every figure under ``folder/plots`` in every format; the ``files`` entries."""
+    import matplotlib.pyplot as plt
+
+    (folder / "plots").mkdir()
+    files = {}
+    for fig_name, fig in figures.items():
+        for fmt in plot_formats:
+            rel = f"plots/{fig_name}.{fmt}"
+            fig.savefig(folder / rel, dpi=dpi, bbox_inches="tight")
+            key = f"plot:{fig_name}" if fmt == plot_formats[0] else f"plot:{fig_name}:{fmt}"
+            files[key] = rel
+        plt.close(fig)
+    return files
+
+
 def write_run_directory(
     out_dir: Path,
     result: RunResult,
@@ -183,17 +201,7 @@ def write_run_directory(
             )
             files["trajectory"] = "trajectory.npz"
         if result.figures:
-            import matplotlib.pyplot as plt
-
-            (tmp / "plots").mkdir()
-            for fig_name, fig in result.figures.items():
-                for fmt in plot_formats:
-                    rel = f"plots/{fig_name}.{fmt}"
-                    fig.savefig(tmp / rel, dpi=dpi, bbox_inches="tight")
-                    files[
-                        f"plot:{fig_name}" if fmt == plot_formats[0] else f"plot:{fig_name}:{fmt}"
-                    ] = rel
-                plt.close(fig)
+            files.update(_save_figures(tmp, result.figures, plot_formats, dpi))
         for fname, text in result.files.items():
             target = tmp / fname
             target.parent.mkdir(parents=True, exist_ok=True)

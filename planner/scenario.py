@@ -253,6 +253,10 @@ def _locate(doc: SourceDoc, loc: Sequence[Any]) -> tuple[str, int, str]:
     for k in range(len(tpath), -1, -1):
         if tpath[:k] in doc.origins:
             return doc.origins[tpath[:k]], 0, _dotted(tpath)
+    if tpath:  # a rule over a block (``sampling``) that an override inside it changed
+        inner = [o for o in doc.origins if o[: len(tpath)] == tpath]
+        if inner:
+            return doc.origins[inner[-1]], 0, _dotted(tpath)
     line = 0
     for k in range(len(tpath), -1, -1):
         if tpath[:k] in doc.lines:
@@ -270,6 +274,37 @@ def _dotted(path: Sequence[Any]) -> str:
     return out
 
 
+def _discriminator(err: Mapping[str, Any]) -> str | None:
+    """The key that selects a union member (``type`` of ``profile: {type: ...}``), if any."""
+    if err.get("type") not in ("union_tag_invalid", "union_tag_not_found"):
+        return None
+    return str(err.get("ctx", {}).get("discriminator", "")).strip("'\"") or None
+
+
+def _error_loc(err: Mapping[str, Any], data: Any) -> tuple:
+    """The location of a pydantic error, down to the offending key.
+
+    pydantic reports a bad union tag at the union's key (``profile``); the value at fault is
+    the tag itself (``profile.type``), which may come from ``--set`` rather than the file.
+    A model-level validator (a rule across keys) has no location; when its message starts
+    with a key path of the document (``sampling: ...``), that key is the location, so the
+    line (or the ``--set``) that gave the value is blamed.
+    """
+    loc = tuple(err["loc"])
+    key = _discriminator(err)
+    if key and err.get("type") == "union_tag_invalid":
+        return loc + (key,)
+    if err.get("type") == "value_error":
+        head = _message(err).split(": ", 1)[0]
+        parts = tuple(head.split("."))
+        cur = data
+        for p in loc:  # the validator's model inside the document
+            cur = cur.get(p) if isinstance(cur, dict) else None
+        if head and " " not in head and isinstance(cur, dict) and parts[0] in cur:
+            return loc + parts
+    return loc
+
+
 def _message(err: Mapping[str, Any]) -> str:
     kind = err.get("type")
     if kind == "extra_forbidden":
@@ -278,7 +313,8 @@ def _message(err: Mapping[str, Any]) -> str:
         return "required key is missing"
     if kind == "union_tag_invalid":
         ctx = err.get("ctx", {})
-        return f"unknown kind {ctx.get('tag')!r}; expected one of {ctx.get('expected_tags')}"
+        key = _discriminator(err) or "kind"
+        return f"unknown {key} {ctx.get('tag')!r}; expected one of {ctx.get('expected_tags')}"
     if kind == "union_tag_not_found":
         return f"missing key {err.get('ctx', {}).get('discriminator', 'kind')}"
     msg = str(err.get("msg", "invalid value"))
@@ -328,8 +364,12 @@ def validate(doc: SourceDoc) -> ScenarioBase:
         issues = []
         seen = set()
         for err in exc.errors():
-            src, line, path = _locate(doc, err["loc"])
-            issue = InputIssue(src, line, path, _message(err))
+            loc = _error_loc(err, doc.data)
+            msg = _message(err)
+            if len(loc) > len(err["loc"]) and msg.startswith(f"{loc[-1]}: "):
+                msg = msg.split(": ", 1)[1]  # the key now leads the line; do not repeat it
+            src, line, path = _locate(doc, loc)
+            issue = InputIssue(src, line, path, msg)
             if str(issue) not in seen:
                 seen.add(str(issue))
                 issues.append(issue)

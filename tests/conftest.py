@@ -8,8 +8,25 @@ import sys
 from pathlib import Path
 
 import pytest
+from hypothesis import HealthCheck, settings
 
 os.environ.setdefault("MPLBACKEND", "Agg")
+
+# Hypothesis profiles. "ci" is deterministic: the same examples on every run and machine
+# (derandomize), no example database carried between runs, no per-example deadline (the
+# machine is shared; timing must never fail a test). "dev" (the default) explores new random
+# examples on every run and remembers failures in .hypothesis/, without deadlines either.
+# Select with HYPOTHESIS_PROFILE=ci or ``pytest --hypothesis-profile=ci`` (.ci/run does).
+settings.register_profile(
+    "ci",
+    derandomize=True,
+    database=None,
+    deadline=None,
+    print_blob=True,
+    suppress_health_check=[HealthCheck.too_slow],
+)
+settings.register_profile("dev", deadline=None)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "dev"))
 
 ROOT = Path(__file__).resolve().parent.parent
 

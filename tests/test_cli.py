@@ -226,3 +226,63 @@ def test_sampling_coarser_than_profile_is_bad_input(tmp_path):
     out = tmp_path / "out"
     assert_bad_input(run_cli("run", str(s), "--out", str(out)), "fewer than 3 samples")
     assert not out.exists()
+
+
+def test_bad_set_union_tag_is_blamed_on_set(tmp_path):
+    s = write(tmp_path, GOOD)
+    proc = run_cli("validate", str(s), "--set", "profile.type=stepp")
+    lines = assert_bad_input(proc, "--set:1:0: profile.type: unknown type 'stepp'")
+    assert len(lines) == 1 and str(s) not in proc.stderr
+    # the same mistake in the file points at the file's line of the tag
+    s = write(tmp_path, GOOD.replace("type: step", "type: stepp"))
+    assert_bad_input(run_cli("validate", str(s)), f"{s}:6: profile.type: unknown type 'stepp'")
+
+
+@pytest.mark.parametrize("args", [("list", "kinds"), ("list", "scenarios"), ("--help",)])
+def test_closed_stdout_pipe_is_quiet(args):
+    """``hapex list kinds | head -1``: the reader goes away; no BrokenPipeError traceback."""
+    import os
+    import subprocess
+    import sys
+
+    read_end, write_end = os.pipe()
+    os.close(read_end)  # every write to stdout now fails with EPIPE, deterministically
+    try:
+        proc = subprocess.run(
+            [sys.executable, "-m", "planner.cli", *args],
+            cwd=ROOT,
+            stdout=write_end,
+            stderr=subprocess.PIPE,
+            text=True,
+            timeout=120,
+            env=dict(os.environ, MPLBACKEND="Agg"),
+        )
+    finally:
+        os.close(write_end)
+    assert proc.stderr == ""
+    # 128 + SIGPIPE, as the shell reports for `yes | head`; argparse swallows its own
+    # write errors for --help and exits 0
+    assert proc.returncode == (0 if args == ("--help",) else 141)
+
+
+def test_bad_input_found_by_a_runner_is_exit_2_nothing_written(tmp_path, monkeypatch, capsys):
+    """A value rule a Config missed, found while running: still exit 2, one line, no run dir."""
+    import planner.scenario as scenario
+    from planner.cli import main
+    from planner.errors import InputIssue, ScenarioError
+
+    spec = scenario.kinds()["trace"]
+
+    def late(config, ctx):
+        raise ScenarioError([InputIssue("(scenario)", 0, "sampling", "too coarse")])
+
+    patched = dict(scenario.kinds(), trace=scenario.KindSpec("trace", spec.config, late, "x"))
+    import planner.runner as runner
+
+    monkeypatch.setattr(scenario, "kinds", lambda: patched)
+    monkeypatch.setattr(runner, "kinds", lambda: patched)
+    out = tmp_path / "run"
+    code = main(["run", str(write(tmp_path, GOOD)), "--no-plots", "--out", str(out)])
+    err = capsys.readouterr().err
+    assert code == 2 and err.strip() == "(scenario):0: sampling: too coarse"
+    assert not out.exists()

@@ -9,6 +9,7 @@ from hypothesis import strategies as st
 
 from planner.errors import InvalidParameter
 from planner.geometry import curves as c
+from planner.geometry import shapes
 
 
 def rot(a):
@@ -18,7 +19,7 @@ def rot(a):
 @settings(max_examples=25, deadline=None)
 @given(r=st.floats(0.002, 0.02), ratio=st.floats(1.0, 4.0), x0=st.floats(-0.01, 0.01))
 def test_tall_step_interference_at_x0_minus_r(r, ratio, x0):
-    tc = c.traced_curve(c.step(ratio * r, x0=x0, length=0.1), r)
+    tc = c.traced_curve(shapes.step(ratio * r, x0=x0, length=0.1), r)
     np.testing.assert_allclose(tc.interference_points, [[x0 - r, r]], atol=1e-9)
 
 
@@ -26,7 +27,7 @@ def test_tall_step_interference_at_x0_minus_r(r, ratio, x0):
 @given(r=st.floats(0.002, 0.02), ratio=st.floats(0.05, 0.99))
 def test_low_step_interference_on_corner_circle(r, ratio):
     h = ratio * r
-    tc = c.traced_curve(c.step(h, length=0.1), r)
+    tc = c.traced_curve(shapes.step(h, length=0.1), r)
     np.testing.assert_allclose(
         tc.interference_points, [[-np.sqrt(r * r - (r - h) ** 2), r]], atol=1e-9
     )
@@ -41,7 +42,7 @@ def test_low_step_interference_on_corner_circle(r, ratio):
 )
 def test_wire_on_plane_two_interference_points(r, d, angle, x0):
     a = d / 2
-    tc = c.traced_curve(c.wire_on_plane(d, angle, x0=x0, length=0.08), r)
+    tc = c.traced_curve(shapes.wire_on_plane(d, angle, x0=x0, length=0.08), r)
     local = tc.interference_points @ rot(angle)  # into the plane's frame
     expect = [[x0 - 2 * np.sqrt(r * a), r], [x0 + 2 * np.sqrt(r * a), r]]
     np.testing.assert_allclose(local, expect, atol=1e-9)
@@ -50,7 +51,7 @@ def test_wire_on_plane_two_interference_points(r, d, angle, x0):
 @pytest.mark.parametrize("width", [0.004, 0.01, 0.016])
 def test_narrow_ravine_is_bridged(width):
     r = 0.01
-    tc = c.traced_curve(c.ravine(width, 0.02), r)
+    tc = c.traced_curve(shapes.ravine(width, 0.02), r)
     np.testing.assert_allclose(
         tc.interference_points, [[0.0, np.sqrt(r * r - width * width / 4)]], atol=1e-9
     )
@@ -60,7 +61,7 @@ def test_narrow_ravine_is_bridged(width):
 
 def test_wide_ravine_touches_bottom():
     r = 0.005
-    tc = c.traced_curve(c.ravine(0.03, 0.02), r)
+    tc = c.traced_curve(shapes.ravine(0.03, 0.02), r)
     # concave bottom corners at (+-0.015, -0.02): interference at (+-(0.015 - r), -0.02 + r)
     np.testing.assert_allclose(
         tc.interference_points, [[-0.015 + r, -0.02 + r], [0.015 - r, -0.02 + r]], atol=1e-9
@@ -70,7 +71,7 @@ def test_wide_ravine_touches_bottom():
 @settings(max_examples=20, deadline=None)
 @given(R=st.floats(0.01, 0.2), r=st.floats(0.001, 0.05))
 def test_circle_traced_and_estimated(R, r):
-    tc = c.traced_curve(c.circle(R), r)
+    tc = c.traced_curve(shapes.circle(R), r)
     np.testing.assert_allclose(np.linalg.norm(tc.points, axis=1), R + r, atol=1e-12)
     assert len(tc.interference_points) == 0 and tc.closed
     est = c.estimated_curve(tc, r)
@@ -80,12 +81,12 @@ def test_circle_traced_and_estimated(R, r):
 
 def test_estimated_step_is_profile_plus_fingertip_arc():
     r, h = 0.01, 0.02
-    tc = c.traced_curve(c.step(h), r)
+    tc = c.traced_curve(shapes.step(h), r)
     est = c.estimated_curve(tc, r)
     obs = ~est.unobservable
     # exact on the faces; at the convex corner the traced fan is a polyline, whose bisector
     # normals are off by O(spacing^2 / r) = 1e-6 m at the default spacing r/100
-    d = c.distance_to_profile(est.points[obs], c.step(h))
+    d = c.distance_to_profile(est.points[obs], shapes.step(h))
     assert np.median(d) < 1e-12 and d.max() < 1e-6
     # the unobservable region is a quarter circle of radius r about the interference point
     U = est.points[est.unobservable]
@@ -95,7 +96,7 @@ def test_estimated_step_is_profile_plus_fingertip_arc():
 
 def test_estimated_from_plain_points_matches():
     r = 0.01
-    tc = c.traced_curve(c.step(0.02), r)
+    tc = c.traced_curve(shapes.step(0.02), r)
     a = c.estimated_curve(tc, r)
     b = c.estimated_curve(tc.points, r)
     np.testing.assert_allclose(a.points, b.points)
@@ -103,7 +104,7 @@ def test_estimated_from_plain_points_matches():
 
 def test_parallel_curve_caustics_of_ellipse():
     # Fig. 3.1: ellipse a = 5, b = 2; offsets beyond -b^2/a = -0.8 have caustics.
-    e = c.ellipse(5.0, 2.0)
+    e = shapes.ellipse(5.0, 2.0)
     assert len(c.parallel_curve(e, -0.5).caustic_points) == 0
     P = c.parallel_curve(e, -1.0)
     assert len(P.caustic_points) == 4
@@ -121,17 +122,17 @@ def test_parallel_curve_caustics_of_ellipse():
 @pytest.mark.parametrize(
     "profile",
     [
-        c.step(0.005),
-        c.ridge(0.006, 0.003, 0.001),
-        c.ravine(0.008, 0.004, 0.0005),
-        c.bump(0.002, 0.006),
-        c.pit(0.002, 0.004, "gaussian"),
-        c.cusp(np.pi / 2),
-        c.rounded_rectangle(0.08, 0.05, 0.01),
-        c.ellipse(0.05, 0.03),
-        c.polygon([[0, 0], [0.05, 0], [0.02, 0.04]]),
-        c.spline([[0, 0], [0.01, 0.003], [0.02, 0]]),
-        c.wire_on_plane(0.001, 0.3),
+        shapes.step(0.005),
+        shapes.ridge(0.006, 0.003, 0.001),
+        shapes.ravine(0.008, 0.004, 0.0005),
+        shapes.bump(0.002, 0.006),
+        shapes.pit(0.002, 0.004, "gaussian"),
+        shapes.cusp(np.pi / 2),
+        shapes.rounded_rectangle(0.08, 0.05, 0.01),
+        shapes.ellipse(0.05, 0.03),
+        shapes.polygon([[0, 0], [0.05, 0], [0.02, 0.04]]),
+        shapes.spline([[0, 0], [0.01, 0.003], [0.02, 0]]),
+        shapes.wire_on_plane(0.001, 0.3),
     ],
 )
 def test_traced_points_keep_exactly_tip_radius_from_profile(profile):
@@ -144,12 +145,12 @@ def test_traced_points_keep_exactly_tip_radius_from_profile(profile):
 
 
 def test_profile_curvature_and_normals():
-    smp = c.circle(0.05).sample(0.001)
+    smp = shapes.circle(0.05).sample(0.001)
     np.testing.assert_allclose(smp.curvature, 20.0)
     np.testing.assert_allclose(np.einsum("ij,ij->i", smp.normals, smp.points) / 0.05, 1.0)
-    pit = c.bump(0.002, 0.01).sample(1e-4)
+    pit = shapes.bump(0.002, 0.01).sample(1e-4)
     assert np.nanmax(pit.curvature[np.isfinite(pit.curvature)]) > 0
-    e = c.ellipse(0.05, 0.02)
+    e = shapes.ellipse(0.05, 0.02)
     smp = e.sample(1e-4)
     k_exact = (
         0.05
@@ -165,7 +166,7 @@ def test_profile_curvature_and_normals():
 
 
 def test_ground_truth_features_of_a_wire():
-    f = c.wire_on_plane(0.00065, 0.0).curvature_features(0.01)
+    f = shapes.wire_on_plane(0.00065, 0.0).curvature_features(0.01)
     assert [x.sign for x in f] == [-1, 1, -1]  # a bump pattern, Table 3.1
     assert f[1].end - f[1].start == pytest.approx(np.pi * 0.00065, rel=1e-9)
 
@@ -173,7 +174,7 @@ def test_ground_truth_features_of_a_wire():
 @settings(max_examples=30, deadline=None)
 @given(theta=st.floats(0, 2 * np.pi), a=st.floats(0.01, 0.1), b=st.floats(0.01, 0.1))
 def test_polar_angle_lookup(theta, a, b):
-    for prof in (c.ellipse(a, b), c.rounded_rectangle(2 * a, 2 * b, 0.3 * min(a, b))):
+    for prof in (shapes.ellipse(a, b), shapes.rounded_rectangle(2 * a, 2 * b, 0.3 * min(a, b))):
         p, n = prof.point_at_polar_angle(np.array([theta]))
         diff = np.angle(np.exp(1j * (np.arctan2(p[0, 1], p[0, 0]) - theta)))
         assert abs(diff) < 1e-3
@@ -190,17 +191,17 @@ def test_resample_equal_arclength():
 @pytest.mark.parametrize(
     "call, match",
     [
-        (lambda: c.step(0.0), "non-zero"),
-        (lambda: c.circle(-1), "radius"),
-        (lambda: c.traced_curve(c.step(0.01), -0.01), "tip_radius"),
-        (lambda: c.traced_curve(c.step(0.01), float("nan")), "tip_radius"),
-        (lambda: c.polyline([[0, 0]]), "at least 2"),
-        (lambda: c.polyline([[0, 0], [0, 0]]), "duplicates"),
-        (lambda: c.rounded_rectangle(0.1, 0.05, 0.04), "corner_radius"),
-        (lambda: c.bump(0.001, 0.01, "square"), "shape"),
+        (lambda: shapes.step(0.0), "non-zero"),
+        (lambda: shapes.circle(-1), "radius"),
+        (lambda: c.traced_curve(shapes.step(0.01), -0.01), "tip_radius"),
+        (lambda: c.traced_curve(shapes.step(0.01), float("nan")), "tip_radius"),
+        (lambda: shapes.polyline([[0, 0]]), "at least 2"),
+        (lambda: shapes.polyline([[0, 0], [0, 0]]), "duplicates"),
+        (lambda: shapes.rounded_rectangle(0.1, 0.05, 0.04), "corner_radius"),
+        (lambda: shapes.bump(0.001, 0.01, "square"), "shape"),
         (lambda: c.estimated_curve(np.zeros((3, 3)), 0.01), "shape"),
         (lambda: c.resample_equal_arclength(np.zeros((5, 2)), 0.0), "spacing"),
-        (lambda: c.step(0.01).point_at_polar_angle(0.0), "closed"),
+        (lambda: shapes.step(0.01).point_at_polar_angle(0.0), "closed"),
     ],
 )
 def test_bad_arguments(call, match):
@@ -209,7 +210,7 @@ def test_bad_arguments(call, match):
 
 
 def test_polygon_polar_lookup_at_sharp_corners():
-    square = c.polygon([[0.05, 0], [0, 0.05], [-0.05, 0], [0, -0.05]])
+    square = shapes.polygon([[0.05, 0], [0, 0.05], [-0.05, 0], [0, -0.05]])
     p, n = square.point_at_polar_angle(np.array([0.0, np.pi / 4, np.pi / 2]))
     np.testing.assert_allclose(p, [[0.05, 0], [0.025, 0.025], [0, 0.05]], atol=1e-9)
     np.testing.assert_allclose(n, [[1, 0], [np.sqrt(0.5), np.sqrt(0.5)], [0, 1]], atol=1e-9)
@@ -217,24 +218,24 @@ def test_polygon_polar_lookup_at_sharp_corners():
 
 @pytest.mark.parametrize("w, h, rc", [(0.1, 0.01, 0.004), (0.1, 0.01, 0.005), (0.04, 0.04, 0.02)])
 def test_rounded_rectangle_perimeter(w, h, rc):
-    prof = c.rounded_rectangle(w, h, rc)
+    prof = shapes.rounded_rectangle(w, h, rc)
     assert prof.length == pytest.approx(2 * (w + h) - 8 * rc + 2 * np.pi * rc, rel=1e-12)
 
 
 @pytest.mark.parametrize(
     "profile, expect",
     [
-        (c.step(0.015), [[-0.01, 0.01]]),
-        (c.step(0.004), [[-np.sqrt(0.01**2 - 0.006**2), 0.01]]),
+        (shapes.step(0.015), [[-0.01, 0.01]]),
+        (shapes.step(0.004), [[-np.sqrt(0.01**2 - 0.006**2), 0.01]]),
         (
-            c.wire_on_plane(0.00065),
+            shapes.wire_on_plane(0.00065),
             [[-2 * np.sqrt(0.01 * 0.000325), 0.01], [2 * np.sqrt(0.01 * 0.000325), 0.01]],
         ),
         (
-            c.wire_on_plane(0.03, length=0.2),
+            shapes.wire_on_plane(0.03, length=0.2),
             [[-2 * np.sqrt(0.01 * 0.015), 0.01], [2 * np.sqrt(0.01 * 0.015), 0.01]],
         ),
-        (c.ravine(0.005, 0.02), [[0.0, np.sqrt(0.01**2 - 0.0025**2)]]),
+        (shapes.ravine(0.005, 0.02), [[0.0, np.sqrt(0.01**2 - 0.0025**2)]]),
     ],
     ids=["tall_step", "low_step", "thin_wire", "thick_wire", "narrow_ravine"],
 )

@@ -54,7 +54,8 @@ def test_ravine_multiscale(tmp_path):
     result, _ = run(SCENARIOS / "ravine_multiscale.yaml", tmp_path)
     m = result["metrics"]
     assert m["slice_pattern"] == "+-+" and m["macro_kinds"] == ["ravine"]
-    assert m["unobservable_fraction"] > 0 and m["interference_cells"] > 0
+    assert 0 < m["unobservable_fraction_of_interior"] < 1 and m["interference_cells"] > 0
+    assert 0 < m["interior_fraction"] < 1
     assert len(m["multiscale_regions"]) == 2
 
 
@@ -94,3 +95,26 @@ def test_bad_input_is_reported(tmp_path):
     (tmp_path / "bad2.yaml").write_text("kind: surface\ntip_radius: 1\nsurface: {type: blob}\n")
     with pytest.raises(ScenarioError, match="surface"):
         load_scenario(tmp_path / "bad2.yaml")
+
+
+@pytest.mark.parametrize(
+    ("override", "where"),
+    [
+        ("multiscale_radii=[0.001]", "--set:1:0: multiscale_radii: expected radii >= tip_radius"),
+        ("multiscale_radii=[2.0, -1]", "--set:1:0: multiscale_radii[1]:"),
+        ("surface.a=-2", "--set:1:0: surface.a:"),
+        ("grid_size=3", "--set:1:0: grid_size:"),
+        ("surface.type=blob", "--set:1:0: surface.type: unknown type 'blob'"),
+    ],
+)
+def test_bad_value_is_exit_2_one_line_nothing_written(cli, tmp_path, override, where):
+    """Every value rule is a Config rule: `validate` catches it, `run` writes nothing."""
+    scenario = str(SCENARIOS / "bump_features.yaml")
+    proc = cli("validate", scenario, "--set", override)
+    assert proc.returncode == 2 and proc.stderr.splitlines() == [proc.stderr.strip()]
+    assert proc.stderr.startswith(where), proc.stderr
+    out = tmp_path / "run"
+    proc = cli("run", scenario, "--quick", "--no-plots", "--out", str(out), "--set", override)
+    assert proc.returncode == 2 and proc.stderr.startswith(where), proc.stderr
+    assert len(proc.stderr.splitlines()) == 1 and "Traceback" not in proc.stderr
+    assert proc.stdout == "" and not out.exists()

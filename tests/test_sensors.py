@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from planner.errors import InvalidParameter
@@ -39,6 +39,8 @@ def _random_normals(rng, n, max_theta):
     st.floats(-0.1, 0.1),
     st.floats(0.05, 1.0),
 )
+@example(1e-7, 0.3, 0.008, 0.1, -0.1, 0.5)  # arccos(n_z) lost ~eps/theta = 4e-11 here
+@example(1e-9, -2.0, 0.004, -0.1, 0.1, 0.05)
 def test_owts_round_trip(theta, phi, radius, xo, yo, intensity):
     s = OWTS(radius=radius, offsets=(xo, yo))
     n = _normal(theta, phi)
@@ -48,6 +50,20 @@ def test_owts_round_trip(theta, phi, radius, xo, yo, intensity):
     p, m = s.contact_from_voltages(v)
     np.testing.assert_allclose(m, n, atol=1e-12)
     np.testing.assert_allclose(p, radius * n, atol=1e-12 * radius)
+
+
+@pytest.mark.parametrize("theta", [1e-12, 1e-9, 1e-7, 1e-5])
+def test_owts_inverse_keeps_precision_near_the_pole(theta):
+    """Near the pole the polar angle must come from atan2(sin, cos), not arccos(n_z).
+
+    ``n_z = cos(theta)`` rounds to a multiple of eps, so ``arccos(n_z)`` carries an absolute
+    error of ~eps/theta; the recovered tangential components then have a *relative* error
+    of ~eps/theta^2. With atan2 the round trip is exact to a few ulps at every angle.
+    """
+    s = OWTS(offsets=(0.05, -0.03))
+    n = _normal(theta, 0.7)
+    _, m = s.contact_from_voltages(s.voltages_from_contact(n, 0.5))
+    np.testing.assert_allclose(m[:2], n[:2], rtol=1e-6, atol=1e-15)
 
 
 def test_owts_equations_c1_c3_by_hand():
@@ -204,3 +220,20 @@ def test_ridge_crossing_changes_sphere_pattern_to_ridge():
             assert (rc.images[k] > 0).any(axis=1).all()
         else:  # the ball's blob at the pad centre
             assert np.linalg.norm(r.centroid) < 1e-3
+
+
+@pytest.mark.parametrize(
+    ("make", "match"),
+    [
+        (lambda: OWTS(radius=-0.008), r"radius: expected a finite number > 0 \[m\], got -0.008"),
+        (lambda: OWTS(field_of_detection=2.0), r"field_of_detection: expected .*\[rad\], got 2.0"),
+        (lambda: OWTS(offsets=(0.0, np.nan)), "offsets: expected finite values"),
+        (lambda: TactileArray(rows=0), "rows: expected an integer >= 1, got 0"),
+        (lambda: TactileArray(spread=-1e-3), r"spread: expected .* >= 0 \[m\], got -0.001"),
+        (lambda: ForceSensor(noise_std=-1.0), r"noise_std: expected .* >= 0 \[N\], got -1.0"),
+        (lambda: Potentiometer(bits=30), r"bits: expected a number in \[1, 24\], got 30"),
+    ],
+)
+def test_sensor_settings_name_value_unit_and_expectation(make, match):
+    with pytest.raises(InvalidParameter, match=match):
+        make()

@@ -218,11 +218,11 @@ def test_feature_catalogue_profiles():
 @pytest.mark.parametrize(
     ("make", "match"),
     [
-        (lambda: S.sphere(-1.0), "radius"),
-        (lambda: S.sphere("x"), "radius"),
-        (lambda: S.bump(-1.5), "a must be"),
-        (lambda: S.cylinder(0.0), "radius"),
-        (lambda: S.ridge(width=np.nan), "width"),
+        (lambda: S.sphere(-1.0), r"radius: expected a finite number > 0 \[m\], got -1.0"),
+        (lambda: S.sphere("x"), r"radius: expected a finite number > 0 \[m\], got 'x'"),
+        (lambda: S.bump(-1.5), r"a: expected a number in \(-1, inf\) \[1/m\^2\], got -1.5"),
+        (lambda: S.cylinder(0.0), r"radius: expected .* got 0.0"),
+        (lambda: S.ridge(width=np.nan), r"width: expected a finite number > 0 \[m\], got nan"),
         (lambda: S.ParametricSurface(lambda u, v: [u, v, 0], ((1, 0), (0, 1))), "min < max"),
         (lambda: S.sphere(1.0).point(np.nan, 0.0), "finite"),
         (lambda: S.sphere(1.0).point(np.zeros(3), np.zeros(2)), "broadcast"),

@@ -22,26 +22,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from planner import checks
 from planner.errors import InvalidParameter
 from planner.geometry.envelope import offset_envelope, polyline_normals
 from planner.geometry.offset_removal import polyline_distance
-from planner.geometry.profiles import CurveSamples, Profile, ProfileFeature
-from planner.geometry.shapes import (
-    bump,
-    circle,
-    cusp,
-    ellipse,
-    pit,
-    plane,
-    polygon,
-    polyline,
-    ravine,
-    ridge,
-    rounded_rectangle,
-    spline,
-    step,
-    wire_on_plane,
-)
+from planner.geometry.profiles import CurveSamples, Profile
 
 MAX_SAMPLES = 2_000_000
 
@@ -104,6 +89,9 @@ class EstimatedCurve:
         unobservable: (N,) True on the arcs of radius r_f around interference points, where
             the fingertip never touched the object.
         tip_radius: r_f [m].
+        source: (N,) index of the fingertip centre (in the input given to
+            :func:`estimated_curve`) each point was generated from; -1 for the corners
+            inserted where two branches cross.
     """
 
     points: np.ndarray
@@ -111,6 +99,7 @@ class EstimatedCurve:
     s: np.ndarray
     unobservable: np.ndarray
     tip_radius: float
+    source: np.ndarray
 
     @property
     def unobservable_length(self) -> float:
@@ -127,21 +116,15 @@ def arclength(points: np.ndarray) -> np.ndarray:
     return np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(P, axis=0), axis=1))])
 
 
-def _check_radius(tip_radius: float) -> float:
-    if not np.isfinite(tip_radius) or not tip_radius > 0:
-        raise InvalidParameter(f"tip_radius must be a finite number > 0 [m], got {tip_radius!r}")
-    return float(tip_radius)
-
-
 def _default_spacing(profile: Profile, tip_radius: float, spacing: float | None) -> float:
     if spacing is None:
         spacing = min(tip_radius / 100.0, profile.length / 400.0)
-    if not np.isfinite(spacing) or not spacing > 0:
-        raise InvalidParameter(f"spacing must be a finite number > 0 [m], got {spacing!r}")
+    spacing = checks.positive("spacing", spacing, "m")
     if profile.length / spacing > MAX_SAMPLES:
         raise InvalidParameter(
-            f"spacing {spacing:g} m gives more than {MAX_SAMPLES} samples "
-            f"on a profile {profile.length:g} m long"
+            f"spacing: expected at least length / {MAX_SAMPLES} = "
+            f"{profile.length / MAX_SAMPLES:g} [m] (at most {MAX_SAMPLES} samples on a "
+            f"profile {profile.length:g} m long), got {spacing!r}"
         )
     return float(spacing)
 
@@ -154,8 +137,9 @@ def parallel_curve(profile: Profile, offset: float, spacing: float | None = None
         offset: normal offset [m] (> 0 outward, the fingertip side).
         spacing: sampling of the profile [m] (default min(offset/100, length/400)).
     """
-    if not np.isfinite(offset) or offset == 0:
-        raise InvalidParameter(f"offset must be a non-zero finite number [m], got {offset!r}")
+    offset = checks.in_range("offset", offset, -np.inf, np.inf, "m", closed=(False, False))
+    if offset == 0:
+        raise InvalidParameter("offset: expected a non-zero finite number [m], got 0")
     smp = profile.sample(_default_spacing(profile, abs(offset), spacing), fan_radius=abs(offset))
     Q = smp.points + offset * smp.normals
     # caustics: 1 + offset * k changes sign (k crosses -1/offset)
@@ -190,9 +174,11 @@ def traced_curve(profile: Profile, tip_radius: float, spacing: float | None = No
     Returns:
         :class:`TracedCurve`.
     """
-    r = _check_radius(tip_radius)
+    r = checks.positive("tip_radius", tip_radius, "m")
     if not isinstance(profile, Profile):
-        raise InvalidParameter(f"profile must be a Profile, got {type(profile).__name__}")
+        raise InvalidParameter(
+            f"profile: expected a planner.geometry.profiles.Profile, got {type(profile).__name__}"
+        )
     smp = profile.sample(_default_spacing(profile, r, spacing), fan_radius=r)
     # concave corners: their fans, and the two samples that meet there, never touch
     concave = np.isneginf(smp.curvature)
@@ -252,17 +238,14 @@ def estimated_curve(
     Returns:
         :class:`EstimatedCurve`.
     """
-    r = _check_radius(tip_radius)
+    r = checks.positive("tip_radius", tip_radius, "m")
     if isinstance(traced, TracedCurve):
         P = traced.points
         closed = traced.closed if closed is None else closed
     else:
         P = np.asarray(traced, float)
         closed = bool(closed)
-    if P.ndim != 2 or P.shape[1] != 2 or len(P) < 2:
-        raise InvalidParameter(f"traced points must have shape (N >= 2, 2) [m], got {P.shape}")
-    if not np.all(np.isfinite(P)):
-        raise InvalidParameter("traced points contain NaN or infinite values")
+    P = checks.points("traced", P, dims=(2,), min_count=2)
     step = np.linalg.norm(np.diff(P, axis=0), axis=1)
     keep = np.concatenate([[True], step > 1e-15])
     P = P[keep]
@@ -279,21 +262,23 @@ def estimated_curve(
     unobs = np.zeros(len(env.points), bool)
     ok = src >= 0
     unobs[ok] = turn[src[ok]] > corner_angle
-    return EstimatedCurve(env.points, env.normals, arclength(env.points), unobs, r)
+    source = np.full(len(src), -1)
+    source[ok] = np.flatnonzero(keep)[vid[src[ok]]]  # generator -> vertex -> caller's index
+    return EstimatedCurve(env.points, env.normals, arclength(env.points), unobs, r, source)
 
 
 def resample_equal_arclength(points: np.ndarray, spacing: float) -> np.ndarray:
     """Resample a polyline (N, 2) [m] at equal arclength ``spacing`` [m] (linear
     interpolation); the first point is kept, the last sample lies within ``spacing`` of the
     end."""
-    P = np.asarray(points, float)
-    if P.ndim != 2 or len(P) < 2:
-        raise InvalidParameter(f"points must have shape (N >= 2, D), got {P.shape}")
-    if not np.isfinite(spacing) or not spacing > 0:
-        raise InvalidParameter(f"spacing must be a finite number > 0 [m], got {spacing!r}")
+    P = checks.points("points", points, min_count=2)
+    spacing = checks.positive("spacing", spacing, "m")
     s = arclength(P)
     if s[-1] / spacing > MAX_SAMPLES:
-        raise InvalidParameter(f"spacing {spacing:g} m gives more than {MAX_SAMPLES} samples")
+        raise InvalidParameter(
+            f"spacing: expected at least {s[-1] / MAX_SAMPLES:g} [m] (at most {MAX_SAMPLES} "
+            f"samples on a polyline {s[-1]:g} m long), got {spacing!r}"
+        )
     q = np.arange(0.0, s[-1] + 1e-12 * max(s[-1], 1.0), spacing)
     return np.stack([np.interp(q, s, P[:, j]) for j in range(P.shape[1])], axis=-1)
 
@@ -307,31 +292,26 @@ def distance_to_profile(
     return polyline_distance(np.asarray(points, float), smp.points, profile.closed)
 
 
+def __getattr__(name: str):
+    """The profile constructors live in :mod:`planner.geometry.shapes` (also re-exported by
+    :mod:`planner.geometry`); ``curves.step`` and the like keep working for old code."""
+    from planner.geometry import shapes
+
+    if name in shapes.__all__:
+        return getattr(shapes, name)
+    raise AttributeError(f"module 'planner.geometry.curves' has no attribute {name!r}")
+
+
 __all__ = [
     "CurveSamples",
     "EstimatedCurve",
     "ParallelCurve",
     "Profile",
-    "ProfileFeature",
     "TracedCurve",
     "arclength",
-    "bump",
-    "circle",
-    "cusp",
     "distance_to_profile",
-    "ellipse",
     "estimated_curve",
     "parallel_curve",
-    "pit",
-    "plane",
-    "polygon",
-    "polyline",
-    "ravine",
     "resample_equal_arclength",
-    "ridge",
-    "rounded_rectangle",
-    "spline",
-    "step",
     "traced_curve",
-    "wire_on_plane",
 ]

@@ -277,3 +277,6 @@ def polyline_normals(
     normals[rows, 0] = np.cos(ang)
     normals[rows, 1] = np.sin(ang)
     return P[vid], normals, vid, turn[vid]
+
+
+__all__ = ["Envelope", "offset_envelope", "polyline_normals"]

@@ -209,3 +209,6 @@ def removed_mask(P, Q, r, closed, exclude, h) -> np.ndarray:
         removed |= exclude
         _drop_tie_runs(removed, exclude, Q, r, closed)
     return removed
+
+
+__all__ = ["polyline_distance", "removed_mask", "rownorm"]

@@ -149,3 +149,6 @@ def joint_turn(prev: Piece, nxt: Piece) -> float:
         b = turn_angle(ti[0], to[0])
         a = np.pi if b >= 0 else -np.pi
     return a
+
+
+__all__ = ["Arc", "Line", "Parametric", "Piece", "joint_turn", "left_normal", "turn_angle"]

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from planner import checks
 from planner.errors import InvalidParameter
 from planner.geometry.primitives import Arc, Line, Parametric, turn_angle
 from planner.geometry.profiles import Profile
@@ -17,10 +18,16 @@ from planner.geometry.profiles import Profile
 DEFAULT_LENGTH = 0.06
 
 
-def _positive(name: str, value: float) -> float:
-    if not np.isfinite(value) or not value > 0:
-        raise InvalidParameter(f"{name} must be a finite number > 0 [m], got {value!r}")
-    return float(value)
+def _length(name: str, value: float) -> float:
+    return checks.positive(name, value, "m")
+
+
+def _finite(name: str, value: float, unit: str) -> float:
+    return checks.in_range(name, value, -np.inf, np.inf, unit, closed=(False, False))
+
+
+def _coordinate(name: str, value: float) -> float:
+    return _finite(name, value, "m")
 
 
 def _chain(points: np.ndarray, radii: np.ndarray | None = None, closed: bool = False) -> list:
@@ -91,18 +98,20 @@ def _signed_area(P: np.ndarray) -> float:
 
 def plane(angle: float = 0.0, length: float = DEFAULT_LENGTH, x0: float = 0.0) -> Profile:
     """A straight surface through (x0, 0), inclined by ``angle`` [rad] about that point."""
-    L = _positive("length", length)
+    L, x0 = _length("length", length), _coordinate("x0", x0)
+    angle = _finite("angle", angle, "rad")
     base = Profile((Line((-L / 2, 0.0), (L / 2, 0.0)),), name="plane")
     return base.transformed(angle, (x0, 0.0))
 
 
 def step(height: float, x0: float = 0.0, length: float = DEFAULT_LENGTH) -> Profile:
     """A sharp step of ``height`` [m] at ``x0`` (positive: up in +x; negative: down)."""
-    if not np.isfinite(height) or height == 0:
-        raise InvalidParameter(f"step height must be a non-zero finite number [m], got {height!r}")
-    L = _positive("length", length)
-    pts = [(x0 - L / 2, 0.0), (x0, 0.0), (x0, height), (x0 + L / 2, height)]
-    return Profile(tuple(_chain(np.array(pts))), name=f"step({height:g})")
+    h = _coordinate("height", height)
+    if h == 0:
+        raise InvalidParameter("height: expected a non-zero finite number [m], got 0")
+    L, x0 = _length("length", length), _coordinate("x0", x0)
+    pts = [(x0 - L / 2, 0.0), (x0, 0.0), (x0, h), (x0 + L / 2, h)]
+    return Profile(tuple(_chain(np.array(pts))), name=f"step({h:g})")
 
 
 def ridge(
@@ -115,23 +124,7 @@ def ridge(
     """A rectangular ridge of ``width`` x ``height`` [m] centred at ``x0``; its two top
     (convex) corners are rounded with ``corner_radius`` [m] (0: sharp); the base corners are
     sharp and concave."""
-    w, h = _positive("width", width), _positive("height", height)
-    L = _positive("length", length)
-    if corner_radius < 0:
-        raise InvalidParameter(f"corner_radius must be >= 0 [m], got {corner_radius!r}")
-    pts = np.array(
-        [
-            (x0 - L / 2, 0),
-            (x0 - w / 2, 0),
-            (x0 - w / 2, h),
-            (x0 + w / 2, h),
-            (x0 + w / 2, 0),
-            (x0 + L / 2, 0),
-        ],
-        float,
-    )
-    radii = np.array([0, 0, corner_radius, corner_radius, 0, 0], float)
-    return Profile(tuple(_chain(pts, radii)), name="ridge")
+    return _rectangular(width, _length("height", height), corner_radius, x0, length, "ridge")
 
 
 def ravine(
@@ -143,23 +136,19 @@ def ravine(
 ) -> Profile:
     """A rectangular groove of ``width`` x ``depth`` [m] centred at ``x0``; its two rim
     (convex) corners are rounded with ``corner_radius`` [m]; the bottom corners are sharp."""
-    w, d = _positive("width", width), _positive("depth", depth)
-    L = _positive("length", length)
-    if corner_radius < 0:
-        raise InvalidParameter(f"corner_radius must be >= 0 [m], got {corner_radius!r}")
-    pts = np.array(
-        [
-            (x0 - L / 2, 0),
-            (x0 - w / 2, 0),
-            (x0 - w / 2, -d),
-            (x0 + w / 2, -d),
-            (x0 + w / 2, 0),
-            (x0 + L / 2, 0),
-        ],
-        float,
-    )
-    radii = np.array([0, corner_radius, 0, 0, corner_radius, 0], float)
-    return Profile(tuple(_chain(pts, radii)), name="ravine")
+    return _rectangular(width, -_length("depth", depth), corner_radius, x0, length, "ravine")
+
+
+def _rectangular(width, rise, corner_radius, x0, length, name) -> Profile:
+    """A rectangular ridge (``rise > 0``) or groove (``rise < 0``) in a plane; the convex
+    corners (top of a ridge, rim of a groove) are rounded with ``corner_radius``."""
+    w = _length("width", width)
+    L, x0 = _length("length", length), _coordinate("x0", x0)
+    c = checks.nonnegative("corner_radius", corner_radius, "m")
+    xs = (x0 - L / 2, x0 - w / 2, x0 - w / 2, x0 + w / 2, x0 + w / 2, x0 + L / 2)
+    pts = np.column_stack([xs, (0.0, 0.0, rise, rise, 0.0, 0.0)])
+    radii = np.array([0, 0, c, c, 0, 0] if rise > 0 else [0, c, 0, 0, c, 0], float)
+    return Profile(tuple(_chain(pts, radii)), name=name)
 
 
 def _gaussian_piece(height: float, sigma: float, x0: float, L: float) -> Parametric:
@@ -203,12 +192,14 @@ def pit(
 
 
 def _bump(h, w, shape, x0, length, sign) -> Profile:
-    h, w, L = _positive("height", h), _positive("width", w), _positive("length", length)
+    h, w, L = _length("height", h), _length("width", w), _length("length", length)
+    x0 = _coordinate("x0", x0)
+    checks.choice("shape", shape, ("arc", "parabolic", "gaussian"))
     name = "bump" if sign > 0 else "pit"
     if shape == "gaussian":
         return Profile((_gaussian_piece(sign * h, w, x0, L),), name=name)
     if w >= L:
-        raise InvalidParameter(f"width {w} must be smaller than the profile length {L}")
+        raise InvalidParameter(f"width: expected a number < length = {L:g} [m], got {w!r}")
     left, right = (x0 - L / 2, 0.0), (x0 + L / 2, 0.0)
     a, b = (x0 - w / 2, 0.0), (x0 + w / 2, 0.0)
     if shape == "arc":
@@ -220,7 +211,7 @@ def _bump(h, w, shape, x0, length, sign) -> Profile:
             (phi_b - phi_a) % (2 * np.pi) - 2 * np.pi if sign > 0 else (phi_b - phi_a) % (2 * np.pi)
         )
         mid = Arc((x0, cy), R, float(phi_a), float(sweep))
-    elif shape == "parabolic":
+    else:  # "parabolic" (checked above)
         c = sign * h
 
         def f(u):
@@ -233,10 +224,6 @@ def _bump(h, w, shape, x0, length, sign) -> Profile:
             return np.stack([np.zeros_like(u), np.full_like(u, -8 * c / w**2)], axis=-1)
 
         mid = Parametric(f, df, ddf, a[0], b[0])
-    else:
-        raise InvalidParameter(
-            f"unknown bump shape {shape!r}; expected one of 'arc', 'parabolic', 'gaussian'"
-        )
     return Profile((Line(left, a), mid, Line(b, right)), name=name)
 
 
@@ -250,7 +237,9 @@ def wire_on_plane(
     the wire (convex), and the plane again; the two wedges between wire and plane are concave
     cusps (turning angle π).
     """
-    d, L = _positive("diameter", diameter), _positive("length", length)
+    d, L = _length("diameter", diameter), _length("length", length)
+    x0 = _coordinate("x0", x0)
+    angle = _finite("angle", angle, "rad")
     a = d / 2
     pieces = (
         Line((x0 - L / 2, 0.0), (x0, 0.0)),
@@ -262,9 +251,8 @@ def wire_on_plane(
 
 def cusp(angle: float, x0: float = 0.0, length: float = DEFAULT_LENGTH) -> Profile:
     """A convex roof-shaped corner at (x0, 0) with interior angle ``angle`` [rad] in (0, π)."""
-    if not 0 < angle < np.pi:
-        raise InvalidParameter(f"cusp angle must be in (0, pi) [rad], got {angle!r}")
-    L = _positive("length", length)
+    angle = checks.in_range("angle", angle, 0.0, np.pi, "rad", closed=(False, False))
+    L, x0 = _length("length", length), _coordinate("x0", x0)
     slope = 1.0 / np.tan(angle / 2)
     pts = np.array([(x0 - L / 2, -slope * L / 2), (x0, 0.0), (x0 + L / 2, -slope * L / 2)])
     return Profile(tuple(_chain(pts)), name="cusp")
@@ -272,7 +260,7 @@ def cusp(angle: float, x0: float = 0.0, length: float = DEFAULT_LENGTH) -> Profi
 
 def circle(radius: float) -> Profile:
     """A circle of ``radius`` [m] about the origin (closed, clockwise from (radius, 0))."""
-    R = _positive("radius", radius)
+    R = _length("radius", radius)
 
     def polar(theta):
         u = np.stack([np.cos(theta), np.sin(theta)], axis=-1)
@@ -285,7 +273,7 @@ def circle(radius: float) -> Profile:
 
 def ellipse(a: float, b: float) -> Profile:
     """An ellipse with semi-axes ``a`` (along x) and ``b`` (along y) [m] (closed)."""
-    a, b = _positive("a", a), _positive("b", b)
+    a, b = _length("a", a), _length("b", b)
 
     def f(u):
         return np.stack([a * np.cos(u), b * np.sin(u)], axis=-1)
@@ -313,11 +301,8 @@ def ellipse(a: float, b: float) -> Profile:
 def rounded_rectangle(width: float, height: float, corner_radius: float = 0.0) -> Profile:
     """A ``width`` x ``height`` [m] rectangle about the origin with corners rounded by
     ``corner_radius`` [m] (closed; corner_radius = min(w, h)/2 gives a stadium)."""
-    w, h = _positive("width", width), _positive("height", height)
-    if not 0 <= corner_radius <= min(w, h) / 2:
-        raise InvalidParameter(
-            f"corner_radius must be in [0, {min(w, h) / 2:g}] [m], got {corner_radius!r}"
-        )
+    w, h = _length("width", width), _length("height", height)
+    corner_radius = checks.in_range("corner_radius", corner_radius, 0.0, min(w, h) / 2, "m")
     pts = np.array(
         [(w / 2, 0.0), (w / 2, -h / 2), (-w / 2, -h / 2), (-w / 2, h / 2), (w / 2, h / 2)]
     )
@@ -325,29 +310,27 @@ def rounded_rectangle(width: float, height: float, corner_radius: float = 0.0) -
     return Profile(tuple(_chain(pts, radii, closed=True)), closed=True, name="rounded_rectangle")
 
 
-def _check_points(points, minimum: int) -> np.ndarray:
-    P = np.asarray(points, float)
-    if P.ndim != 2 or P.shape[1] != 2:
-        raise InvalidParameter(f"points must have shape (N, 2) [m], got {P.shape}")
-    if len(P) < minimum:
-        raise InvalidParameter(f"need at least {minimum} points, got {len(P)}")
-    if not np.all(np.isfinite(P)):
-        raise InvalidParameter("points contain NaN or infinite values")
-    if np.any(np.linalg.norm(np.diff(P, axis=0), axis=1) == 0):
-        raise InvalidParameter("points contain consecutive duplicates")
+def _vertices(points, minimum: int) -> np.ndarray:
+    P = checks.points("points", points, dims=(2,), min_count=minimum)
+    same = np.flatnonzero(np.linalg.norm(np.diff(P, axis=0), axis=1) == 0)
+    if len(same):
+        raise InvalidParameter(
+            f"points: expected no consecutive duplicates [m], got rows {same[0]} and "
+            f"{same[0] + 1} equal ({P[same[0]].tolist()})"
+        )
     return P
 
 
 def polyline(points) -> Profile:
     """An open polyline through ``points`` (N, 2) [m], N >= 2, material on the right of
     travel (for a left-to-right surface: below)."""
-    P = _check_points(points, 2)
+    P = _vertices(points, 2)
     return Profile(tuple(_chain(P)), name="polyline")
 
 
 def polygon(points) -> Profile:
     """A closed polygon through ``points`` (N, 2) [m], N >= 3 (reordered clockwise)."""
-    P = _check_points(points, 3)
+    P = _vertices(points, 3)
     if np.allclose(P[0], P[-1]):
         P = P[:-1]
     if _signed_area(P) > 0:
@@ -360,7 +343,7 @@ def spline(points, closed: bool = False) -> Profile:
     when ``closed``, then reordered clockwise)."""
     from scipy.interpolate import CubicSpline
 
-    P = _check_points(points, 3 if closed else 2)
+    P = _vertices(points, 3 if closed else 2)
     if closed:
         if not np.allclose(P[0], P[-1]):
             P = np.vstack([P, P[:1]])

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from planner.errors import InvalidParameter
+from planner import checks
 from planner.geometry.feature_maps import FeatureMap, curvature_feature_map
 from planner.geometry.features import (
     CurvatureFeature1D,
@@ -90,7 +90,7 @@ class MapAnalysis:
     offsets: OffsetSurfaces | None
 
 
-def _finite_box(surface, span_hint: float | None = None) -> np.ndarray:
+def finite_box(surface, span_hint: float | None = None) -> np.ndarray:
     dom = np.array(surface.domain, dtype=float)
     (u0, u1) = dom[0]
     if not np.isfinite(u0) or not np.isfinite(u1):
@@ -152,9 +152,9 @@ def slice_analysis(
         v: the slice (default: middle of the domain's ``v`` range).
         n: number of samples along ``u`` (>= 3).
     """
-    if n < 3:
-        raise InvalidParameter(f"n must be >= 3, got {n}")
-    box = _finite_box(surface)
+    n = checks.integer("n", n, minimum=3)
+    tip_radius = checks.positive("tip_radius", tip_radius, "m")
+    box = finite_box(surface)
     v = float(np.mean(box[1])) if v is None else float(v)
     u = np.linspace(box[0, 0], box[0, 1], n)
     g = surface.evaluate(u, v)
@@ -178,9 +178,9 @@ def map_analysis(surface, tip_radius: float, n: int = 201) -> MapAnalysis:
     """
     from scipy.interpolate import LinearNDInterpolator, NearestNDInterpolator
 
-    if n < 8:
-        raise InvalidParameter(f"n must be >= 8, got {n}")
-    box = _finite_box(surface)
+    n = checks.integer("n", n, minimum=8)
+    tip_radius = checks.positive("tip_radius", tip_radius, "m")
+    box = finite_box(surface)
     uu, vv = np.meshgrid(np.linspace(*box[0], n), np.linspace(*box[1], n), indexing="ij")
     k1, k2 = surface.principal_curvatures(uu, vv)
     pts = surface.point(uu, vv)
@@ -225,4 +225,4 @@ def map_analysis(surface, tip_radius: float, n: int = 201) -> MapAnalysis:
     return MapAnalysis(x, y, graph, height, mk1, mk2, inside, caustic, fmap, offsets)
 
 
-__all__ = ["MapAnalysis", "SliceAnalysis", "map_analysis", "slice_analysis"]
+__all__ = ["MapAnalysis", "SliceAnalysis", "finite_box", "map_analysis", "slice_analysis"]

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import Field
+from pydantic import Field, field_validator, model_validator
 
 from planner.scenario import ScenarioBase, StrictModel
 
@@ -116,9 +116,34 @@ class Config(ScenarioBase):
     grid_size: int = Field(151, ge=16, le=2001, description="map samples per axis")
     slice_samples: int = Field(801, ge=16, le=100_001, description="samples along the slice")
     slice_v: float | None = Field(None, description="v of the u-slice (default: mid-domain)")
-    multiscale_radii: tuple[float, ...] = Field(
+    multiscale_radii: tuple[Annotated[float, Field(gt=0, allow_inf_nan=False)], ...] = Field(
         (), description="virtual fingertip radii r_i >= tip_radius [m]"
     )
+
+    @field_validator("multiscale_radii")
+    @classmethod
+    def _radii_at_least_tip_radius(cls, radii, info):
+        rf = info.data.get("tip_radius")  # absent if tip_radius itself was invalid
+        bad = [r for r in radii if rf is not None and r < rf]
+        if bad:
+            raise ValueError(
+                f"expected radii >= tip_radius = {rf:g} m (a virtual fingertip is never "
+                f"smaller than the real one), got {bad}"
+            )
+        return radii
+
+    @model_validator(mode="after")
+    def _buildable(self):
+        """Rules of the surface constructors that a field bound cannot express."""
+        if self.surface.type == "height_field":
+            return self  # the file is read at run time (relative to the scenario)
+        from planner.errors import HapexError
+
+        try:
+            build_surface(self.surface, base_dir=None)
+        except HapexError as exc:
+            raise ValueError(f"surface: {exc}") from None
+        return self
 
 
 def build_surface(spec, base_dir):
@@ -168,15 +193,11 @@ def run(config: Config, ctx):
 
     import numpy as np
 
-    from planner.errors import InvalidParameter
     from planner.geometry.feature_maps import multiscale_feature_maps
     from planner.geometry.surface_analysis import MAX_BALL_CELLS, map_analysis, slice_analysis
-    from planner.results import Event, RunResult
+    from planner.results import RunResult
 
     rf = config.tip_radius
-    bad = [r for r in config.multiscale_radii if r < rf]
-    if bad:
-        raise InvalidParameter(f"multiscale_radii must be >= tip_radius = {rf}, got {bad}")
     n_map = min(config.grid_size, 41) if ctx.quick else config.grid_size
     n_slice = min(config.slice_samples, 201) if ctx.quick else config.slice_samples
     with ctx.timer("surface"):
@@ -194,6 +215,19 @@ def run(config: Config, ctx):
             multiscale = multiscale_feature_maps(
                 ma.x[::k], ma.y[::k], ma.height[::k, ::k], rf, config.multiscale_radii
             )
+    files = {"features.json": json.dumps(_features_json(sl, fm), indent=1)}
+    figures = _figures(surface, rf, sl, ma, 16 if ctx.quick else 40) if ctx.plots else {}
+    return RunResult(
+        metrics=_metrics(surface, sl, ma, multiscale),
+        arrays=_arrays(sl, ma),
+        events=_events(sl, ma),
+        figures=figures,
+        files=files,
+    )
+
+
+def _metrics(surface, sl, ma, multiscale) -> dict:
+    fm = ma.features
     area = float(ma.inside.sum())
     kinds = [m.kind for m in fm.macros]
     metrics = {
@@ -212,11 +246,26 @@ def run(config: Config, ctx):
         "k1_max": float(ma.k1[ma.inside].max()),
         "k1_min": float(ma.k1[ma.inside].min()),
         "caustic_fraction": float(ma.caustic.sum() / area),
-        "unobservable_fraction": (float(ma.offsets.unobservable.mean()) if ma.offsets else None),
+        # unobservability is decided only farther than r_f from the map's border (the ball
+        # would reach outside the sampled area): the fraction is over that interior, whose
+        # share of the map is reported beside it (None: graph surfaces only / empty interior)
+        "interior_fraction": float(ma.offsets.interior.mean()) if ma.offsets else None,
+        "unobservable_fraction_of_interior": (
+            ma.offsets.unobservable_fraction_of_interior if ma.offsets else None
+        ),
         "interference_cells": int(ma.offsets.interference.sum()) if ma.offsets else None,
         "multiscale_regions": [len(m.regions) for m in multiscale],
         "multiscale_macro_kinds": [[x.kind for x in m.macros] for m in multiscale],
     }
+    return metrics
+
+
+def _events(sl, ma) -> list:
+    import numpy as np
+
+    from planner.results import Event
+
+    fm = ma.features
     events = [
         Event(
             "slice_feature",
@@ -240,6 +289,11 @@ def run(config: Config, ctx):
         )
         for m in fm.macros
     ]
+    return events
+
+
+def _arrays(sl, ma) -> dict:
+    fm = ma.features
     arrays = {
         "slice_u": sl.u,
         "slice_s": sl.s,
@@ -265,9 +319,7 @@ def run(config: Config, ctx):
             unobservable=ma.offsets.unobservable,
             interference=ma.offsets.interference,
         )
-    files = {"features.json": json.dumps(_features_json(sl, fm), indent=1)}
-    figures = _figures(surface, rf, sl, ma, 16 if ctx.quick else 40) if ctx.plots else {}
-    return RunResult(metrics=metrics, arrays=arrays, events=events, figures=figures, files=files)
+    return arrays
 
 
 def _features_json(sl, fm) -> dict:
@@ -314,7 +366,7 @@ def _features_json(sl, fm) -> dict:
 
 
 def _figures(surface, rf, sl, ma, mesh: int) -> dict:
-    from planner.geometry.surface_plots import (
+    from planner.geometry.plots import (
         feature_map_figure,
         offsets_figure,
         slice_figure,

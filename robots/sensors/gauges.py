@@ -6,16 +6,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from planner import checks
 from planner.errors import InvalidParameter
-
-
-def _check(value: float, name: str, unit: str, positive: bool = True) -> float:
-    v = float(value)
-    if not np.isfinite(v) or (v <= 0 if positive else v < 0):
-        raise InvalidParameter(
-            f"{name} must be {'> 0' if positive else '>= 0'} [{unit}], got {value!r}"
-        )
-    return v
 
 
 @dataclass(frozen=True)
@@ -31,8 +23,8 @@ class ForceSensor:
     noise_std: float = 0.01
 
     def __post_init__(self) -> None:
-        _check(self.resolution, "resolution", "N")
-        _check(self.noise_std, "noise_std", "N", positive=False)
+        checks.positive("resolution", self.resolution, "N")
+        checks.nonnegative("noise_std", self.noise_std, "N")
 
     def measure(self, force, rng: np.random.Generator) -> np.ndarray:
         """Reading of the true force(s) ``force`` (any shape) [N]: noise, then quantization."""
@@ -52,7 +44,7 @@ class Encoder:
     resolution: float = 2 * np.pi / 4096
 
     def __post_init__(self) -> None:
-        _check(self.resolution, "resolution", "rad")
+        checks.positive("resolution", self.resolution, "rad")
 
     @property
     def counts_per_revolution(self) -> float:
@@ -81,10 +73,11 @@ class Potentiometer:
 
     def __post_init__(self) -> None:
         if not self.lower < self.upper:
-            raise InvalidParameter(f"lower < upper required, got {self.lower}, {self.upper}")
-        if not 1 <= self.bits <= 24:
-            raise InvalidParameter(f"bits must be in 1..24, got {self.bits}")
-        _check(self.noise_std, "noise_std", "rad", positive=False)
+            raise InvalidParameter(
+                f"upper: expected a number > lower = {self.lower!r} [rad], got {self.upper!r}"
+            )
+        checks.in_range("bits", checks.integer("bits", self.bits), 1, 24)
+        checks.nonnegative("noise_std", self.noise_std, "rad")
 
     @property
     def resolution(self) -> float:

@@ -179,10 +179,10 @@ class OWTSSampler:
         sheath_gain: float = 0.0,
         sheath_max: float = np.deg2rad(15.0),
     ) -> None:
-        if noise_angle < 0 or sheath_gain < 0 or sheath_max < 0:
-            raise InvalidParameter("noise_angle, sheath_gain and sheath_max must be >= 0")
-        if not 1 <= int(bits) <= 24:
-            raise InvalidParameter(f"bits must be in 1..24, got {bits}")
+        noise_angle = checks.nonnegative("noise_angle", noise_angle, "rad")
+        sheath_gain = checks.nonnegative("sheath_gain", sheath_gain)
+        sheath_max = checks.nonnegative("sheath_max", sheath_max, "rad")
+        bits = int(checks.in_range("bits", checks.integer("bits", bits), 1, 24))
         self.sensor, self.rng, self.nonlinearity = sensor, rng, nonlinearity
         self.noise_angle, self.bits = float(noise_angle), int(bits)
         self.sheath_gain, self.sheath_max = float(sheath_gain), float(sheath_max)

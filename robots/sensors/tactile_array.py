@@ -77,16 +77,12 @@ class TactileArray:
         oversample: int = 3,
         threshold: float = 50.0,
     ) -> None:
-        if int(rows) < 1 or int(cols) < 1 or int(oversample) < 1:
-            raise InvalidParameter(
-                f"rows, cols, oversample must be >= 1, got {rows}, {cols}, {oversample}"
-            )
-        self.rows, self.cols, self.oversample = int(rows), int(cols), int(oversample)
+        self.rows = checks.integer("rows", rows, minimum=1)
+        self.cols = checks.integer("cols", cols, minimum=1)
+        self.oversample = checks.integer("oversample", oversample, minimum=1)
         self.pitch = checks.positive("pitch", pitch, "m")
         self.modulus = checks.positive("modulus", modulus, "Pa")
-        if spread < 0:
-            raise InvalidParameter(f"spread must be >= 0 [m], got {spread}")
-        self.spread = float(spread)
+        self.spread = checks.nonnegative("spread", spread, "m")
         self.threshold = float(threshold)
         self.u = (np.arange(self.cols) - (self.cols - 1) / 2) * self.pitch
         self.v = (np.arange(self.rows) - (self.rows - 1) / 2) * self.pitch
@@ -172,8 +168,7 @@ class TactileArray:
         """
         c, _ = checks.batch("center", center, 2)
         R = checks.positive("radius", radius, "m")
-        if not np.isfinite(force) or force < 0:
-            raise InvalidParameter(f"force must be >= 0 [N], got {force!r}")
+        force = checks.nonnegative("force", force, "N")
         ell = 2 * max(self.extent) if length is None else checks.positive("length", length, "m")
         w = force / ell
         b = np.sqrt(4.0 * w * R / (np.pi * self.modulus)) if w > 0 else 0.0

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from planner.errors import InvalidParameter
+from planner import checks
 from robots.sensors.tactile_array import TactileArray
 
 
@@ -57,11 +57,11 @@ def ridge_crossing_images(
         ridge_height: ridge height [m].
         angle: direction of the ridge axis on the pad from +u [rad] (default: along v).
     """
-    off = np.atleast_1d(np.asarray(offsets, dtype=float))
-    if off.ndim != 1 or not np.all(np.isfinite(off)):
-        raise InvalidParameter("offsets must be a finite 1-D array [m]")
-    if min(force, ball_radius, ridge_width, ridge_height) <= 0:
-        raise InvalidParameter("force, ball_radius, ridge_width, ridge_height must be > 0")
+    off = checks.series("offsets", np.atleast_1d(np.asarray(offsets, dtype=float)), unit="m")
+    force = checks.positive("force", force, "N")
+    ball_radius = checks.positive("ball_radius", ball_radius, "m")
+    ridge_width = checks.positive("ridge_width", ridge_width, "m")
+    ridge_height = checks.positive("ridge_height", ridge_height, "m")
     half = max(array.extent)
     across = np.array([np.sin(angle), -np.cos(angle)])  # unit normal to the ridge axis
     # the ridge lifts the pad while its crest is on the pad and taller than the ball's sag there

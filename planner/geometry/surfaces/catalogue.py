@@ -15,21 +15,11 @@ from collections.abc import Callable
 import casadi as ca
 import numpy as np
 
-from planner.errors import InvalidParameter
+from planner import checks
 from planner.geometry.surfaces.parametric import ParametricSurface
 
 Profile = Callable[[ca.SX], tuple[ca.SX, ca.SX]]
 INF = math.inf
-
-
-def _positive(name: str, value: float, allow_inf: bool = False) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise InvalidParameter(f"{name} must be a number > 0, got {value!r}") from None
-    if math.isnan(x) or (math.isinf(x) and not allow_inf) or x <= 0.0:
-        raise InvalidParameter(f"{name} must be a finite number > 0, got {value!r}")
-    return x
 
 
 def plane() -> ParametricSurface:
@@ -50,7 +40,7 @@ def sphere(radius: float) -> ParametricSurface:
     Args:
         radius: ``R`` [m].
     """
-    r = _positive("radius", radius)
+    r = checks.positive("radius", radius, "m")
     return ParametricSurface(
         lambda u, v: [r * ca.cos(u) * ca.cos(v), -r * ca.cos(u) * ca.sin(v), r * ca.sin(u)],
         ((-math.pi / 2, math.pi / 2), (-math.pi, math.pi)),
@@ -67,8 +57,8 @@ def cylinder(radius: float, length: float = INF) -> ParametricSurface:
         radius: ``R`` [m].
         length: axial extent of the patch [m] (default unbounded).
     """
-    r = _positive("radius", radius)
-    half = _positive("length", length, True) / 2
+    r = checks.positive("radius", radius, "m")
+    half = checks.positive("length", length, "m", allow_inf=True) / 2
     return ParametricSurface(
         lambda u, v: [r * ca.cos(u), r * ca.sin(u), v],
         ((-math.pi, math.pi), (-half, half)),
@@ -104,14 +94,8 @@ def pit(a: float) -> ParametricSurface:
 
 
 def _bump(a: float, sign: float, name: str) -> ParametricSurface:
-    try:
-        a = float(a)
-    except (TypeError, ValueError):
-        raise InvalidParameter(f"a must be a number > -1, got {a!r}") from None
-    if not math.isfinite(a) or a <= -1.0:
-        raise InvalidParameter(
-            f"a must be a finite number > -1 (so 1 + a u^2 > 0 on -1 < u < 1), got {a!r}"
-        )
+    # a > -1 keeps 1 + a u^2 > 0 on the domain -1 < u < 1
+    a = checks.in_range("a", a, -1.0, math.inf, "1/m^2", closed=(False, False))
     return ParametricSurface(
         lambda u, v: [u * ca.cos(v), u * ca.sin(v), sign / (1 + a * u**2)],
         ((-1.0, 1.0), (0.0, math.pi)),
@@ -161,12 +145,12 @@ def swept_profile(
             x, z = profile(u)
             return [x, v, z]
 
-        half = _positive("length", length, True) / 2
+        half = checks.positive("length", length, "m", allow_inf=True) / 2
         if graph:
             inverse = _identity_inverse
     else:
-        rho = _positive("bend_radius", bend_radius)
-        half = min(_positive("length", length, True), 2 * math.pi * rho) / 2
+        rho = checks.positive("bend_radius", bend_radius, "m")
+        half = min(checks.positive("length", length, "m", allow_inf=True), 2 * math.pi * rho) / 2
 
         def smap(u, v):
             x, z = profile(u)
@@ -216,9 +200,9 @@ def ravine(
 
 
 def _gauss_profile(height, width, sign, bend_radius, half_span, name) -> ParametricSurface:
-    h = _positive("height", height)
-    w = _positive("width", width)
-    span = 5 * w if half_span is None else _positive("half_span", half_span)
+    h = checks.positive("height", height, "m")
+    w = checks.positive("width", width, "m")
+    span = 5 * w if half_span is None else checks.positive("half_span", half_span, "m")
     return swept_profile(
         lambda u: (u, sign * h * ca.exp(-(u**2) / (2 * w**2))),
         (-span, span),
@@ -238,9 +222,9 @@ def step(
         width: transition width ``w`` [m]; the foot and edge curvatures are ``≈ ±0.77 h/w^2``.
         half_span: ``u`` runs over ``(-half_span, half_span)`` [m] (default ``6 w``).
     """
-    h = _positive("height", height)
-    w = _positive("width", width)
-    span = 6 * w if half_span is None else _positive("half_span", half_span)
+    h = checks.positive("height", height, "m")
+    w = checks.positive("width", width, "m")
+    span = 6 * w if half_span is None else checks.positive("half_span", half_span, "m")
     return swept_profile(
         lambda u: (u, h * (1 + ca.tanh(u / w)) / 2),
         (-span, span),
@@ -262,9 +246,9 @@ def cusp(
         rounding: ``ρ`` [m], the rounding length of the crest.
         half_span: ``u`` runs over ``(-half_span, half_span)`` [m].
     """
-    s = _positive("slope", slope)
-    rho = _positive("rounding", rounding)
-    span = _positive("half_span", half_span)
+    s = checks.positive("slope", slope)
+    rho = checks.positive("rounding", rounding, "m")
+    span = checks.positive("half_span", half_span, "m")
     return swept_profile(
         lambda u: (u, -s * (ca.sqrt(u**2 + rho**2) - rho)),
         (-span, span),
@@ -290,14 +274,14 @@ def wire_on_plane(
         half_span: ``u`` runs over ``(-half_span, half_span)`` of arc length [m]
             (default: the wire and fillets plus ``3R`` of plane each side).
     """
-    r = _positive("wire_radius", wire_radius)
-    rho = _positive("fillet_radius", fillet_radius)
+    r = checks.positive("wire_radius", wire_radius, "m")
+    rho = checks.positive("fillet_radius", fillet_radius, "m")
     xc = 2 * math.sqrt(r * rho)  # fillet centres at (±xc, ρ), tangent to plane and wire
     gamma0 = math.atan2(xc, rho - r)  # half-angle of the wire arc from its top
     theta_t = math.atan2(r - rho, xc)  # fillet angle at the wire tangency
     lw = r * gamma0  # half of the wire arc length
     lf = rho * (theta_t + math.pi / 2)  # fillet arc length
-    span = lw + lf + 3 * r if half_span is None else _positive("half_span", half_span)
+    span = lw + lf + 3 * r if half_span is None else checks.positive("half_span", half_span, "m")
 
     def profile(u):
         x_w, z_w = r * ca.sin(u / r), r + r * ca.cos(u / r)

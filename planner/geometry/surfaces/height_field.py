@@ -13,10 +13,9 @@ second-order finite differences: the fast path for million-point maps.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
+from planner import checks
 from planner.errors import InvalidParameter
 from planner.geometry.surfaces.forms import SurfaceGeometry, principal_from_k
 
@@ -137,8 +136,7 @@ class HeightField:
         from scipy.interpolate import RectBivariateSpline
 
         self.x, self.y, self.z = _check_grid(x, y, z)
-        if not (math.isfinite(smoothing) and smoothing >= 0):
-            raise InvalidParameter(f"smoothing must be a finite number >= 0, got {smoothing!r}")
+        smoothing = checks.nonnegative("smoothing", smoothing, "m^2")
         self.spline = RectBivariateSpline(self.x, self.y, self.z, kx=3, ky=3, s=smoothing)
         self.domain = np.array([[self.x[0], self.x[-1]], [self.y[0], self.y[-1]]])
         self.name = name

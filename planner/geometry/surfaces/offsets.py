@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from planner import checks
 from planner.errors import InvalidParameter
 
 
@@ -38,6 +39,9 @@ class OffsetSurfaces:
         estimated: (nx, ny) estimated surface, the closing of the heights by the ball [m].
         unobservable: (nx, ny) bool, the ball never touches the true surface there.
         interference: (nx, ny) bool, creases of the traced surface (interference curves).
+        interior: (nx, ny) bool, the cells farther than ``r`` from the grid's border, the only
+            ones where ``unobservable`` is decided (near the border the ball would reach
+            outside the sampled area); ``unobservable`` is ``False`` elsewhere.
     """
 
     x: np.ndarray
@@ -48,6 +52,18 @@ class OffsetSurfaces:
     estimated: np.ndarray
     unobservable: np.ndarray
     interference: np.ndarray
+    interior: np.ndarray
+
+    @property
+    def unobservable_fraction_of_interior(self) -> float | None:
+        """Fraction of the interior cells that are unobservable (``None``: empty interior).
+
+        Cells within ``r`` of the border are never marked unobservable, so the fraction over
+        the whole grid would understate it (and be 0 by construction when the grid is no
+        wider than ``2 r``); this one is over the cells where it was decided.
+        """
+        n = int(self.interior.sum())
+        return float(self.unobservable.sum() / n) if n else None
 
 
 def ball_element(dx: float, dy: float, radius: float) -> np.ndarray:
@@ -97,11 +113,10 @@ def offset_surfaces(
             f"z must have shape (len(x), len(y)) = {(x.size, y.size)}, got {z.shape}"
         )
     dx, dy = _uniform_step(x, "x"), _uniform_step(y, "y")
-    r = float(tip_radius)
-    if not (math.isfinite(r) and r >= max(dx, dy)):
+    r = checks.positive("tip_radius", tip_radius, "m")
+    if r < max(dx, dy):
         raise InvalidParameter(
-            f"tip_radius must be finite and at least one grid step "
-            f"({max(dx, dy):g} m), got {tip_radius!r}"
+            f"tip_radius: expected a number >= one grid step = {max(dx, dy):g} [m], got {r!r}"
         )
     tol = max(1e-3 * r, dx, dy) if tolerance is None else float(tolerance)
     ball = ball_element(dx, dy, r)
@@ -117,9 +132,8 @@ def offset_surfaces(
     a, b = int(math.ceil(r / dx)), int(math.ceil(r / dy))
     interior[a : -a or None, b : -b or None] = True
     unobservable = (estimated - z > tol) & interior
-    return OffsetSurfaces(
-        x, y, r, z, traced, estimated, unobservable, _interference(estimated, unobservable, x, y, r)
-    )
+    interference = _interference(estimated, unobservable, x, y, r)
+    return OffsetSurfaces(x, y, r, z, traced, estimated, unobservable, interference, interior)
 
 
 def _interference(

@@ -42,9 +42,10 @@ from functools import cached_property
 import casadi as ca
 import numpy as np
 
+from planner import checks
 from planner.errors import InvalidParameter, SingularConfiguration
-from planner.geometry.surfaces._sx2numpy import numpy_function, scalar_function
 from planner.geometry.surfaces.forms import SurfaceGeometry, principal_from_k
+from planner.geometry.surfaces.sx2numpy import numpy_function, scalar_function
 
 SurfaceMap = Callable[[ca.SX, ca.SX], Sequence]
 _CHUNK = 1 << 15
@@ -335,9 +336,7 @@ class ParametricSurface:
         Args:
             distance: offset ``r`` along the outward normal, usually ``tip_radius`` [m].
         """
-        r = float(distance)
-        if not np.isfinite(r):
-            raise InvalidParameter(f"distance must be finite [m], got {distance!r}")
+        r = checks.in_range("distance", distance, -np.inf, np.inf, "m", closed=(False, False))
         base = self
 
         def offset_map(u, v):

@@ -13,6 +13,10 @@ from collections.abc import Callable
 import casadi as ca
 import numpy as np
 
+from planner.errors import InvalidParameter
+
+__all__ = ["numpy_function", "scalar_function"]
+
 _BINARY = {
     "OP_ADD": "({a} + {b})",
     "OP_SUB": "({a} - {b})",
@@ -117,7 +121,7 @@ def numpy_function(fn: ca.Function) -> Callable[..., list[np.ndarray]]:
         of the inputs.
     """
     if not fn.is_a("SXFunction"):
-        raise TypeError(f"expected an SX Function, got {fn.class_name()}")
+        raise InvalidParameter(f"fn: expected a CasADi SX Function, got {fn.class_name()}")
     n_in = fn.n_in()
     lines = [f"def _g({', '.join(f'i{j}' for j in range(n_in))}):"]
     lines.append(
