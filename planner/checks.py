@@ -131,6 +131,8 @@ def _array(name: str, value: object, shape_text: str, unit: str) -> np.ndarray:
 
 
 def _first_bad(name: str, arr: np.ndarray, what: str) -> None:
+    if arr.ndim == 0 or np.isfinite(arr).all():  # the common case: one pass, no row scan
+        return
     bad = ~np.isfinite(arr.reshape(arr.shape[0], -1)).all(axis=1) if arr.ndim else None
     if bad is not None and bad.any():
         i = int(np.argmax(bad))

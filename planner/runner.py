@@ -41,7 +41,7 @@ def run_config(
         ``(result, timings_s)``. Library failures inside the runner that leave the task
         unable to go on become ``status="failed"`` with the reason; programming errors raise.
     """
-    from planner.errors import HapexError, ScenarioError
+    from planner.errors import HapexError, InvalidParameter, ScenarioError
 
     spec = kinds()[config.kind]
     ctx = RunContext.for_seed(
@@ -54,8 +54,8 @@ def run_config(
     t0 = time.perf_counter()
     try:
         result = spec.run(config, ctx)
-    except ScenarioError:
-        raise
+    except (ScenarioError, InvalidParameter):
+        raise  # bad input found late is still bad input: exit 2, nothing written
     except HapexError as exc:
         result = RunResult(
             status="failed",

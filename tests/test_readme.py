@@ -47,8 +47,8 @@ def test_readme_python_example(code, tmp_path):
     # examples that write run directories write them inside the temporary folder
     script.write_text(code.replace('"runs/', f'"{tmp_path}/runs/'))
     proc = subprocess.run([sys.executable, str(script)], cwd=ROOT, capture_output=True,
-                          text=True, timeout=300, env={"MPLBACKEND": "Agg",
-                                                       **__import__("os").environ})
+                          text=True, timeout=300, env={**__import__("os").environ, "MPLBACKEND": "Agg",
+                                                       "PYTHONPATH": str(ROOT)})
     assert proc.returncode == 0, proc.stderr[-3000:]
     assert proc.stdout.strip(), "an example prints what it shows"
 
