@@ -208,7 +208,7 @@ def fig3_9(ctx: ClaimContext) -> Evidence:
     r = float(cfg.tip_radius)
     verdict, nums = verdict_from(
         [
-            Number("run status", result.status, "ok", result.status == "ok"),
+            Number("RMS estimation error / r_f [-]", rms / r, None, rms / r < 0.1, "< 0.1"),
             Number(
                 "interference points [-]",
                 m.get("interference_count"),
@@ -216,7 +216,7 @@ def fig3_9(ctx: ClaimContext) -> Evidence:
                 m.get("interference_count") == 1,
                 "== 1",
             ),
-            Number("RMS estimation error / r_f [-]", rms / r, None, rms / r < 0.1, "< 0.1"),
+            Number("run status", result.status, "ok", result.status == "ok"),
         ]
     )
     return Evidence(
