@@ -6,6 +6,7 @@
                             [--quick] [-v]
     hapex validate SCENARIO.yaml ...
     hapex list [scenarios|robots|kinds]
+    hapex reproduce [--quick] [--out DIR] [--only ID ...] [--jobs N]
     hapex --version
 
 Exit codes: 0 success; 1 the scenario ran but its task failed; 2 bad input; 130 interrupted;
@@ -87,6 +88,11 @@ def _parser() -> argparse.ArgumentParser:
         "what", nargs="?", default="scenarios", choices=("scenarios", "robots", "kinds")
     )
     ls.add_argument("-v", "--verbose", action="store_true")
+    from planner.reproduce.command import add_arguments as reproduce_arguments
+
+    reproduce_arguments(
+        sub.add_parser("reproduce", help="put every claim of the thesis beside hapex's result")
+    )
     return p
 
 
@@ -201,7 +207,14 @@ def _dispatch(argv: Sequence[str] | None) -> int:
     from planner.errors import HapexError, ScenarioError
 
     verbose = getattr(args, "verbose", False)
-    handlers = {"run": _cmd_run, "validate": _cmd_validate, "list": _cmd_list}
+    from planner.reproduce.command import run as _cmd_reproduce
+
+    handlers = {
+        "run": _cmd_run,
+        "validate": _cmd_validate,
+        "list": _cmd_list,
+        "reproduce": _cmd_reproduce,
+    }
     try:
         return handlers[args.command](args)
     except ScenarioError as exc:
