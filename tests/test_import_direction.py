@@ -14,8 +14,6 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
-import pytest
-
 ROOT = Path(__file__).resolve().parents[1]
 
 #: The always-allowed leaves of the whole code base.
@@ -44,9 +42,6 @@ RANK = {
     "planner.trajectory": 3,
     "planner.exploration": 4,
 }
-#: Scenario runners still living in library packages; issue 10 moves them to planner/kinds/.
-#: The coordinator deletes this set once that move is merged (then they would fail here).
-PENDING: set[str] = set()
 
 
 def package_of(module: str) -> str:
@@ -88,7 +83,7 @@ def library_modules() -> list[Path]:
     for pkg in RANK:
         folder = ROOT.joinpath(*pkg.split("."))
         files += sorted(folder.rglob("*.py")) if folder.is_dir() else []
-    return [f for f in files if f.relative_to(ROOT).as_posix() not in PENDING]
+    return files
 
 
 def edges() -> list[tuple[str, str, str, int]]:
@@ -190,10 +185,3 @@ def test_checker_sees_function_local_relative_and_from_package_imports():
 def test_cycle_finder():
     assert find_cycle({"a": {"b"}, "b": {"c"}, "c": {"a"}}) == ["a", "b", "c", "a"]
     assert find_cycle({"a": {"b"}, "b": {"c"}}) is None
-
-
-@pytest.mark.parametrize("path", sorted(PENDING))
-def test_pending_runners_still_exist_or_the_set_is_stale(path):
-    # a PENDING entry whose file is gone must be removed from the set (it hides nothing)
-    if not (ROOT / path).exists():
-        pytest.fail(f"{path} no longer exists: remove it from PENDING")
