@@ -6,6 +6,8 @@
                             [--quick] [-v]
     hapex validate SCENARIO.yaml ...
     hapex list [scenarios|robots|kinds]
+    hapex sweep SWEEP.yaml [--out DIR] [--jobs N] [--scheduler ADDR | --dask-local N] [--quick]
+                           [--retry-failed]
     hapex --version
 
 Exit codes: 0 success; 1 the scenario ran but its task failed; 2 bad input. Errors are one
@@ -87,7 +89,21 @@ def _parser() -> argparse.ArgumentParser:
         "what", nargs="?", default="scenarios", choices=("scenarios", "robots", "kinds")
     )
     ls.add_argument("-v", "--verbose", action="store_true")
+    _sweep_parser(sub)
     return p
+
+
+def _sweep_parser(sub) -> None:
+    """``hapex sweep``: its options live in :mod:`planner.sweep.command`."""
+    from planner.sweep.command import add_arguments
+
+    add_arguments(sub.add_parser("sweep", help="run a parameter study (many runs, resumable)"))
+
+
+def _cmd_sweep(args) -> int:
+    from planner.sweep.command import run_command
+
+    return run_command(args)
 
 
 def scenario_dirs() -> list[Path]:
@@ -204,6 +220,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     verbose = getattr(args, "verbose", False)
     handlers = {"run": _cmd_run, "validate": _cmd_validate, "list": _cmd_list}
+    handlers["sweep"] = _cmd_sweep
     try:
         return handlers[args.command](args)
     except ScenarioError as exc:
