@@ -17,10 +17,10 @@ never import it. ``dask.distributed`` is imported only when a Dask backend is us
 from importlib import import_module
 
 _HOMES = {
-    "PlannedRun": "expand",
-    "expand": "expand",
-    "plan": "expand",
-    "run_id": "expand",
+    "PlannedRun": "expansion",
+    "expand": "expansion",
+    "plan": "expansion",
+    "run_id": "expansion",
     "SweepInterrupted": "run",
     "pending": "run",
     "run_sweep": "run",

@@ -23,7 +23,7 @@ from typing import Any
 
 from planner.checks import choice, integer
 from planner.errors import HapexError
-from planner.sweep.expand import PlannedRun, as_sweep, plan
+from planner.sweep.expansion import PlannedRun, as_sweep, plan
 from planner.sweep.spec import Sweep
 from planner.sweep.worker import Finished, Task, install, read_run
 

@@ -49,6 +49,14 @@ KEY_PATH = re.compile(r"^[A-Za-z0-9_-]+(\.[A-Za-z0-9_-]+)*$")
 RESERVED = ("seed", "name", "kind")
 
 
+def dotted(path: tuple) -> str:
+    """``("zip", 0, "object.a")`` -> ``zip[0].object.a`` (the key paths of error messages)."""
+    out = ""
+    for p in path:
+        out += f"[{p}]" if isinstance(p, int) else (f".{p}" if out else str(p))
+    return out or "(root)"
+
+
 class Distribution(StrictModel):
     """One random parameter: exactly one of ``uniform``, ``loguniform``, ``choice``."""
 
@@ -195,7 +203,7 @@ def _semantic_issues(model: SweepModel, doc: SourceDoc) -> list[InputIssue]:
         line = next(
             (doc.lines[path[:k]] for k in range(len(path), -1, -1) if path[:k] in doc.lines), 0
         )
-        issues.append(InputIssue(doc.source, line, ".".join(map(str, path)), message))
+        issues.append(InputIssue(doc.source, line, dotted(path), message))
 
     for prefix, variant in (((), model), (("quick",), model.quick)):
         if variant is None:
@@ -216,7 +224,7 @@ def _semantic_issues(model: SweepModel, doc: SourceDoc) -> list[InputIssue]:
                         f"'{key.split('.')[0]}' cannot be varied by a sweep (seeds: sets seeds)",
                     )
                 elif key in owners:
-                    bad(path, f"already set by {'.'.join(map(str, prefix + owners[key]))}")
+                    bad(path, f"already set by {dotted(prefix + owners[key])}")
                 else:
                     owners[key] = where
         for i, group in enumerate(variant.zip or []):

@@ -17,7 +17,7 @@ import yaml
 
 from planner.errors import InputIssue, ScenarioError
 from planner.scenario import ScenarioBase, apply_overrides, validate
-from planner.sweep.spec import Sweep, load_sweep, sweep_from_dict
+from planner.sweep.spec import Sweep, dotted, load_sweep, sweep_from_dict
 
 #: most problems reported when many combinations are bad
 MAX_ISSUES = 20
@@ -140,7 +140,7 @@ def _relocate(
                 InputIssue(
                     sweep.source,
                     sweep.line(*where),
-                    ".".join(map(str, where)),
+                    dotted(where),
                     f"combination ({label}): {inner}{issue.message}",
                 )
             )
