@@ -20,6 +20,7 @@ MAX_LEVELS = 12  # a parameter with more distinct values is drawn as a scatter
 MAX_HUE = 6
 MAX_MAPS = 6
 MAX_FAILURES = 100
+DPI = 80
 
 
 def _numeric_metrics(df) -> list[str]:
@@ -103,8 +104,8 @@ def _metric_figure(df, x: str, params: list[str], groups, path: Path) -> None:
     for ax in list(axes.flat)[n:]:
         ax.set_visible(False)
     fig.suptitle(f"metrics vs {x} (mean ± std over seeds and other parameters)", fontsize=10)
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
+    fig.subplots_adjust(left=0.08, right=0.98, bottom=0.12, top=0.88, wspace=0.3, hspace=0.6)
+    fig.savefig(path, dpi=DPI)
     plt.close(fig)
 
 
@@ -131,8 +132,7 @@ def _success_map(df, p: str, q: str, path: Path) -> None:
     ax.set_ylabel(q)
     ax.set_title("fraction of runs ok", fontsize=9)
     fig.colorbar(im, ax=ax)
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
+    fig.savefig(path, dpi=DPI, bbox_inches="tight")
     plt.close(fig)
 
 
@@ -165,7 +165,13 @@ def axes(sweep, params: list[str]) -> list[str]:
 
 def write_report(df, out: str | Path, sweep) -> Path:
     """Write ``out/report.md`` and its figures for the table ``df`` of ``sweep``."""
+    import hashlib
+
     out = Path(out)
+    path = out / "report.md"
+    stamp = f"<!-- table {hashlib.sha256(df.to_csv(index=False).encode()).hexdigest()} -->"
+    if path.is_file() and path.read_text().rstrip().endswith(stamp):
+        return path  # same table as when the report was written: nothing to redraw
     figdir = out / "report"
     figdir.mkdir(parents=True, exist_ok=True)
     params = list(df.attrs.get("params", []))
@@ -206,8 +212,7 @@ def write_report(df, out: str | Path, sweep) -> Path:
             name = f"success_{_slug(p)}__{_slug(q)}.png"
             _success_map(df, p, q, figdir / name)
             md += [f"![success {p} x {q}](report/{name})", ""]
-    md += ["## Failures", "", *_failures(df, params), ""]
-    path = out / "report.md"
+    md += ["## Failures", "", *_failures(df, params), "", stamp, ""]
     path.write_text("\n".join(md))
     return path
 
