@@ -116,6 +116,17 @@ def pack(run_dir: Path) -> bytes:
     return buf.getvalue()
 
 
+def _extract(tar: tarfile.TarFile, dest: Path) -> None:
+    """Extract plain files and folders inside ``dest`` only (no links, no ``..``)."""
+    if hasattr(tarfile, "data_filter"):
+        tar.extractall(dest, filter="data")
+        return
+    for m in tar.getmembers():  # Python < 3.10.12 / 3.11.4: the same rules by hand
+        if not (m.isfile() or m.isdir()) or m.name.startswith("/") or ".." in Path(m.name).parts:
+            raise ValueError(f"refusing to unpack {m.name!r} from a run archive")
+    tar.extractall(dest)
+
+
 def install(archive: bytes, run_dir: Path) -> Path:
     """Unpack a run directory at ``run_dir`` atomically (temporary sibling, then rename);
     a previous run directory there (a failed run being retried) is replaced."""
@@ -124,7 +135,7 @@ def install(archive: bytes, run_dir: Path) -> Path:
     tmp = Path(tempfile.mkdtemp(prefix=f".{run_dir.name}.tmp-", dir=run_dir.parent))
     try:
         with tarfile.open(fileobj=io.BytesIO(archive), mode="r") as tar:
-            tar.extractall(tmp, filter="data")
+            _extract(tar, tmp)
         old = None
         if run_dir.exists():
             old = run_dir.with_name(f".{run_dir.name}.old-{os.getpid()}")
