@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from planner.checks import choice, integer
-from planner.errors import HapexError
+from planner.errors import HapexError, InvalidParameter
 from planner.sweep.expansion import PlannedRun, as_sweep, plan
 from planner.sweep.spec import Sweep
 from planner.sweep.worker import Finished, Task, install, read_run
@@ -162,6 +162,10 @@ def run_sweep(
     choice("backend", backend, ("joblib", "dask"))
     if jobs is not None:
         integer("jobs", jobs, minimum=1)
+    if backend == "joblib" and (scheduler or client is not None or dask_workers):
+        raise InvalidParameter(
+            "backend: scheduler, client and dask_workers need backend='dask', got 'joblib'"
+        )
     sweep = as_sweep(sweep, quick)
     runs = plan(sweep)
     out = Path(out)
