@@ -4,7 +4,12 @@ nothing written; the bundled studies run (--quick) and resume."""
 from __future__ import annotations
 
 import json
+import os
+import signal
+import subprocess
+import sys
 import textwrap
+import time
 
 import pandas as pd
 import pytest
@@ -103,3 +108,43 @@ def test_bundled_sweeps_are_not_scenarios(cli):
     proc = cli("list", "scenarios")
     assert proc.returncode == 0
     assert not any(p.stem in proc.stdout for p in SWEEPS)
+
+
+def test_ctrl_c_stops_cleanly_and_says_how_to_resume(cli, tmp_path):
+    path = write(
+        tmp_path,
+        """\
+        base:
+          kind: detect
+          tip_radius: 0.01
+          algorithms: [3]
+          simulation: {shape: wire, length: 0.005, spacing: 1.0e-4}
+        seeds: 40
+        """,
+    )
+    out = tmp_path / "out"
+    args = [sys.executable, "-m", "planner.cli", "sweep", str(path), "--jobs", "1"]
+    proc = subprocess.Popen(
+        [*args, "--out", str(out)],
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=dict(os.environ, MPLBACKEND="Agg"),
+    )
+    deadline = time.monotonic() + 120
+    while not any((out / "runs").glob("[0-9a-f]*")) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGINT)
+    stdout, stderr = proc.communicate(timeout=120)
+    assert proc.returncode == 130, stderr
+    assert "Traceback" not in stderr
+    assert f"runs complete in {out}; complete runs are kept." in stderr
+    assert f"Resume with: hapex sweep {path} --out {out} --jobs 1" in stderr
+    done = pd.read_parquet(out / "results.parquet")
+    assert 1 <= len(done) < 40
+    again = cli("sweep", str(path), "--jobs", "1", "--out", str(out), "--no-report")
+    assert again.returncode == 0, again.stderr
+    assert f"40 runs, {len(done)} complete, {40 - len(done)} to run" in again.stdout
+    table = pd.read_parquet(out / "results.parquet")
+    assert len(table) == 40 and table["run_id"].is_unique
