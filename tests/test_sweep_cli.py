@@ -102,6 +102,19 @@ def test_bundled_sweeps_run_quick_and_resume(cli, tmp_path, path):
     assert f"{study['runs']} complete, 0 to run" in again.stdout
 
 
+def test_dry_run_lists_every_run_and_writes_nothing(cli, tmp_path):
+    from planner.sweep import load_sweep, plan
+
+    path = ROOT / "scenarios" / "sweeps" / "gait_feasibility.yaml"
+    proc = cli("sweep", str(path), "--dry-run", "--out", str(tmp_path / "o"))
+    assert proc.returncode == 0, proc.stderr
+    runs = plan(load_sweep(path))
+    lines = proc.stdout.strip().splitlines()
+    assert lines[:-1] == [f"{r.run_id}  {r.label}" for r in runs]
+    assert lines[-1] == f"gait_feasibility: {len(runs)} runs, all valid"
+    assert not (tmp_path / "o").exists()
+
+
 def test_bundled_sweeps_are_not_scenarios(cli):
     # tests/test_bundled_scenarios.py and `hapex list` look at scenarios/*.yaml only
     assert SWEEPS and not set(SWEEPS) & set((ROOT / "scenarios").glob("*.yaml"))

@@ -36,6 +36,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--quick", action="store_true", help="the sweep's quick variant, quick runs")
     p.add_argument("--retry-failed", action="store_true", help="run failed runs again")
     p.add_argument("--no-report", action="store_true", help="do not write report.md")
+    p.add_argument(
+        "--dry-run", action="store_true", help="validate every run and list them; run nothing"
+    )
     p.add_argument("-v", "--verbose", action="store_true", help="tracebacks on errors")
 
 
@@ -64,6 +67,11 @@ def run_command(args: argparse.Namespace) -> int:
         return _bad("--jobs is for local runs; a Dask cluster runs as many as it has workers")
     sweep = load_sweep(args.sweep, quick=args.quick)
     runs = plan(sweep)  # every combination validated before anything starts
+    if args.dry_run:
+        for r in runs:
+            print(f"{r.run_id}  {r.label}")
+        print(f"{sweep.name}: {len(runs)} runs, all valid")
+        return 0
     out = args.out or Path("sweeps") / (sweep.name + ("-quick" if args.quick else ""))
     todo, _ = pending(runs, out, args.retry_failed) if out.is_dir() else (runs, None)
     where = (

@@ -110,6 +110,19 @@ def _results(tasks: list[Task], backend: str, opts: Mapping[str, Any], stack) ->
     return backends.dask_results(tasks, client)
 
 
+def _install_all(results, out: Path, counts: dict, bar, on_result) -> None:
+    """Install each finished run as it arrives; keep the counts and the progress bar."""
+    left = bar.total - bar.n
+    for fin in results:
+        install(fin.archive, out / "runs" / fin.run_id)
+        counts[fin.status] += 1
+        left -= 1
+        bar.update(1)
+        bar.set_postfix(ok=counts["ok"], failed=counts["failed"], left=left)
+        if on_result is not None:
+            on_result(fin)
+
+
 def run_sweep(
     sweep: Sweep | str | Path | Mapping[str, Any],
     out: str | Path,
@@ -186,15 +199,7 @@ def run_sweep(
         with ExitStack() as stack:
             if todo:
                 tasks = [_task(r, sweep.name) for r in todo]
-                left = len(todo)
-                for fin in _results(tasks, backend, opts, stack):
-                    install(fin.archive, out / "runs" / fin.run_id)
-                    counts[fin.status] += 1
-                    left -= 1
-                    bar.update(1)
-                    bar.set_postfix(ok=counts["ok"], failed=counts["failed"], left=left)
-                    if on_result is not None:
-                        on_result(fin)
+                _install_all(_results(tasks, backend, opts, stack), out, counts, bar, on_result)
     except KeyboardInterrupt:
         interrupted = True
     finally:
