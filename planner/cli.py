@@ -6,6 +6,8 @@
                             [--quick] [-v]
     hapex validate SCENARIO.yaml ...
     hapex list [scenarios|robots|kinds]
+    hapex sweep SWEEP.yaml [--out DIR] [--jobs N] [--scheduler ADDR | --dask-local N] [--quick]
+                           [--retry-failed]
     hapex reproduce [--quick] [--out DIR] [--only ID ...] [--jobs N]
     hapex --version
 
@@ -88,12 +90,26 @@ def _parser() -> argparse.ArgumentParser:
         "what", nargs="?", default="scenarios", choices=("scenarios", "robots", "kinds")
     )
     ls.add_argument("-v", "--verbose", action="store_true")
+    _sweep_parser(sub)
     from planner.reproduce.command import add_arguments as reproduce_arguments
 
     reproduce_arguments(
         sub.add_parser("reproduce", help="put every claim of the thesis beside hapex's result")
     )
     return p
+
+
+def _sweep_parser(sub) -> None:
+    """``hapex sweep``: its options live in :mod:`planner.sweep.command`."""
+    from planner.sweep.command import add_arguments
+
+    add_arguments(sub.add_parser("sweep", help="run a parameter study (many runs, resumable)"))
+
+
+def _cmd_sweep(args) -> int:
+    from planner.sweep.command import run_command
+
+    return run_command(args)
 
 
 def scenario_dirs() -> list[Path]:
@@ -214,6 +230,7 @@ def _dispatch(argv: Sequence[str] | None) -> int:
         "validate": _cmd_validate,
         "list": _cmd_list,
         "reproduce": _cmd_reproduce,
+        "sweep": _cmd_sweep,
     }
     try:
         return handlers[args.command](args)

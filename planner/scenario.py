@@ -324,6 +324,23 @@ def _message(err: Mapping[str, Any]) -> str:
     return msg
 
 
+def validation_issues(doc: SourceDoc, exc: ValidationError) -> list[InputIssue]:
+    """The problems of a pydantic ``ValidationError`` raised on ``doc.data``, each located at
+    its file, line and key path (file errors in line order, then override errors).
+
+    For any model validated from a :class:`SourceDoc` (scenario kinds, sweep files).
+    """
+    issues = []
+    seen = set()
+    for err in exc.errors():
+        src, line, path = _locate(doc, err["loc"])
+        issue = InputIssue(src, line, path, _message(err))
+        if str(issue) not in seen:
+            seen.add(str(issue))
+            issues.append(issue)
+    return sorted(issues, key=lambda i: (i.source != doc.source, i.line))
+
+
 def validate(doc: SourceDoc) -> ScenarioBase:
     """Validate a parsed document against the model of its kind.
 
@@ -419,4 +436,5 @@ __all__ = [
     "read_yaml",
     "scenario_from_dict",
     "validate",
+    "validation_issues",
 ]

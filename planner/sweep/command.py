@@ -1,0 +1,117 @@
+"""``hapex sweep``: the command-line front of :func:`planner.sweep.run_sweep`.
+
+Exit codes: 0 every run of the study is complete (failed runs are results of the study,
+listed in report.md); 1 runs are missing (the backend failed; run again to resume);
+2 bad input (nothing ran); 130 interrupted (run again to resume).
+"""
+
+from __future__ import annotations
+
+import argparse
+import shlex
+import sys
+from pathlib import Path
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of ``hapex sweep``."""
+    p.add_argument("sweep", type=Path, help="sweep YAML file")
+    p.add_argument(
+        "--out", type=Path, default=None, help="output folder (default: sweeps/<name>[-quick])"
+    )
+    p.add_argument(
+        "--jobs", type=int, default=None, help="local worker processes (default: all cores)"
+    )
+    where = p.add_mutually_exclusive_group()
+    where.add_argument(
+        "--scheduler", default=None, metavar="ADDRESS", help="Dask scheduler, tcp://host:8786"
+    )
+    where.add_argument(
+        "--dask-local",
+        type=int,
+        default=None,
+        metavar="N",
+        help="start a Dask LocalCluster with N workers",
+    )
+    p.add_argument("--quick", action="store_true", help="the sweep's quick variant, quick runs")
+    p.add_argument("--retry-failed", action="store_true", help="run failed runs again")
+    p.add_argument("--no-report", action="store_true", help="do not write report.md")
+    p.add_argument(
+        "--dry-run", action="store_true", help="validate every run and list them; run nothing"
+    )
+    p.add_argument("-v", "--verbose", action="store_true", help="tracebacks on errors")
+
+
+def _bad(message: str) -> int:
+    print(f"hapex sweep: error: {message}", file=sys.stderr)
+    return 2
+
+
+def run_command(args: argparse.Namespace) -> int:
+    """Run ``hapex sweep`` with parsed arguments; returns the exit code."""
+    from planner.sweep import (
+        SweepBackendError,
+        SweepInterrupted,
+        load_sweep,
+        pending,
+        plan,
+        run_sweep,
+    )
+
+    if args.jobs is not None and args.jobs < 1:
+        return _bad(f"--jobs: {args.jobs}: must be >= 1")
+    if args.dask_local is not None and args.dask_local < 1:
+        return _bad(f"--dask-local: {args.dask_local}: must be >= 1")
+    dask = args.scheduler is not None or args.dask_local is not None
+    if dask and args.jobs is not None:
+        return _bad("--jobs is for local runs; a Dask cluster runs as many as it has workers")
+    sweep = load_sweep(args.sweep, quick=args.quick)
+    runs = plan(sweep)  # every combination validated before anything starts
+    if args.dry_run:
+        for r in runs:
+            print(f"{r.run_id}  {r.label}")
+        print(f"{sweep.name}: {len(runs)} runs, all valid")
+        return 0
+    out = args.out or Path("sweeps") / (sweep.name + ("-quick" if args.quick else ""))
+    todo, _ = pending(runs, out, args.retry_failed) if out.is_dir() else (runs, None)
+    where = (
+        f"Dask scheduler {args.scheduler}"
+        if args.scheduler
+        else f"a Dask LocalCluster of {args.dask_local} workers"
+        if args.dask_local
+        else f"joblib ({args.jobs or 'all'} processes)"
+    )
+    done = len(runs) - len(todo)
+    print(f"{sweep.name}: {len(runs)} runs, {done} complete, {len(todo)} to run on {where}")
+    try:
+        table = run_sweep(
+            sweep,
+            out,
+            backend="dask" if dask else "joblib",
+            jobs=args.jobs,
+            scheduler=args.scheduler,
+            dask_workers=args.dask_local,
+            retry_failed=args.retry_failed,
+            report=not args.no_report,
+        )
+    except SweepInterrupted as exc:
+        again = ["hapex", "sweep", str(args.sweep), "--out", str(out)]
+        again += ["--quick"] if args.quick else []
+        again += ["--scheduler", args.scheduler] if args.scheduler else []
+        again += ["--dask-local", str(args.dask_local)] if args.dask_local else []
+        again += ["--jobs", str(args.jobs)] if args.jobs else []
+        print(f"{exc}; complete runs are kept. Resume with: {shlex.join(again)}", file=sys.stderr)
+        return 130
+    except SweepBackendError as exc:
+        print(f"hapex sweep: {exc}. Run the same command again to resume.", file=sys.stderr)
+        return 1
+    n_ok = int((table["status"] == "ok").sum())
+    n_bad = len(table) - n_ok
+    print(f"{sweep.name}: {len(table)} of {len(runs)} runs complete: {n_ok} ok, {n_bad} failed")
+    print(f"results: {out / 'results.parquet'}, {out / 'results.csv'}")
+    if not args.no_report:
+        print(f"report: {out / 'report.md'}")
+    return 0 if len(table) == len(runs) else 1
+
+
+__all__ = ["add_arguments", "run_command"]

@@ -1,0 +1,216 @@
+"""Running a sweep: resume, dispatch to a backend, install run directories, tables, report.
+
+Output folder layout::
+
+    DIR/sweep.json        the study: name, source file, quick, number of runs
+    DIR/runs/<run-id>/    the normal run directory of every run, plus sweep.json
+    DIR/results.parquet   the tidy table (also results.csv), rebuilt from DIR/runs
+    DIR/report.md         plots of the study (DIR/report/*.png) and a table of failures
+
+A run is complete when its run directory is (they are installed atomically). Starting the
+same sweep again skips complete runs and runs the missing ones (failed ones too with
+``retry_failed``), so an interrupted study loses at most the runs that were in flight.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Callable, Mapping
+from datetime import datetime, timezone
+from pathlib import Path
+from typing import Any
+
+from planner.checks import choice, integer
+from planner.errors import HapexError, InvalidParameter
+from planner.sweep.expansion import PlannedRun, as_sweep, plan
+from planner.sweep.spec import Sweep
+from planner.sweep.worker import Finished, Task, install, read_run
+
+STUDY_FILE = "sweep.json"
+
+
+class SweepInterrupted(KeyboardInterrupt):
+    """Ctrl-C during a sweep: the complete runs are kept; run the same sweep again to resume.
+
+    Attributes:
+        done: runs complete in ``out`` (ok or failed).
+        total: runs of the sweep.
+        out: the sweep's output folder.
+    """
+
+    def __init__(self, done: int, total: int, out: Path):
+        super().__init__(f"interrupted: {done} of {total} runs complete in {out}")
+        self.done, self.total, self.out = done, total, out
+
+
+def _prepare_out(out: Path, sweep: Sweep, n_runs: int) -> None:
+    """Create ``out`` (or reuse it for the same study); refuse any other non-empty folder."""
+    study = out / STUDY_FILE
+    if out.exists():
+        if not out.is_dir():
+            raise HapexError(f"--out {out}: exists and is not a directory")
+        if study.is_file():
+            name = json.loads(study.read_text()).get("name")
+            if name != sweep.name:
+                raise HapexError(
+                    f"--out {out}: holds the sweep {name!r}, not {sweep.name!r}; "
+                    "choose another --out"
+                )
+        elif any(out.iterdir()):
+            raise HapexError(
+                f"--out {out}: directory is not empty and is not a hapex sweep; "
+                "choose another --out or remove it"
+            )
+    (out / "runs").mkdir(parents=True, exist_ok=True)
+    doc = {
+        "name": sweep.name,
+        "description": sweep.model.description,
+        "source": sweep.source,
+        "quick": sweep.quick,
+        "runs": n_runs,
+        "updated": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+    }
+    tmp = out / f".{STUDY_FILE}.tmp-{os.getpid()}"
+    tmp.write_text(json.dumps(doc, indent=2))
+    os.replace(tmp, study)
+
+
+def pending(
+    runs: list[PlannedRun], out: Path, retry_failed: bool = False
+) -> tuple[list[PlannedRun], dict[str, int]]:
+    """The runs still to do, and the counts of complete ones (``{"ok": n, "failed": m}``)."""
+    todo, counts = [], {"ok": 0, "failed": 0}
+    for r in runs:
+        found = read_run(Path(out) / "runs" / r.run_id)
+        status = found[0]["status"] if found else None
+        if status == "ok" or (status == "failed" and not retry_failed):
+            counts[status] += 1
+        else:
+            todo.append(r)
+    return todo, counts
+
+
+def _task(r: PlannedRun, sweep: str) -> Task:
+    return Task(r.run_id, sweep, dict(r.params), dict(r.data), str(r.base_dir), r.quick, r.plots)
+
+
+def _results(tasks: list[Task], backend: str, opts: Mapping[str, Any], stack) -> Any:
+    from planner.sweep import backends
+
+    if backend == "joblib":
+        return backends.joblib_results(tasks, opts.get("jobs"))
+    client = opts.get("client")
+    if client is None:
+        client = stack.enter_context(
+            backends.dask_client(
+                opts.get("scheduler"), opts.get("dask_workers"), opts.get("processes", True)
+            )
+        )
+    return backends.dask_results(tasks, client)
+
+
+def _install_all(results, out: Path, counts: dict, bar, on_result) -> None:
+    """Install each finished run as it arrives; keep the counts and the progress bar."""
+    left = bar.total - bar.n
+    for fin in results:
+        install(fin.archive, out / "runs" / fin.run_id)
+        counts[fin.status] += 1
+        left -= 1
+        bar.update(1)
+        bar.set_postfix(ok=counts["ok"], failed=counts["failed"], left=left)
+        if on_result is not None:
+            on_result(fin)
+
+
+def run_sweep(
+    sweep: Sweep | str | Path | Mapping[str, Any],
+    out: str | Path,
+    *,
+    backend: str = "joblib",
+    jobs: int | None = None,
+    scheduler: str | None = None,
+    dask_workers: int | None = None,
+    client: Any = None,
+    processes: bool = True,
+    quick: bool = False,
+    retry_failed: bool = False,
+    progress: bool | None = None,
+    report: bool = True,
+    on_result: Callable[[Finished], None] | None = None,
+):
+    """Run every missing run of a sweep and return its tidy table.
+
+    Args:
+        sweep: a :class:`Sweep`, a sweep file, or a mapping.
+        out: output folder (created; reused to resume the same study).
+        backend: ``"joblib"`` (local processes) or ``"dask"``.
+        jobs: joblib worker processes (default: all cores; 1 runs in this process).
+        scheduler: Dask scheduler address (``tcp://host:8786``) of an existing cluster.
+        dask_workers: workers of the ``LocalCluster`` started when no scheduler/client is
+            given (default: all cores).
+        client: an existing ``distributed.Client`` to use (backend ``"dask"``).
+        processes: LocalCluster workers as processes (``False``: threads of this process).
+        quick: the sweep file's ``--quick`` variant (when ``sweep`` is a path or mapping).
+        retry_failed: run failed runs again (default: a failed run is a result and is kept).
+        progress: tqdm progress bar (``None``: only on a terminal).
+        report: write ``report.md`` and its plots.
+        on_result: called with each finished run after its directory is installed.
+
+    Returns:
+        The ``pandas.DataFrame`` also written as ``results.parquet`` / ``results.csv``.
+
+    Raises:
+        ScenarioError: the sweep or one of its combinations is invalid (nothing has run).
+        SweepInterrupted: Ctrl-C; complete runs are kept and the tables written.
+        HapexError: the output folder belongs to something else, or the backend failed.
+    """
+    from contextlib import ExitStack
+
+    from tqdm.auto import tqdm
+
+    from planner.sweep.report import write_report
+    from planner.sweep.table import results_table, write_tables
+
+    choice("backend", backend, ("joblib", "dask"))
+    if jobs is not None:
+        integer("jobs", jobs, minimum=1)
+    if backend == "joblib" and (scheduler or client is not None or dask_workers):
+        raise InvalidParameter(
+            "backend: scheduler, client and dask_workers need backend='dask', got 'joblib'"
+        )
+    sweep = as_sweep(sweep, quick)
+    runs = plan(sweep)
+    out = Path(out)
+    _prepare_out(out, sweep, len(runs))
+    todo, counts = pending(runs, out, retry_failed)
+    opts = {"jobs": jobs, "scheduler": scheduler, "dask_workers": dask_workers}
+    opts.update(client=client, processes=processes)
+    bar = tqdm(
+        total=len(runs),
+        initial=len(runs) - len(todo),
+        desc=sweep.name,
+        unit="run",
+        disable=None if progress is None else not progress,
+    )
+    bar.set_postfix(ok=counts["ok"], failed=counts["failed"], left=len(todo))
+    interrupted = False
+    try:
+        with ExitStack() as stack:
+            if todo:
+                tasks = [_task(r, sweep.name) for r in todo]
+                _install_all(_results(tasks, backend, opts, stack), out, counts, bar, on_result)
+    except KeyboardInterrupt:
+        interrupted = True
+    finally:
+        bar.close()
+        table = results_table(out, runs)
+        write_tables(table, out)
+        if report:
+            write_report(table, out, sweep)
+    if interrupted:
+        raise SweepInterrupted(len(table), len(runs), out)
+    return table
+
+
+__all__ = ["STUDY_FILE", "SweepInterrupted", "pending", "run_sweep"]
