@@ -12,7 +12,8 @@ import math
 import numpy as np
 
 from planner.errors import SingularConfiguration
-from planner.sim.spatial.finger import FingerDynamics, tcs_rotation
+from planner.sim.spatial.finger import tcs_rotation
+from planner.sim.spatial.finger_codegen import reduced_dynamics_function
 
 __all__ = ["FingerBody", "SphereBody", "quat_from_matrix", "quat_mul_exp", "skew"]
 
@@ -111,66 +112,85 @@ class SphereBody:
 
 
 class FingerBody:
-    """The 3GM: motor angles ``θ`` and rates ``θ̇`` (3,), reduced dynamics per step."""
+    """The 3GM: motor angles ``θ`` and rates ``θ̇`` (3,); reduced dynamics per step from the
+    generated function of :mod:`planner.sim.spatial.finger_codegen` (equal to the Pinocchio
+    path of :class:`~planner.sim.spatial.finger.FingerDynamics`, tested)."""
+
+    #: |sin(γ2 - γ1)| below which the 3GM is reported singular (links l3, l4 aligned).
+    SINGULAR_SIN = 1e-6
 
     def __init__(self, name, gm, theta, theta_dot, tip_radius, friction, gravity):
         self.name, self.gm, self.radius, self.friction = name, gm, tip_radius, friction
-        self.dyn = FingerDynamics(gm, gravity)
+        self.fn = reduced_dynamics_function(gm, gravity)
         self.th = np.array(theta, float)
         self.thd = np.array(theta_dot, float)
-        self.state = self.dyn.evaluate(self.th, self.thd)
         self.minv = None
+        self.J = self.Jw = None
+        self.gamma1 = 0.0
+        self._center = np.zeros(3)
+        self._eval(np.zeros(3), 0.0)
+
+    def _eval(self, tau, h: float) -> np.ndarray:
+        c, J, Jw, Minv, thd_f, g1, _, _, sin_c = self.fn(self.th, self.thd, tau, h)
+        if (
+            not (np.isfinite(c[0]) and np.isfinite(thd_f).all())
+            or abs(sin_c[0]) < self.SINGULAR_SIN
+        ):
+            raise SingularConfiguration(
+                f"3GM singular at theta = {np.round(self.th, 6).tolist()} rad: the five-bar loop "
+                f"cannot close or links l3 and l4 align (sin(gamma2 - gamma1) = {sin_c[0]:.3g})",
+                value=float(sin_c[0]),
+            )
+        self._center = c.copy()
+        self.J, self.Jw, self.minv = J.copy(), Jw.copy(), Minv.copy()
+        self.gamma1 = float(g1[0])
+        return thd_f.copy()
 
     @property
     def center(self) -> np.ndarray:
-        return self.state.center
+        return self._center
 
     def free_velocity(self, h: float, gravity: np.ndarray, tau) -> np.ndarray:
-        st = self.state
-        self.minv = np.linalg.inv(st.M)
-        return self.thd + h * (self.minv @ (tau - st.b))
+        return self._eval(tau, h)
 
     def point_jacobian(self, n: np.ndarray) -> np.ndarray:
         """(3, 3) velocity of the tip's material point at ``c - r n``: ``J + r [n]× J_ω``."""
-        return self.state.J + self.radius * (skew(n) @ self.state.Jw)
+        return self.J + self.radius * (skew(n) @ self.Jw)
 
     def centre_jacobian(self) -> np.ndarray:
-        return self.state.J
+        return self.J
 
     def apply(self, nu: np.ndarray) -> None:
         self.thd = nu.copy()
 
     def integrate(self, h: float) -> None:
         self.th = self.th + h * self.thd
-        self.refresh(kinematics_only=True)
+        self._refresh_center()
 
     def project(self, dc: np.ndarray, dq: np.ndarray | None = None) -> None:
         """Move the joints by ``dq`` (3,) [rad] (the caller's mass-weighted correction)."""
         self.th = self.th + dq
-        self.refresh(kinematics_only=True)
+        self._refresh_center()
 
-    def refresh(self, kinematics_only: bool = False) -> None:
-        """Recompute the state at (θ, θ̇); raises SingularConfiguration."""
-        if kinematics_only:
-            c = self.dyn.center(self.th)
-            st = self.state
-            self.state = type(st)(st.q, st.v, c, st.J, st.Jw, st.M, st.b, st.gamma1)
-            return
-        self.state = self.dyn.evaluate(self.th, self.thd)
+    def _refresh_center(self) -> None:
+        c, *_, sin_c = self.fn(self.th, self.thd, np.zeros(3), 0.0)
+        if not np.isfinite(c[0]) or abs(sin_c[0]) < self.SINGULAR_SIN:
+            raise SingularConfiguration(
+                f"3GM singular at theta = {np.round(self.th, 6).tolist()} rad "
+                f"(sin(gamma2 - gamma1) = {sin_c[0]:.3g})",
+                value=float(sin_c[0]),
+            )
+        self._center = c.copy()
 
     def finalize(self) -> None:
-        """Full state after the projections of a step."""
-        self.state = self.dyn.evaluate(self.th, self.thd)
+        """Kinematics at the end of the step (Jacobians for pose/velocity queries)."""
+        self._eval(np.zeros(3), 0.0)
 
     def tcs(self) -> np.ndarray:
-        return tcs_rotation(self.state.gamma1, float(self.th[2]))
+        return tcs_rotation(self.gamma1, float(self.th[2]))
 
     def pose(self) -> np.ndarray:
-        return np.concatenate([self.state.center, quat_from_matrix(self.tcs())])
+        return np.concatenate([self._center, quat_from_matrix(self.tcs())])
 
     def velocity(self) -> np.ndarray:
-        return np.concatenate([self.state.J @ self.thd, self.state.Jw @ self.thd])
-
-    def check(self) -> None:
-        if not np.all(np.isfinite(self.th)):
-            raise SingularConfiguration("non-finite 3GM joint angles")
+        return np.concatenate([self.J @ self.thd, self.Jw @ self.thd])

@@ -53,7 +53,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["ContactSolution", "residual", "solve_contact", "solve_contacts"]
+__all__ = ["ContactSolution", "residual", "solve_contact", "solve_contacts", "solve_impulse"]
 
 _PHI8 = np.arange(8) * (2.0 * np.pi / 8.0)
 _E8 = np.exp(-1j * np.outer(np.arange(-2, 3), _PHI8)) / 8.0  # DFT rows m = -2..2
@@ -160,12 +160,91 @@ def _project_cone(y: np.ndarray, mu: float) -> np.ndarray:
     return np.array([a, *(mu * a * t / r)])
 
 
+def _slide_newton(W, ut0: float, ut1: float, un: float, mu: float, phi: float):
+    """Newton on ``g(φ)`` in scalar arithmetic from ``φ`` (the fast path); the impulse
+    (3,) or None when it does not converge to a valid root."""
+    (a, _, _), (w1, t11, t12), (w2, _, t22) = W
+    dt_ = t22 - t11
+    for _ in range(30):
+        c, s = math.cos(phi), math.sin(phi)
+        A = a - mu * (w1 * c + w2 * s)
+        B = -s * ut0 + c * ut1
+        P = dt_ * c * s + t12 * (c * c - s * s)
+        Q = -s * w1 + c * w2
+        g = A * B + un * (mu * P - Q)
+        dA = -mu * (-w1 * s + w2 * c)
+        dB = -c * ut0 - s * ut1
+        dP = dt_ * (c * c - s * s) - 4.0 * t12 * c * s
+        dQ = -c * w1 - s * w2
+        dg = dA * B + A * dB + un * (mu * dP - dQ)
+        if dg == 0.0:
+            return None
+        step = g / dg
+        phi -= step
+        if abs(step) <= 1e-15:
+            break
+    else:
+        return None
+    c, s = math.cos(phi), math.sin(phi)
+    den = a - mu * (w1 * c + w2 * s)
+    if den <= 0.0:
+        return None
+    lam_n = -un / den
+    u0 = ut0 + lam_n * (w1 - mu * (t11 * c + t12 * s))
+    u1 = ut1 + lam_n * (w2 - mu * (t12 * c + t22 * s))
+    slip = c * u0 + s * u1
+    if lam_n < 0.0 or slip < 0.0 or abs(-s * u0 + c * u1) > 1e-12 * (abs(slip) + 1e-300) + 1e-15:
+        return None
+    return np.array([lam_n, -mu * lam_n * c, -mu * lam_n * s])
+
+
+def _stick(W, un: float, ut0: float, ut1: float) -> tuple[float, float, float]:
+    """``-W⁻¹ (un, ut0, ut1)`` by the adjugate (``W`` nested lists, scalar arithmetic)."""
+    (a, b, c), (d, e, f), (g, h, i) = W
+    A, B, C = e * i - f * h, f * g - d * i, d * h - e * g
+    det = a * A + b * B + c * C
+    D, E, F = c * h - b * i, a * i - c * g, b * g - a * h
+    G, H, I_ = b * f - c * e, c * d - a * f, a * e - b * d
+    return (
+        -(A * un + D * ut0 + G * ut1) / det,
+        -(B * un + E * ut0 + H * ut1) / det,
+        -(C * un + F * ut0 + I_ * ut1) / det,
+    )
+
+
+def solve_impulse(W: np.ndarray, u_free: np.ndarray, gap_rate: float, mu: float):
+    """The impulse (3,) [N s] and the mode of one contact (see :func:`solve_contact`)."""
+    u0, ut0, ut1 = u_free.tolist() if isinstance(u_free, np.ndarray) else u_free
+    un = u0 + gap_rate
+    if un >= 0.0:
+        return np.zeros(3), "separate"
+    Wl = W.tolist()
+    lam = _stick(Wl, un, ut0, ut1)
+    if lam[0] >= 0.0 and math.hypot(lam[1], lam[2]) <= mu * lam[0]:
+        return np.array(lam), "stick"
+    if mu == 0.0:
+        return np.array([-un / Wl[0][0], 0.0, 0.0]), "slide"
+    # slip opposes the friction impulse that sticking would need: a good first guess
+    phi0 = math.atan2(-lam[2], -lam[1]) if lam[1] or lam[2] else math.atan2(ut1, ut0)
+    out = _slide_newton(Wl, ut0, ut1, un, mu, phi0)
+    if out is None:
+        out = _slide(W, np.array([ut0, ut1]), un, mu)
+        if out is None:
+            out = _fixed_point(W, np.array([un, ut0, ut1]), mu)
+    return out, "slide"
+
+
 def solve_contact(W: np.ndarray, u_free: np.ndarray, gap_rate: float, mu: float) -> ContactSolution:
     """Solve one sphere contact exactly (see the module docstring).
 
+    The sliding root is first sought by Newton on ``g(φ)`` from the direction opposite to
+    the sticking impulse (scalar arithmetic, 2-4 iterations); when that does not give a
+    valid root, all roots of the quartic are examined (numpy.roots), and as a last resort a
+    projected fixed point on the cone is iterated to round-off.
+
     Args:
-        W: (3, 3) Delassus operator in the contact frame ``(n, t1, t2)`` [m/(N s^2)... i.e.
-            (m/s)/(N s)], symmetric positive definite.
+        W: (3, 3) Delassus operator in the contact frame ``(n, t1, t2)`` [(m/s)/(N s)],
+            symmetric positive definite.
         u_free: (3,) contact velocity of the contact-free step [m/s].
         gap_rate: ``gap / dt`` [m/s] (the normal velocity that closes the gap in one step).
         mu: Coulomb friction coefficient [-] (>= 0).
@@ -173,21 +252,7 @@ def solve_contact(W: np.ndarray, u_free: np.ndarray, gap_rate: float, mu: float)
     Returns:
         the :class:`ContactSolution`.
     """
-    un = float(u_free[0]) + gap_rate
-    if un >= 0.0:
-        return ContactSolution(np.zeros(3), np.asarray(u_free, float).copy(), "separate")
-    ut = np.asarray(u_free[1:], float)
-    shifted = np.array([un, ut[0], ut[1]])
-    lam = -np.linalg.solve(W, shifted)
-    mode = "stick"
-    if not (lam[0] >= 0.0 and math.hypot(lam[1], lam[2]) <= mu * lam[0]):
-        mode = "slide"
-        if mu == 0.0:
-            lam = np.array([-un / W[0, 0], 0.0, 0.0])
-        else:
-            lam = _slide(W, ut, un, mu)
-            if lam is None:
-                lam = _fixed_point(W, shifted, mu)
+    lam, mode = solve_impulse(W, u_free, gap_rate, mu)
     return ContactSolution(lam, np.asarray(u_free, float) + W @ lam, mode)
 
 
@@ -231,15 +296,17 @@ def solve_contacts(
     k = len(gap_rates)
     lam = np.zeros(3 * k)
     modes = ["separate"] * k
-    for _ in range(max_sweeps if k > 1 else 1):
+    if k == 1:
+        lam, mode = solve_impulse(W, u_free, gap_rates[0], mu[0])
+        return lam, [mode]
+    for _ in range(max_sweeps):
         change = 0.0
         for i in range(k):
             s = slice(3 * i, 3 * i + 3)
             u_i = u_free[s] + W[s] @ lam - W[s, s] @ lam[s]
-            sol = solve_contact(W[s, s], u_i, gap_rates[i], mu[i])
-            change = max(change, float(np.max(np.abs(sol.impulse - lam[s]))))
-            lam[s] = sol.impulse
-            modes[i] = sol.mode
+            new, modes[i] = solve_impulse(W[s, s], u_i, gap_rates[i], mu[i])
+            change = max(change, float(np.max(np.abs(new - lam[s]))))
+            lam[s] = new
         if change <= tol * (1.0 + float(np.max(np.abs(lam)))):
             break
     return lam, modes

@@ -17,7 +17,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from planner import checks
-from planner.sim.spatial.finger import FingerDynamics, tcs_rotation
+from planner.sim.spatial.finger import tcs_rotation
+from planner.sim.spatial.finger_codegen import reduced_dynamics_function
 from planner.sim.spatial.plate import Plate, PlateFeature
 from planner.sim.spatial.world import SpatialWorld
 
@@ -55,21 +56,21 @@ class TipForceVelocityController:
         self.fn = checks.nonnegative("normal_force", normal_force, "N")
         self.kp = checks.nonnegative("kp", kp, "N/m")
         self.kv = checks.nonnegative("kv", kv, "N s/m")
-        self.dyn = FingerDynamics(gm, gravity)
+        self.model = reduced_dynamics_function(gm, gravity)  # the controller's own model
         self.normal = np.array([0.0, 0.0, 1.0])
         self.touched = False
 
     def __call__(self, t: float, obs) -> np.ndarray:
         th = obs.q
-        x, J = self.gm.forward_kinematics_and_jacobian(th)
+        out = self.model(th, np.zeros(3), np.zeros(3), 0.0)
+        x, J, g, g1 = out[0].copy(), out[1].copy(), out[6].copy(), float(out[5][0])
         v = J @ obs.qd
         reading = obs.owts
         if reading is not None and len(reading.t) and reading.in_contact.any():
-            g1, _ = self.gm.passive_angles(th)
             R = tcs_rotation(g1, float(th[2]))
             n_t = reading.normal[reading.in_contact].mean(axis=0)
             n_w = -(R @ n_t)  # surface normal = minus the tip's outward normal
-            self.normal = n_w / np.linalg.norm(n_w) if self.touched else n_w / np.linalg.norm(n_w)
+            self.normal = n_w / np.linalg.norm(n_w)
             self.touched = True
         n = self.normal
         P = np.eye(3) - np.outer(n, n) if self.touched else np.eye(3)
@@ -77,7 +78,6 @@ class TipForceVelocityController:
         if not self.touched:
             xd = np.array([self.start[0], self.start[1], x[2]])
         f = -self.fn * n + P @ (self.kp * (xd - x) + self.kv * (self.vd - v))
-        g = self.dyn.evaluate(th, np.zeros(3)).b
         return J.T @ f + g
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -26,10 +27,15 @@ class _Candidate:
 
 
 def _frame(n: np.ndarray) -> np.ndarray:
-    a = (1.0, 0.0, 0.0) if abs(n[0]) < 0.9 else (0.0, 1.0, 0.0)
-    t1 = np.array(a) - (a @ n) * n
-    t1 /= np.linalg.norm(t1)
-    return np.array([n, t1, np.cross(n, t1)])
+    """(3, 3) rows ``(n, t1, t2)``: a right-handed orthonormal contact frame."""
+    x, y, z = n.tolist()
+    if abs(x) < 0.9:  # t1 = normalize(e_x - x n)
+        a, b, c = 1.0 - x * x, -x * y, -x * z
+    else:  # t1 = normalize(e_y - y n)
+        a, b, c = -y * x, 1.0 - y * y, -y * z
+    k = 1.0 / math.sqrt(a * a + b * b + c * c)
+    a, b, c = a * k, b * k, c * k
+    return np.array([[x, y, z], [a, b, c], [y * c - z * b, z * a - x * c, x * b - y * a]])
 
 
 def _candidates(world, body, nu_free) -> list[_Candidate]:
