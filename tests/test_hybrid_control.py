@@ -166,17 +166,24 @@ def _potential(th, par):
     p = FINGER.params
     s = FINGER.state(th)
     w1, w5, w2, w3, wt = par[hk.P_G1 : hk.P_GT + 1]
-    z1 = 0.5 * p["l1"] * np.sin(th[0])
+    c = par[hk.P_C1X : hk.P_C3Y + 1].reshape(4, 2)
+
+    def z(k, a):
+        return c[k, 0] * np.sin(a) + c[k, 1] * np.cos(a)
+
     zp1 = p["l1"] * np.sin(th[0])
-    z5 = zp1 + 0.5 * p["l5"] * np.sin(s.gamma1)
-    zt = zp1 + p["l5"] * np.sin(s.gamma1)
-    z2 = -p["h1"] + 0.5 * p["l2"] * np.sin(th[1])
-    z3 = -p["h1"] + p["l2"] * np.sin(th[1]) + 0.5 * p["l3"] * np.sin(s.gamma2)
-    return w1 * z1 + w5 * z5 + w2 * z2 + w3 * z3 + wt * zt
+    return (
+        w1 * z(0, th[0])
+        + w5 * (zp1 + z(1, s.gamma1))
+        + w2 * (-p["h1"] + z(2, th[1]))
+        + w3 * (-p["h1"] + p["l2"] * np.sin(th[1]) + z(3, s.gamma2))
+        + wt * (zp1 + p["l5"] * np.sin(s.gamma1))
+    )
 
 
 def test_gravity_torque_is_the_gradient_of_the_potential_and_matches_pinocchio():
     par = kernel_parameters(FINGER, HybridSettings(tip_mass=0.0))
+    assert par[hk.P_G5] > 0.3  # the distal link carries the fingertip
     model = FINGER.model
     data = model.createData()
     model.gravity.linear = np.array([0.0, 0.0, -9.81])

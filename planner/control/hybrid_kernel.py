@@ -33,7 +33,10 @@ P_OWTS_HALF, P_OWTS_K, P_OWTS_XO, P_OWTS_YO, P_OWTS_THR = range(15, 20)
 P_G1, P_G5, P_G2, P_G3, P_GT, P_GC11 = range(20, 26)  # m_i g [N] of links 1, 5, 2, 3, tip; M g
 P_TAU1, P_TAU2, P_TAU3 = range(26, 29)
 P_SWITCH, P_EMAX = 29, 30
-NPAR = 31
+#: centre of mass (x along the link, y in the plane) of the bodies on theta1, gamma1, theta2,
+#: gamma2 in their joint frames [m]
+P_C1X, P_C1Y, P_C5X, P_C5Y, P_C2X, P_C2Y, P_C3X, P_C3Y = range(31, 39)
+NPAR = 39
 NOUT = 19
 
 
@@ -182,28 +185,28 @@ def hybrid_step(theta, thd, volts, state, target, par, out):  # noqa: C901, PLR0
     f0 = fx * x0 + fy * y0 + fn * n0
     f1 = fx * x1 + fy * y1 + fn * n1
     f2 = fx * x2 + fy * y2 + fn * n2
-    # ---- gravity compensation: ∇V of the link and tip weights (or eq. C.11) -----------------
+    # ---- gravity compensation: ∇V of the bodies' weights (or eq. C.11) ----------------------
     sgm = math.sin(g1 - g2)
     if abs(sgm) < 1e-9:
         sgm = 1e-9
     dg2_1 = l1 * math.sin(g1 - t1) / (l3 * sgm)
     dg2_2 = -l2 * math.sin(g1 - t2) / (l3 * sgm)
-    cg2 = math.cos(g2)
-    c2 = math.cos(t2)
+    c2, s2 = math.cos(t2), math.sin(t2)
+    cg2, sg2 = math.cos(g2), math.sin(g2)
     G1, G5, G2, G3, GT = par[P_G1], par[P_G5], par[P_G2], par[P_G3], par[P_GT]
+    # dz/d(angle) of each body's centre of mass: cx cos a - cy sin a
+    m1 = par[P_C1X] * c1 - par[P_C1Y] * s1
+    m5 = par[P_C5X] * cg1 - par[P_C5Y] * sg1
+    m2 = par[P_C2X] * c2 - par[P_C2Y] * s2
+    m3 = par[P_C3X] * cg2 - par[P_C3Y] * sg2
     tg0 = (
-        G1 * 0.5 * l1 * c1
-        + G5 * (l1 * c1 + 0.5 * l5 * cg1 * dg1_1)
-        + G3 * 0.5 * l3 * cg2 * dg2_1
+        G1 * m1
+        + G5 * (l1 * c1 + m5 * dg1_1)
+        + G3 * m3 * dg2_1
         + GT * (l1 * c1 + l5 * cg1 * dg1_1)
         + par[P_GC11] * l5 * c1
     )
-    tg1 = (
-        G5 * 0.5 * l5 * cg1 * dg1_2
-        + G2 * 0.5 * l2 * c2
-        + G3 * (l2 * c2 + 0.5 * l3 * cg2 * dg2_2)
-        + GT * l5 * cg1 * dg1_2
-    )
+    tg1 = G5 * m5 * dg1_2 + G2 * m2 + G3 * (l2 * c2 + m3 * dg2_2) + GT * l5 * cg1 * dg1_2
     # ---- τ = Jᵀ f + τ_g within the limits (C.10) ----------------------------------------------
     j0 = J[0, 0] * f0 + J[1, 0] * f1 + J[2, 0] * f2
     j1 = J[0, 1] * f0 + J[1, 1] * f1 + J[2, 1] * f2

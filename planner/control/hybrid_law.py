@@ -42,10 +42,10 @@ class HybridSettings:
         rate: servo frequency ``ω`` of eq. 4.9 [Hz].
         ramp: slope of the linear ramp of the desired velocity (eq. 4.9 text) [m/s²].
         tip_radius: fingertip radius ``R_f`` of eq. 4.7 [m].
-        gravity: ``"model"`` (gradient of the links' and the tip's weight, exact for the
-            rigid model), ``"c11"`` (the thesis' ``τ_g = M g l5 cos θ1``, eq. C.11) or
-            ``"none"``.
-        tip_mass: mass of the fingertip/OWTS at the endpoint [kg] (27 g, App. C.1.3).
+        gravity: ``"model"`` (gradient of the weights of the bodies of the finger's Pinocchio
+            model - links and fingertip - exact for the rigid model), ``"c11"`` (the thesis'
+            ``τ_g = M g l5 cos θ1``, eq. C.11) or ``"none"``.
+        tip_mass: extra mass at the endpoint beyond the model's (a payload) [kg].
         c11_mass: ``M`` of eq. C.11 [kg] (used when ``gravity == "c11"``).
         max_error: bound of the tangential tracking error; the desired point is dragged
             along beyond it (wind-up guard) [m].
@@ -59,7 +59,7 @@ class HybridSettings:
     ramp: float = 0.1
     tip_radius: float = 0.008
     gravity: str = "model"
-    tip_mass: float = 0.027
+    tip_mass: float = 0.0
     c11_mass: float = 0.1
     max_error: float = 0.003
 
@@ -77,13 +77,17 @@ class HybridSettings:
         checks.positive("max_error", self.max_error, "m")
 
 
-def link_weights(finger) -> np.ndarray:
-    """(4,) weights m g [N] of links l1, distal (l5), l2, l3 from the finger's Pinocchio model."""
+def body_weights(finger) -> tuple[np.ndarray, np.ndarray]:
+    """Weights m g [N] (4,) and in-plane centres of mass (4, 2) [m] of the bodies carried by
+    theta1, gamma1 (distal link with the fingertip), theta2, gamma2 in the finger's Pinocchio
+    model, in their joint frames (x along the link, y in the five-bar plane)."""
     m = finger.model
-    w = []
+    w, c = [], []
     for name in ("theta1", "gamma1", "theta2", "gamma2"):
-        w.append(float(m.inertias[m.getJointId(name)].mass) * G)
-    return np.array(w)
+        inertia = m.inertias[m.getJointId(name)]
+        w.append(float(inertia.mass) * G)
+        c.append(np.asarray(inertia.lever, float)[:2])
+    return np.array(w), np.array(c)
 
 
 def kernel_parameters(finger, settings: HybridSettings, owts=None) -> np.ndarray:
@@ -102,7 +106,8 @@ def kernel_parameters(finger, settings: HybridSettings, owts=None) -> np.ndarray
     par[hk.P_OWTS_XO], par[hk.P_OWTS_YO] = sensor.offsets
     par[hk.P_OWTS_THR] = sensor.contact_threshold
     if s.gravity == "model":
-        par[hk.P_G1 : hk.P_GT] = link_weights(finger)
+        par[hk.P_G1 : hk.P_GT], com = body_weights(finger)
+        par[hk.P_C1X : hk.P_C3Y + 1] = com.ravel()
         par[hk.P_GT] = s.tip_mass * G
     elif s.gravity == "c11":
         par[hk.P_GC11] = s.c11_mass * G

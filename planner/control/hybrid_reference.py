@@ -20,9 +20,10 @@ __all__ = ["gravity_torque", "reference_step"]
 def gravity_torque(finger, theta: np.ndarray, par: np.ndarray) -> np.ndarray:
     """Gravity compensation τ_g (3,) [N m]: ∇V of the weights in ``par`` plus eq. C.11.
 
-    ``V = Σ m_i g z_i(θ)`` over the centres of links l1, l5 (distal), l2, l3 (uniform rods) and
-    the tip mass at the endpoint; the passive-angle derivatives follow from the loop closure
-    (``∂γ1/∂θ`` as in the corrected eq. C.8; ``∂γ2/∂θ`` by projecting the closure on u(γ1)).
+    ``V = Σ m_i g z_i(θ)`` over the centres of mass of the bodies on theta1, gamma1, theta2,
+    gamma2 (``z = z_joint + c_x sin a + c_y cos a`` for a body at absolute angle ``a``) and an
+    extra tip mass; the passive-angle derivatives follow from the loop closure (``∂γ1/∂θ`` as
+    in the corrected eq. C.8; ``∂γ2/∂θ`` by projecting the closure on u(γ1)).
     """
     p = finger.params
     st = finger.state(theta)
@@ -32,13 +33,19 @@ def gravity_torque(finger, theta: np.ndarray, par: np.ndarray) -> np.ndarray:
     d1 = np.array([l1 * np.sin(t1 - g2), l2 * np.sin(g2 - t2)]) / (l4 * np.sin(g2 - g1))
     d2 = np.array([l1 * np.sin(g1 - t1), -l2 * np.sin(g1 - t2)]) / (l3 * np.sin(g1 - g2))
     w1, w5, w2, w3, wt = par[hk.P_G1 : hk.P_GT + 1]
-    dz_l1 = np.array([0.5 * l1 * np.cos(t1), 0.0])
+    c = par[hk.P_C1X : hk.P_C3Y + 1].reshape(4, 2)
+
+    def dz(k: int, a: float) -> float:  # d z_com / d a of body k at absolute angle a
+        return c[k, 0] * np.cos(a) - c[k, 1] * np.sin(a)
+
     dz_p1 = np.array([l1 * np.cos(t1), 0.0])
-    dz_l5 = dz_p1 + 0.5 * l5 * np.cos(g1) * d1
-    dz_tip = dz_p1 + l5 * np.cos(g1) * d1
-    dz_l2 = np.array([0.0, 0.5 * l2 * np.cos(t2)])
-    dz_l3 = np.array([0.0, l2 * np.cos(t2)]) + 0.5 * l3 * np.cos(g2) * d2
-    tg = w1 * dz_l1 + w5 * dz_l5 + w2 * dz_l2 + w3 * dz_l3 + wt * dz_tip
+    tg = (
+        w1 * np.array([dz(0, t1), 0.0])
+        + w5 * (dz_p1 + dz(1, g1) * d1)
+        + w2 * np.array([0.0, dz(2, t2)])
+        + w3 * (np.array([0.0, l2 * np.cos(t2)]) + dz(3, g2) * d2)
+        + wt * (dz_p1 + l5 * np.cos(g1) * d1)
+    )
     tg[0] += par[hk.P_GC11] * l5 * np.cos(t1)
     return np.array([tg[0], tg[1], 0.0])
 
