@@ -222,7 +222,7 @@ def solve_impulse(W: np.ndarray, u_free: np.ndarray, gap_rate: float, mu: float)
     lam = _stick(Wl, un, ut0, ut1)
     if lam[0] >= 0.0 and math.hypot(lam[1], lam[2]) <= mu * lam[0]:
         return np.array(lam), "stick"
-    if mu == 0.0:
+    if mu <= 1e-14:  # frictionless (a friction force below 1e-14 λ_n is not resolved)
         return np.array([-un / Wl[0][0], 0.0, 0.0]), "slide"
     # slip opposes the friction impulse that sticking would need: a good first guess
     phi0 = math.atan2(-lam[2], -lam[1]) if lam[1] or lam[2] else math.atan2(ut1, ut0)
@@ -265,7 +265,7 @@ def residual(W: np.ndarray, u_free: np.ndarray, gap_rate: float, mu: float, lam:
     lt = float(np.linalg.norm(lam[1:]))
     st = float(np.linalg.norm(u[1:]))
     r = [max(-lam[0], 0.0), max(-un, 0.0), abs(lam[0] * un), max(lt - mu * lam[0], 0.0)]
-    if lam[0] > 0 and lt < mu * lam[0] * (1 - 1e-9):
+    if lam[0] > 0 and mu * lam[0] - lt > 1e-9 * lam[0]:
         r.append(st)  # strictly inside the cone: must stick
     if st > 1e-12 and lam[0] > 0:
         r.append(float(np.linalg.norm(lam[1:] + mu * lam[0] * u[1:] / st)))

@@ -68,7 +68,9 @@ class PlateFeature:
     * ``cusp``: ``-(h/w)(sqrt(s² + ρ²) - ρ)`` (flank slope ``h/w``, crest rounding ``ρ``);
     * ``wire``: a wire of radius ``R = h/2`` lying on the plate along the feature's axis,
       its two concave corners filleted with radius ``ρ`` (exact arcs: wire ``k = 1/R``,
-      fillets ``k = -1/ρ``), as :func:`~planner.geometry.surfaces.wire_on_plane`.
+      fillets ``k = -1/ρ``), as :func:`~planner.geometry.surfaces.wire_on_plane`; a plate
+      is a graph ``z = h(x, y)``, so ``ρ >= R`` is required (with ``ρ < R`` the fillets
+      meet the wire below its equator and the profile overhangs).
 
     Attributes:
         kind: one of :data:`FEATURE_KINDS`.
@@ -77,7 +79,8 @@ class PlateFeature:
         position: ``(x_k, y_k)`` of the crest / centre on the plate [m].
         across: direction ``ψ`` of the profile coordinate ``s`` in the plate's xy plane [rad]
             (0: the profile runs along ``x``, the feature along ``y``).
-        rounding: ``ρ`` [m] for ``cusp`` (default ``w/10``) and ``wire`` (default ``R/2``).
+        rounding: ``ρ`` [m] for ``cusp`` (default ``w/10``) and ``wire`` (default and
+            minimum ``R``).
     """
 
     kind: str
@@ -93,8 +96,13 @@ class PlateFeature:
         w = checks.positive("width", self.width, "m")
         pos = checks.vector("position", self.position, 2, "m")
         psi = checks.in_range("across", self.across, -2 * math.pi, 2 * math.pi, "rad")
-        default = w / 10 if self.kind == "cusp" else h / 4
+        default = w / 10 if self.kind == "cusp" else h / 2
         rho = default if self.rounding is None else checks.positive("rounding", self.rounding, "m")
+        if self.kind == "wire" and rho < h / 2 * (1 - 1e-12):
+            raise InvalidParameter(
+                f"rounding: expected >= the wire radius {h / 2:g} m (the plate is a graph; "
+                f"smaller fillets overhang), got {rho!r}"
+            )
         object.__setattr__(self, "height", h)
         object.__setattr__(self, "width", w)
         object.__setattr__(self, "position", (float(pos[0]), float(pos[1])))
