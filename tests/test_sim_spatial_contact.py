@@ -44,7 +44,8 @@ def test_solution_satisfies_signorini_and_the_circular_cone(seed, mu, gap):
 
 
 def test_isotropic_sliding_closed_form():
-    # W = diag(a, b, b): lambda_n = -u_n / a, slip along the free slip, |u_t+| = |u_t| - mu b lambda_n
+    # W = diag(a, b, b): lambda_n = -u_n / a, slip along the free slip,
+    # |u_t+| = |u_t| - mu b lambda_n
     a, b, mu = 2.0, 5.0, 0.2
     W = np.diag([a, b, b])
     u = np.array([-1.0, 3.0, 4.0])
