@@ -12,6 +12,11 @@ by ``col_i``; together with the standard preference for z0 leaving, this prevent
 copositive-plus with a feasible q-direction, for which Lemke terminates with a solution
 (Stewart & Trinkle 1996; Anitescu & Potra 1997) - rays are reported, not hidden.
 
+Pivot elements below ``1e-9`` of the entering column's largest entry are treated as zero:
+Stewart-Trinkle matrices carry exactly duplicated rows (two corners of a face share their
+tangent row) whose roundoff differences would otherwise be chosen as pivots and wreck the
+basis.
+
 Speed: the dense tableau pivoting is compiled with numba (``cache=True``; a few microseconds
 for the 4-20 unknowns of a few planar contacts). Without numba the same code runs as plain
 Python (correct, ~100x slower).
@@ -109,7 +114,7 @@ def _lemke(M, q, max_iter):
         cmax = 0.0
         for i in range(n):
             cmax = max(cmax, abs(T[i, entering]))
-        tol = 1e-12 * max(1.0, cmax)
+        tol = 1e-9 * cmax
         r = -1
         for i in range(n):
             if T[i, entering] > tol:

@@ -7,7 +7,8 @@ the contact search needs, all in the body frame:
 * **arcs** (centre, radius, start angle, sweep); clockwise arcs are convex (material inside);
 * **parametric** pieces (ellipses, Gaussian bumps, splines) with a sample table used only to
   start the root finders;
-* **corners**: sharp convex joints (turn < 0) and the two ends of open profiles.
+* **corners**: sharp convex joints (turn < 0), smooth joints of a line with a curved piece
+  (a flat face tilted past its fillet touches there first) and the ends of open profiles.
 
 Queries are exact: the closest point on a line or an arc is closed form; on a parametric
 piece it is the root of ``g(u) = (c(u) - p) . c'(u)`` found by safeguarded Newton
@@ -119,8 +120,10 @@ def compile_outline(profile: Profile) -> Outline:
     n = len(profile.pieces)
     turns = profile.joint_turns
     for i in range(n - 1 + int(profile.closed)):
-        if turns[i] < 0:
-            P, _, _ = profile.pieces[i].evaluate(np.array([profile.pieces[i].length]))
+        here, nxt = profile.pieces[i], profile.pieces[(i + 1) % n]
+        smooth_to_line = turns[i] == 0 and (isinstance(here, Line) or isinstance(nxt, Line))
+        if turns[i] < 0 or smooth_to_line:
+            P, _, _ = here.evaluate(np.array([here.length]))
             corners.append(P[0])
     if not profile.closed:
         P0, _, _ = profile.pieces[0].evaluate(np.array([0.0]))

@@ -33,12 +33,13 @@ projection (post-stabilization, Cline & Pai 2003) when a gap is below
 ``0 <= z perp phi + N M^-1 N^T z >= 0``, velocities untouched.
 
 **Limits.** Restitution is zero (inelastic impacts). Contact forces are impulses / h (step
-averages). Contact sets are re-detected every step within ``margin``; a pair that moves more
-than ``margin`` in one step can tunnel. Rolling resistance and compliance are not modelled.
+averages). Contact sets are re-detected every step within ``margin`` plus twice the distance
+each body's points can travel in the step (no tunnelling at the scene's speeds). Rolling resistance and compliance are not modelled.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -96,14 +97,34 @@ def find_contacts(world, margin: float, placements=None) -> list[tuple]:
     """Candidates ``(i, j, gap, pax, pay, pbx, pby, nx, ny, curvature)`` of every pair."""
     P = placements if placements is not None else _placements(world)[0]
     bodies = world.bodies
+    reach = _reach(world) if margin > 0 else [0.0] * len(bodies)
     out = []
     for i in range(len(bodies)):
         for j in range(i + 1, len(bodies)):
             a, b = bodies[i], bodies[j]
             if a.kind == FIXED and b.kind == FIXED:
                 continue
-            for c in candidates(a.outline, P[i], b.outline, P[j], margin):
+            m = margin + reach[i] + reach[j]
+            for c in candidates(a.outline, P[i], b.outline, P[j], m):
                 out.append((i, j, *c))
+    return out
+
+
+def _reach(world) -> list[float]:
+    """How far any point of each body can move in the coming step, twice over [m]."""
+    h = world.dt
+    out = []
+    tip_speed = 0.0
+    if world.hand is not None:
+        tip_speed = float(np.abs(world.qd).max()) * 0.25  # links + tip radius < 0.25 m
+    for b in world.bodies:
+        if b.kind == FREE:
+            vx, vy, w = world._v[b.index]
+            out.append(2.0 * h * (math.hypot(vx, vy) + abs(w) * b.outline.bound))
+        elif b.kind == TIP:
+            out.append(2.0 * h * tip_speed)
+        else:
+            out.append(0.0)
     return out
 
 

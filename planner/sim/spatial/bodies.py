@@ -125,6 +125,7 @@ class FingerBody:
         self.th = np.array(theta, float)
         self.thd = np.array(theta_dot, float)
         self.minv = None
+        self._zero = np.zeros(3)
         self.J = self.Jw = None
         self.gamma1 = 0.0
         self._center = np.zeros(3)
@@ -142,6 +143,7 @@ class FingerBody:
                 value=float(sin_c[0]),
             )
         self._center = c.copy()
+        self._quat = None
         self.J, self.Jw, self.minv = J.copy(), Jw.copy(), Minv.copy()
         self.gamma1 = float(g1[0])
         return thd_f.copy()
@@ -173,7 +175,8 @@ class FingerBody:
         self._refresh_center()
 
     def _refresh_center(self) -> None:
-        c, *_, sin_c = self.fn(self.th, self.thd, np.zeros(3), 0.0)
+        """Kinematics at the new angles (centre, J, J_ω, γ1; M_r⁻¹ is left for the step)."""
+        c, J, Jw, _, _, g1, _, _, sin_c = self.fn(self.th, self.thd, self._zero, 0.0)
         if not np.isfinite(c[0]) or abs(sin_c[0]) < self.SINGULAR_SIN:
             raise SingularConfiguration(
                 f"3GM singular at theta = {np.round(self.th, 6).tolist()} rad "
@@ -181,16 +184,18 @@ class FingerBody:
                 value=float(sin_c[0]),
             )
         self._center = c.copy()
-
-    def finalize(self) -> None:
-        """Kinematics at the end of the step (Jacobians for pose/velocity queries)."""
-        self._eval(np.zeros(3), 0.0)
+        self.J, self.Jw, self.gamma1 = J.copy(), Jw.copy(), float(g1[0])
+        self._quat = None
 
     def tcs(self) -> np.ndarray:
         return tcs_rotation(self.gamma1, float(self.th[2]))
 
     def pose(self) -> np.ndarray:
-        return np.concatenate([self._center, quat_from_matrix(self.tcs())])
+        if self._quat is None:  # R_z(θ3) R_y(π/2 - γ1) as a quaternion (wxyz)
+            a, b = 0.5 * float(self.th[2]), 0.5 * (math.pi / 2 - self.gamma1)
+            ca, sa, cb, sb = math.cos(a), math.sin(a), math.cos(b), math.sin(b)
+            self._quat = np.array([ca * cb, -sa * sb, ca * sb, sa * cb])
+        return np.concatenate([self._center, self._quat])
 
     def velocity(self) -> np.ndarray:
         return np.concatenate([self.J @ self.thd, self.Jw @ self.thd])

@@ -33,7 +33,7 @@ from planner.sim.spatial.plate import Plane, Plate
 
 __all__ = ["Foot", "PlacedSurface", "placed"]
 
-_TOL = 1e-15
+_TOL = 1e-13  # [m] last Newton step (the error after it is ~1e-26 m)
 _MAX_IT = 50
 
 
@@ -55,12 +55,17 @@ class Foot:
 
 
 def _newton_graph(hd, c: np.ndarray, x: float, y: float):
-    """Foot of ``c`` on the graph ``z = h(x, y)``; ``hd(x, y)`` gives h and derivatives."""
+    """Foot of ``c`` on the graph ``z = h(x, y)``; ``hd(x, y)`` gives h and derivatives.
+
+    Newton on ``D = ½|(x, y, h) - c|²``; it stops after a step below ``1e-13 m`` (the next
+    one would be ~1e-26 m: quadratic convergence) and updates ``h`` to first order over
+    that last step instead of evaluating the surface once more."""
+    cx, cy, cz = float(c[0]), float(c[1]), float(c[2])
     for _ in range(_MAX_IT):
         h, hx, hy, hxx, hxy, hyy = hd(x, y)
-        e = h - c[2]
-        gx = x - c[0] + e * hx
-        gy = y - c[1] + e * hy
+        e = h - cz
+        gx = x - cx + e * hx
+        gy = y - cy + e * hy
         a = 1.0 + hx * hx + e * hxx
         b = hx * hy + e * hxy
         d = 1.0 + hy * hy + e * hyy
@@ -75,8 +80,10 @@ def _newton_graph(hd, c: np.ndarray, x: float, y: float):
         x -= dx
         y -= dy
         if abs(dx) + abs(dy) <= _TOL:
+            h -= hx * dx + hy * dy
             break
-    h, hx, hy, *_ = hd(x, y)
+    else:
+        h, hx, hy, *_ = hd(x, y)
     nrm = math.sqrt(1.0 + hx * hx + hy * hy)
     n = np.array([-hx / nrm, -hy / nrm, 1.0 / nrm])
     p = np.array([x, y, h])

@@ -112,8 +112,6 @@ def step_body(world, body, tau) -> list[Contact]:
     idx = [i for i, c in enumerate(cands) if lam[3 * i] > 0.0]
     # new penetrations (contacts that were not candidates or did not activate)
     gaps = _project(world, body, active) if active else []
-    if hasattr(body, "finalize"):
-        body.finalize()
     out = []
     for c, i, g in zip(active, idx, gaps, strict=True):
         lam_i = lam[3 * i : 3 * i + 3]

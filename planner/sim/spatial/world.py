@@ -47,6 +47,7 @@ from planner.sim.observation import Observation, SensorSettings, read_forces, re
 from planner.sim.records import Contact
 from planner.sim.spatial.bodies import FingerBody, SphereBody
 from planner.sim.spatial.closest import PlacedSurface
+from planner.sim.spatial.fast_step import fast_plate, step_finger
 from planner.sim.spatial.sensing import FULL_INTENSITY_FORCE, OWTSRecorder
 from planner.sim.spatial.stepping import step_body
 from planner.sim.world import WorldBase
@@ -86,6 +87,9 @@ class SpatialWorld(WorldBase):
         self._owts: OWTSRecorder | None = None
         self._at_limit = False
         self.steps = 0
+        self._fast = False  # packed plate of the kernel path (False: not built yet)
+        #: use the scalar kernels for one finger over one Plate/Plane (same results)
+        self.use_kernels = True
 
     # ------------------------------------------------------------------ building
     def _name(self, name, prefix: str) -> str:
@@ -120,6 +124,7 @@ class SpatialWorld(WorldBase):
         for b in self._bodies():
             self._check_clear(b, placed, name)
         self.surfaces[name] = (placed, mu)
+        self._fast = False
         return name
 
     def add_sphere(
@@ -148,6 +153,7 @@ class SpatialWorld(WorldBase):
         for sname, (surf, _) in self.surfaces.items():
             self._check_clear(body, surf, sname)
         self.spheres[body.name] = body
+        self._fast = False
         return body.name
 
     def add_finger(
@@ -183,6 +189,7 @@ class SpatialWorld(WorldBase):
         for sname, (surf, _) in self.surfaces.items():
             self._check_clear(body, surf, sname)
         self.finger = body
+        self._fast = False
         self._tau_max = three_gm.torque_limits
         from robots.sensors import OWTS, Encoder
 
@@ -273,8 +280,11 @@ class SpatialWorld(WorldBase):
                 raise InvalidParameter(f"tau: expected 3 motor torques [N m], got shape {t.shape}")
             t = np.clip(t, -self._tau_max, self._tau_max)
             f = self.finger
+            if self._fast is False:
+                self._fast = fast_plate(self) if self.use_kernels else None
             try:
-                contacts += step_body(self, f, t)
+                got = step_finger(self, f, t, self._fast) if self._fast is not None else None
+                contacts += got if got is not None else step_body(self, f, t)
             except SingularConfiguration:
                 self._events.append(
                     SimEvent(
