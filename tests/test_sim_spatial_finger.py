@@ -206,3 +206,64 @@ def test_sticking_fingertip_does_not_creep():
     assert slip.max() <= 1e-12
     pts = log.contact_point[late, 0]
     assert np.linalg.norm(pts - pts[0], axis=1).max() <= 1e-9
+
+
+def test_kernel_path_equals_the_general_path():
+    """The scalar kernels (numba when installed) give the general numpy path's trajectory."""
+    logs = []
+    for kernels in (True, False):
+        sc = ridge_slide_scene(speed=0.02, travel=0.014, seed=3)
+        sc.world.use_kernels = kernels
+        logs.append(sc.world.run(0.25, sc.controller))
+    a, b = logs
+    np.testing.assert_allclose(a.q, b.q, atol=1e-12)
+    np.testing.assert_allclose(a.normal_force, b.normal_force, rtol=1e-8, atol=1e-10)
+    np.testing.assert_allclose(a.poses["finger"], b.poses["finger"], atol=1e-12)
+    from planner.sim.spatial.bodies import quat_from_matrix
+
+    w = sc.world
+    q = w.pose("finger")[3:]
+    np.testing.assert_allclose(q, quat_from_matrix(w.finger.tcs()), atol=1e-15)
+
+
+@pytest.mark.parametrize("sheath", [0.0, 0.5])
+def test_owts_kernel_equals_robots_sampler_and_decoder(sheath):
+    from planner.sim.spatial.sensing import OWTSRecorder
+    from robots.sensors import OWTS, OWTSSampler, RadialNonlinearity
+
+    rng = np.random.default_rng(5)
+    rows = []
+    for _ in range(7):
+        n = rng.normal(size=3)
+        n[2] = abs(n[2]) + 0.5
+        rows.append([*(n / np.linalg.norm(n)), rng.uniform(0, 1), *rng.normal(size=3) * 0.1])
+    rows += [[0.0] * 7, [1.0, 0.0, 0.01, 0.5, 0.0, 0.0, 0.0]]  # no contact, outside the field
+    sensor = OWTS(offsets=(0.02, -0.01))
+    nl = RadialNonlinearity(0.1, -0.05, sensor.field_of_detection / sensor.scale)
+    rec = [
+        OWTSRecorder(OWTSSampler(sensor, rng, nl, sheath_gain=sheath), np.random.default_rng(1))
+        for _ in range(2)
+    ]
+    for r in rows:
+        rec[0]._t.append(0.0)
+        rec[0]._rows.append(r)
+    got = rec[0].read()
+    v, p, n = rec[1].read_reference(rows)
+    np.testing.assert_array_equal(got.voltages, v)
+    np.testing.assert_allclose(got.point, p, atol=1e-17)
+    np.testing.assert_allclose(got.normal, n, atol=1e-15)
+    assert got.in_contact.tolist() == [True] * 7 + [False, False]
+
+
+def test_plate_kernel_equals_the_plate():
+    from planner.sim.spatial import Plate, PlateFeature
+    from planner.sim.spatial.kernel import pack_plate, plate_eval
+
+    feats = [PlateFeature(k, 1e-3, 2e-3, (1e-3, -1e-3), 0.3) for k in ("ridge", "ravine", "step")]
+    feats += [PlateFeature(k, 1e-3, 2e-3, (-2e-3, 1e-3)) for k in ("bump", "pit", "cusp", "wire")]
+    plate = Plate(tuple(feats), base=0.01)
+    F = pack_plate(plate)
+    for x, y in np.random.default_rng(0).uniform(-6e-3, 6e-3, (50, 2)):
+        np.testing.assert_allclose(
+            plate_eval(F, plate.base, x, y), plate.height_derivatives(x, y), rtol=1e-13, atol=1e-16
+        )
