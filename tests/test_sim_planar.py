@@ -127,7 +127,11 @@ def test_free_bodies_conserve_momentum_in_a_collision():
     world = PlanarWorld(gravity=(0.0, 0.0), sensors=SensorSettings.ideal())
     world.add_body(shapes.circle(0.02), (0.0, 0.0, 0.0), 0.3, velocity=(0.5, 0.1, 2.0), name="a")
     world.add_body(
-        shapes.rounded_rectangle(0.03, 0.03), (0.06, 0.01, 0.2), 0.7, velocity=(-0.2, 0, 0), name="b"
+        shapes.rounded_rectangle(0.03, 0.03),
+        (0.06, 0.01, 0.2),
+        0.7,
+        velocity=(-0.2, 0, 0),
+        name="b",
     )
     log = world.run(0.3)
     ba, bb = world._names["a"], world._names["b"]

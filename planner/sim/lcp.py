@@ -76,16 +76,16 @@ def _lex_less(T, a, b, col, n, rhs):
 
 
 @njit(cache=True)
-def _lemke(M, q, max_iter):
+def _lemke(M, q, d, max_iter):
     n = q.shape[0]
     z = np.zeros(n)
     if n == 0:
         return z, 0, 0
-    qmin = q[0]
+    qmin = q[0] / d[0]
     r = 0
     for i in range(1, n):
-        if q[i] < qmin:
-            qmin = q[i]
+        if q[i] / d[i] < qmin:
+            qmin = q[i] / d[i]
             r = i
     if qmin >= 0.0:
         return z, 0, 0
@@ -96,12 +96,12 @@ def _lemke(M, q, max_iter):
         T[i, i] = 1.0
         for j in range(n):
             T[i, n + j] = -M[i, j]
-        T[i, z0] = -1.0
+        T[i, z0] = -d[i]
         T[i, rhs] = q[i]
     basis = np.arange(n)
     # first pivot: z0 enters at the most negative q (ties broken lexicographically)
     for i in range(n):
-        if i != r and abs(q[i] - qmin) <= 1e-13 * max(1.0, abs(qmin)):
+        if i != r and abs(q[i] / d[i] - qmin) <= 1e-13 * max(1.0, abs(qmin)):
             if _lex_less(T, i, r, z0, n, rhs):
                 r = i
     _pivot(T, r, z0)
@@ -142,17 +142,33 @@ def _lemke(M, q, max_iter):
     return z, 2, it
 
 
-def solve_lcp(M: np.ndarray, q: np.ndarray, max_iter: int | None = None):
+def _residual(M, q, z) -> float:
+    w = M @ z + q
+    scale = max(1.0, float(np.abs(q).max()))
+    return max(float(-w.min()), float(abs(w @ z)) / max(1.0, float(z.max())), 0.0) / scale
+
+
+def solve_lcp(M: np.ndarray, q: np.ndarray, max_iter: int | None = None, tol: float = 1e-9):
     """Solve the LCP ``w = M z + q >= 0, z >= 0, w.z = 0`` by Lemke's method.
+
+    The problem is first scaled symmetrically by ``1/sqrt(M_ii)`` (rows and columns with a
+    positive diagonal), which leaves the solution set unchanged and evens out the mixed
+    units of contact LCPs. Lemke runs with the covering vector of ones; if it ends on a ray
+    or its answer fails the residual check (w >= -tol, |w.z| <= tol, relative to max|q|),
+    it is rerun with up to eight other fixed positive covering vectors (deterministic) - a
+    different complementary path, the standard remedy when roundoff in degenerate pivots
+    leads the first path astray. Every answer returned passed the residual check.
 
     Args:
         M: (n, n) matrix.
         q: (n,) vector.
-        max_iter: pivot limit (default ``50 n + 10``).
+        max_iter: pivot limit per path (default ``50 n + 10``).
+        tol: residual tolerance (relative to ``max(1, max|q|)``).
 
     Returns:
-        ``(z, status, pivots)``: the (n,) solution, ``LCP_OK`` (0), ``LCP_RAY`` (1: ray
-        termination, no solution found) or ``LCP_MAX_ITER`` (2), and the pivot count.
+        ``(z, status, pivots)``: the (n,) solution, ``LCP_OK`` (0), ``LCP_RAY`` (1: every
+        path ended on a ray or failed the check) or ``LCP_MAX_ITER`` (2), and the pivot count
+        of the last path.
     """
     M = np.ascontiguousarray(M, dtype=float)
     q = np.ascontiguousarray(q, dtype=float)
@@ -161,4 +177,21 @@ def solve_lcp(M: np.ndarray, q: np.ndarray, max_iter: int | None = None):
         from planner.errors import InvalidParameter
 
         raise InvalidParameter(f"M must have shape ({n}, {n}) to match q, got {M.shape}")
-    return _lemke(M, q, int(max_iter if max_iter is not None else 50 * n + 10))
+    diag = np.diag(M)
+    s = np.where(diag > 0, 1.0 / np.sqrt(np.where(diag > 0, diag, 1.0)), 1.0)
+    Ms = np.ascontiguousarray(s[:, None] * M * s[None, :])
+    qs = s * q
+    it = int(max_iter if max_iter is not None else 50 * n + 10)
+    status, pivots = LCP_RAY, 0
+    for k in range(len(_COVERS) + 1):
+        d = np.ones(n) if k == 0 else _COVERS[k - 1][np.arange(n) % _COVERS.shape[1]]
+        zs, status, pivots = _lemke(Ms, qs, d, it)
+        if status == LCP_OK:
+            z = s * zs
+            if _residual(M, q, z) <= tol:
+                return z, LCP_OK, pivots
+            status = LCP_RAY
+    return s * zs, status, pivots
+
+
+_COVERS = np.random.default_rng(20260101).uniform(0.5, 2.0, size=(8, 64))
