@@ -1,7 +1,8 @@
 """``to_mjcf(world) -> str``: the same world as a MuJoCo model (issue 15, item 7).
 
-Dispatches on the world's type: :class:`PlanarWorld` to :func:`planner.sim.planar.mjcf.planar_to_mjcf`,
-:class:`SpatialWorld` to :func:`planner.sim.spatial.mjcf.spatial_to_mjcf` (engineer B2's).
+Dispatches on the world's type: :class:`PlanarWorld` to
+:func:`planner.sim.planar.mjcf.planar_to_mjcf`, :class:`SpatialWorld` to
+:func:`planner.sim.spatial.mjcf.spatial_to_mjcf` (engineer B2's).
 """
 
 from __future__ import annotations

@@ -177,7 +177,8 @@ def planar_to_mjcf(world, name: str = "hapex_planar") -> str:
                 f'<joint name="{b.name}_x" type="slide" axis="1 0 0"/>',
                 f'<joint name="{b.name}_y" type="slide" axis="0 1 0"/>',
                 f'<joint name="{b.name}_a" type="hinge" axis="0 0 1"/>',
-                f'<inertial pos="0 0 0" mass="{b.mass:.12g}" diaginertia="{_f(*[b.inertia] * 3)}"/>',
+                f'<inertial pos="0 0 0" mass="{b.mass:.12g}" '
+                f'diaginertia="{_f(b.inertia, b.inertia, b.inertia)}"/>',
                 geom,
                 "</body>",
             ]

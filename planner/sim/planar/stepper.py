@@ -34,7 +34,8 @@ projection (post-stabilization, Cline & Pai 2003) when a gap is below
 
 **Limits.** Restitution is zero (inelastic impacts). Contact forces are impulses / h (step
 averages). Contact sets are re-detected every step within ``margin`` plus twice the distance
-each body's points can travel in the step (no tunnelling at the scene's speeds). Rolling resistance and compliance are not modelled.
+each body's points can travel in the step (no tunnelling at the scene's speeds). Rolling
+resistance and compliance are not modelled.
 """
 
 from __future__ import annotations
