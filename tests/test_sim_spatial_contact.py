@@ -180,3 +180,21 @@ def test_bad_features_are_rejected():
         PlateFeature("wire", 2e-3, rounding=0.5e-3)
     with pytest.raises(InvalidParameter, match="normal"):
         Plane(normal=(0, 0, 0))
+
+
+def test_path_features_are_finite_and_bent():
+    path = ((0.0, 0.0), (0.01, 0.0), (0.02, 0.01))
+    plate = Plate((PlateFeature("ridge", 1e-3, 2e-3, path=path),))
+    h = lambda x, y: plate.height_derivatives(x, y)[0]  # noqa: E731
+    assert h(0.005, 0.0) == pytest.approx(1e-3)  # on the first segment
+    assert h(0.015, 0.005) == pytest.approx(1e-3)  # on the bent second one
+    assert h(-0.002, 0.0) == pytest.approx(1e-3 * math.exp(-0.5))  # round end cap
+    assert h(0.005, 0.004) == pytest.approx(1e-3 * math.exp(-2.0))  # across the first one
+    e = 1e-7
+    for x, y in np.random.default_rng(1).uniform(-0.005, 0.025, (100, 2)):
+        d = plate.height_derivatives(x, y)
+        gx = (h(x + e, y) - h(x - e, y)) / (2 * e)
+        gy = (h(x, y + e) - h(x, y - e)) / (2 * e)
+        assert d[1] == pytest.approx(gx, abs=1e-6) and d[2] == pytest.approx(gy, abs=1e-6)
+    with pytest.raises(InvalidParameter, match="path"):
+        PlateFeature("step", 1e-3, path=path)

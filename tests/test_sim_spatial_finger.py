@@ -261,9 +261,15 @@ def test_plate_kernel_equals_the_plate():
 
     feats = [PlateFeature(k, 1e-3, 2e-3, (1e-3, -1e-3), 0.3) for k in ("ridge", "ravine", "step")]
     feats += [PlateFeature(k, 1e-3, 2e-3, (-2e-3, 1e-3)) for k in ("bump", "pit", "cusp", "wire")]
+    path = ((-4e-3, 0.0), (1e-3, 2e-3), (4e-3, -3e-3))
+    feats += [PlateFeature(k, 1e-3, 2e-3, path=path) for k in ("ridge", "wire", "cusp")]
+    feats += [PlateFeature("ravine", 1e-3, 2e-3, path=((1e-3, 1e-3),))]
     plate = Plate(tuple(feats), base=0.01)
-    F = pack_plate(plate)
-    for x, y in np.random.default_rng(0).uniform(-6e-3, 6e-3, (50, 2)):
+    F, P = pack_plate(plate)
+    for x, y in np.random.default_rng(0).uniform(-6e-3, 6e-3, (200, 2)):
         np.testing.assert_allclose(
-            plate_eval(F, plate.base, x, y), plate.height_derivatives(x, y), rtol=1e-13, atol=1e-16
+            plate_eval(F, P, plate.base, x, y),
+            plate.height_derivatives(x, y),
+            rtol=1e-13,
+            atol=1e-16,
         )

@@ -36,10 +36,10 @@ class FastPlate:
             Rn = np.column_stack([t1, np.cross(n, t1), n])
             self.R = placed.R @ Rn
             self.t = placed.R @ np.array(s.point) + placed.t
-            self.F, self.base = np.zeros((0, 8)), 0.0
+            self.F, self.P, self.base = np.zeros((0, 10)), np.zeros((0, 2)), 0.0
         else:
             self.R, self.t = placed.R.copy(), placed.t.copy()
-            self.F, self.base = pack_plate(s), float(s.base)
+            (self.F, self.P), self.base = pack_plate(s), float(s.base)
         self.R = np.ascontiguousarray(self.R)
         self.hint: tuple[float, float] | None = None
         self.out = np.zeros(26)
@@ -48,7 +48,7 @@ class FastPlate:
         """(point (3,), normal (3,), distance) of ``c`` [m, WCS]; updates the warm start."""
         cs = self.R.T @ (c - self.t)
         hx, hy = self.hint if self.hint is not None else (cs[0], cs[1])
-        x, y, h, nx, ny, nz, d = plate_foot(self.F, self.base, cs[0], cs[1], cs[2], hx, hy)
+        x, y, h, nx, ny, nz, d = plate_foot(self.F, self.P, self.base, cs[0], cs[1], cs[2], hx, hy)
         self.hint = (x, y)
         return self.R @ np.array([x, y, h]) + self.t, self.R @ np.array([nx, ny, nz]), d
 
@@ -76,7 +76,7 @@ def step_finger(world, f, tau, fp: FastPlate) -> list[Contact] | None:
         fp.hint = (cs[0], cs[1])
     out = fp.out
     finger_contact(
-        fp.F, fp.base, fp.R, fp.t, f.center, fp.hint[0], fp.hint[1], f.radius,
+        fp.F, fp.P, fp.base, fp.R, fp.t, f.center, fp.hint[0], fp.hint[1], f.radius,
         f.J, f.Jw, f.minv, thd_f, h, fp.mu, reach, out,
     )  # fmt: skip
     status = out[0]

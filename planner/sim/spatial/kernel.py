@@ -50,21 +50,17 @@ __all__ = [
 _KINDS = {"ridge": 0, "ravine": 1, "step": 2, "bump": 3, "pit": 4, "cusp": 5, "wire": 6}
 
 
-def pack_plate(plate) -> np.ndarray:
-    """(k, 8) rows ``(kind code, h, w, x_k, y_k, cos ψ, sin ψ, ρ)`` of a plate's features."""
-    rows = [
-        (
-            _KINDS[f.kind],
-            f.height,
-            f.width,
-            *f.position,
-            math.cos(f.across),
-            math.sin(f.across),
-            f.rounding,
-        )
-        for f in plate.features
-    ]
-    return np.array(rows, float).reshape(-1, 8)
+def pack_plate(plate) -> tuple[np.ndarray, np.ndarray]:
+    """``(F, P)``: (k, 10) rows ``(kind code, h, w, x_k, y_k, cos ψ, sin ψ, ρ, first, count)``
+    of a plate's features and the (m, 2) points of their paths (``count`` 0: no path)."""
+    rows, pts = [], []
+    for f in plate.features:
+        c, s = math.cos(f.across), math.sin(f.across)
+        path = f.path or ()
+        row = (_KINDS[f.kind], f.height, f.width, *f.position, c, s, f.rounding)
+        rows.append((*row, len(pts), len(path)))
+        pts += list(path)
+    return np.array(rows, float).reshape(-1, 10), np.array(pts, float).reshape(-1, 2)
 
 
 @_jit
@@ -104,28 +100,70 @@ def _profile(kind, h, w, rho, s):
 
 
 @_jit
-def plate_eval(F, base, x, y):
-    """``(h, h_x, h_y, h_xx, h_xy, h_yy)`` of the packed plate ``F`` at ``(x, y)``."""
+def _radial(kind, h, w, rho, dx, dy):
+    r = math.hypot(dx, dy)
+    Z, Z1, Z2 = _profile(kind, h, w, rho, r)
+    if r < 1e-300:
+        return Z, 0.0, 0.0, Z2, 0.0, Z2
+    ux, uy = dx / r, dy / r
+    t = Z1 / r
+    return (
+        Z,
+        Z1 * ux,
+        Z1 * uy,
+        Z2 * ux * ux + t * (1 - ux * ux),
+        (Z2 - t) * ux * uy,
+        Z2 * uy * uy + t * (1 - uy * uy),
+    )
+
+
+@_jit
+def _path(kind, h, w, rho, P, first, count, x, y):
+    if count == 1:
+        return _radial(kind, h, w, rho, x - P[first, 0], y - P[first, 1])
+    best, on_vertex, vx, vy, sd, nx, ny = 1e300, True, P[first, 0], P[first, 1], 0.0, 0.0, 0.0
+    for j in range(first, first + count - 1):
+        ax, ay, bx, by = P[j, 0], P[j, 1], P[j + 1, 0], P[j + 1, 1]
+        ex, ey = bx - ax, by - ay
+        L2 = ex * ex + ey * ey
+        t = ((x - ax) * ex + (y - ay) * ey) / L2
+        if 0.0 < t < 1.0:
+            L = math.sqrt(L2)
+            mx, my = -ey / L, ex / L
+            dist = (x - ax) * mx + (y - ay) * my
+            if abs(dist) < best:
+                best, on_vertex, sd, nx, ny = abs(dist), False, dist, mx, my
+        else:
+            qx, qy = (ax, ay) if t <= 0.0 else (bx, by)
+            dist = math.hypot(x - qx, y - qy)
+            if dist < best:
+                best, on_vertex, vx, vy = dist, True, qx, qy
+    if on_vertex:
+        return _radial(kind, h, w, rho, x - vx, y - vy)
+    Z, Z1, Z2 = _profile(kind, h, w, rho, sd)
+    return Z, Z1 * nx, Z1 * ny, Z2 * nx * nx, Z2 * nx * ny, Z2 * ny * ny
+
+
+@_jit
+def plate_eval(F, P, base, x, y):
+    """``(h, h_x, h_y, h_xx, h_xy, h_yy)`` of the packed plate ``(F, P)`` at ``(x, y)``."""
     h, hx, hy, hxx, hxy, hyy = base, 0.0, 0.0, 0.0, 0.0, 0.0
     for i in range(F.shape[0]):
         kind = int(F[i, 0])
-        dx, dy = x - F[i, 3], y - F[i, 4]
-        if kind == 3 or kind == 4:
-            r = math.hypot(dx, dy)
-            Z, Z1, Z2 = _profile(kind, F[i, 1], F[i, 2], F[i, 7], r)
-            h += Z
-            if r < 1e-300:
-                hxx += Z2
-                hyy += Z2
-                continue
-            ux, uy = dx / r, dy / r
-            hx += Z1 * ux
-            hy += Z1 * uy
-            t = Z1 / r
-            hxx += Z2 * ux * ux + t * (1 - ux * ux)
-            hxy += (Z2 - t) * ux * uy
-            hyy += Z2 * uy * uy + t * (1 - uy * uy)
+        count = int(F[i, 9])
+        if count > 0 or kind == 3 or kind == 4:
+            if count > 0:
+                d = _path(kind, F[i, 1], F[i, 2], F[i, 7], P, int(F[i, 8]), count, x, y)
+            else:
+                d = _radial(kind, F[i, 1], F[i, 2], F[i, 7], x - F[i, 3], y - F[i, 4])
+            h += d[0]
+            hx += d[1]
+            hy += d[2]
+            hxx += d[3]
+            hxy += d[4]
+            hyy += d[5]
             continue
+        dx, dy = x - F[i, 3], y - F[i, 4]
         c, s = F[i, 5], F[i, 6]
         Z, Z1, Z2 = _profile(kind, F[i, 1], F[i, 2], F[i, 7], dx * c + dy * s)
         h += Z
@@ -138,13 +176,13 @@ def plate_eval(F, base, x, y):
 
 
 @_jit
-def plate_foot(F, base, cx, cy, cz, x, y):
+def plate_foot(F, P, base, cx, cy, cz, x, y):
     """Foot of ``(cx, cy, cz)`` on the plate (plate frame), Newton from ``(x, y)``:
     ``(x, y, h, n_x, n_y, n_z, distance)`` (as :func:`.closest._newton_graph`)."""
     h, hx, hy = 0.0, 0.0, 0.0
     done = False
     for _ in range(50):
-        h, hx, hy, hxx, hxy, hyy = plate_eval(F, base, x, y)
+        h, hx, hy, hxx, hxy, hyy = plate_eval(F, P, base, x, y)
         e = h - cz
         gx = x - cx + e * hx
         gy = y - cy + e * hy
@@ -165,7 +203,7 @@ def plate_foot(F, base, cx, cy, cz, x, y):
             done = True
             break
     if not done:
-        h, hx, hy, hxx, hxy, hyy = plate_eval(F, base, x, y)
+        h, hx, hy, hxx, hxy, hyy = plate_eval(F, P, base, x, y)
     nrm = math.sqrt(1.0 + hx * hx + hy * hy)
     nx, ny, nz = -hx / nrm, -hy / nrm, 1.0 / nrm
     dist = (cx - x) * nx + (cy - y) * ny + (cz - h) * nz
@@ -211,12 +249,13 @@ def _slide(W, ut0, ut1, un, mu, phi):
 
 
 @_jit
-def finger_contact(F, base, R, t, center, hx0, hy0, radius, J, Jw, Minv, thd, h, mu, reach, out):
+def finger_contact(F, P, base, R, t, center, hx0, hy0, radius, J, Jw, Minv, thd, h, mu, reach, out):
     """Candidate contact of the fingertip with a placed plate and its exact solution.
 
     Args:
-        F, base: packed plate; R, t: its pose ``T_WS``; center: (3,) tip centre [m, WCS];
-        hx0, hy0: warm start of the foot (plate frame); radius [m]; J, Jw, Minv (3, 3);
+        F, P, base: packed plate (:func:`pack_plate`); R, t: its pose ``T_WS``;
+        center: (3,) tip centre [m, WCS]; hx0, hy0: warm start of the foot (plate frame);
+        radius [m]; J, Jw, Minv (3, 3);
         thd: (3,) free joint rates; h: time step [s]; mu; reach: candidate margin [m].
         out: (26,) output buffer: ``status`` (0 no candidate, 1 separate, 2 stick, 3 slide,
         -1 fall back), ``λ`` (3) [N s], ``θ̇⁺`` (3), normal (3), foot point (3), ``u⁺`` (3),
@@ -228,7 +267,7 @@ def finger_contact(F, base, R, t, center, hx0, hy0, radius, J, Jw, Minv, thd, h,
     cx = R[0, 0] * cs0 + R[1, 0] * cs1 + R[2, 0] * cs2
     cy = R[0, 1] * cs0 + R[1, 1] * cs1 + R[2, 1] * cs2
     cz = R[0, 2] * cs0 + R[1, 2] * cs1 + R[2, 2] * cs2
-    x, y, hz, nx_, ny_, nz_, dist = plate_foot(F, base, cx, cy, cz, hx0, hy0)
+    x, y, hz, nx_, ny_, nz_, dist = plate_foot(F, P, base, cx, cy, cz, hx0, hy0)
     gap = dist - radius
     out[24], out[25], out[23] = x, y, gap
     for i in range(3):

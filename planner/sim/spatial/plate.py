@@ -81,6 +81,13 @@ class PlateFeature:
             (0: the profile runs along ``x``, the feature along ``y``).
         rounding: ``ρ`` [m] for ``cusp`` (default ``w/10``) and ``wire`` (default and
             minimum ``R``).
+        path: optional polyline skeleton ``((x0, y0), (x1, y1), ...)`` [m] of a finite or bent
+            feature (all kinds but ``step``, whose profile is odd): ``s`` is then the distance
+            to the polyline — along a segment's interior the exact line formula (a straight
+            feature), near a vertex the radial one (round end caps, round outer corners; one
+            point: a bump-like dome). ``position`` and ``across`` are then unused. Inside a
+            bend, where two segments are equally near, ``s`` has a kink (the profiles are
+            even, so ``h`` stays continuous; keep bends wide compared with the width).
     """
 
     kind: str
@@ -89,6 +96,7 @@ class PlateFeature:
     position: tuple[float, float] = (0.0, 0.0)
     across: float = 0.0
     rounding: float | None = None
+    path: tuple[tuple[float, float], ...] | None = None
 
     def __post_init__(self) -> None:
         checks.choice("kind", self.kind, FEATURE_KINDS)
@@ -108,6 +116,15 @@ class PlateFeature:
         object.__setattr__(self, "position", (float(pos[0]), float(pos[1])))
         object.__setattr__(self, "across", psi)
         object.__setattr__(self, "rounding", rho)
+        if self.path is not None:
+            if self.kind == "step":
+                raise InvalidParameter(
+                    "path: a step has an odd profile and no skeleton; use position and across"
+                )
+            pts = checks.points("path", self.path, dims=(2,), unit="m")
+            if len(pts) > 1 and np.any(np.linalg.norm(np.diff(pts, axis=0), axis=1) <= 0):
+                raise InvalidParameter("path: consecutive points must differ")
+            object.__setattr__(self, "path", tuple(tuple(map(float, p)) for p in pts))
 
     def profile(self, s: float) -> tuple[float, float, float]:
         """``(Z, Z', Z'')`` at ``s`` [m, -, 1/m] (``s`` the distance for bumps and pits)."""
@@ -150,6 +167,52 @@ def _wire(s: float, R: float, rho: float) -> tuple[float, float, float]:
     return 0.0, 0.0, 0.0
 
 
+def _radial(f: PlateFeature, dx: float, dy: float):
+    """Height and derivatives of ``Z(r)``, ``r = |(dx, dy)|`` (bumps, pits, path vertices)."""
+    r = math.hypot(dx, dy)
+    Z, Z1, Z2 = f.profile(r)
+    if r < 1e-300:
+        return Z, 0.0, 0.0, Z2, 0.0, Z2
+    ux, uy = dx / r, dy / r
+    t = Z1 / r  # tangential curvature part
+    return (
+        Z,
+        Z1 * ux,
+        Z1 * uy,
+        Z2 * ux * ux + t * (1 - ux * ux),
+        (Z2 - t) * ux * uy,
+        Z2 * uy * uy + t * (1 - uy * uy),
+    )
+
+
+def _path_feature(f: PlateFeature, x: float, y: float):
+    """Height and derivatives of a feature along its polyline skeleton (see PlateFeature)."""
+    pts = f.path
+    best, vertex, sd, nrm = math.inf, pts[0], 0.0, (0.0, 0.0)
+    if len(pts) == 1:
+        return _radial(f, x - pts[0][0], y - pts[0][1])
+    for (ax, ay), (bx, by) in zip(pts[:-1], pts[1:], strict=True):
+        ex, ey = bx - ax, by - ay
+        L2 = ex * ex + ey * ey
+        t = ((x - ax) * ex + (y - ay) * ey) / L2
+        if 0.0 < t < 1.0:
+            L = math.sqrt(L2)
+            nx, ny = -ey / L, ex / L
+            dist = (x - ax) * nx + (y - ay) * ny
+            if abs(dist) < best:
+                best, vertex, sd, nrm = abs(dist), None, dist, (nx, ny)
+        else:
+            vx, vy = (ax, ay) if t <= 0.0 else (bx, by)
+            dist = math.hypot(x - vx, y - vy)
+            if dist < best:
+                best, vertex = dist, (vx, vy)
+    if vertex is not None:
+        return _radial(f, x - vertex[0], y - vertex[1])
+    Z, Z1, Z2 = f.profile(sd)
+    nx, ny = nrm
+    return Z, Z1 * nx, Z1 * ny, Z2 * nx * nx, Z2 * nx * ny, Z2 * ny * ny
+
+
 @dataclass(frozen=True)
 class Plate:
     """A flat plate ``z = base`` carrying macro features (a graph ``z = h(x, y)``).
@@ -178,6 +241,11 @@ class Plate:
         """``(h, h_x, h_y, h_xx, h_xy, h_yy)`` at ``(x, y)`` in the plate frame [m, -, 1/m]."""
         h, hx, hy, hxx, hxy, hyy = self.base, 0.0, 0.0, 0.0, 0.0, 0.0
         for f in self.features:
+            if f.path is not None:
+                d = _path_feature(f, x, y)
+                h, hx, hy = h + d[0], hx + d[1], hy + d[2]
+                hxx, hxy, hyy = hxx + d[3], hxy + d[4], hyy + d[5]
+                continue
             dx, dy = x - f.position[0], y - f.position[1]
             if f.kind in ("bump", "pit"):
                 r = math.hypot(dx, dy)
