@@ -59,26 +59,28 @@ class TipForceVelocityController:
         self.model = reduced_dynamics_function(gm, gravity)  # the controller's own model
         self.normal = np.array([0.0, 0.0, 1.0])
         self.touched = False
+        self._zero = np.zeros(3)
 
     def __call__(self, t: float, obs) -> np.ndarray:
         th = obs.q
-        out = self.model(th, np.zeros(3), np.zeros(3), 0.0)
-        x, J, g, g1 = out[0].copy(), out[1].copy(), out[6].copy(), float(out[5][0])
+        out = self.model(th, self._zero, self._zero, 0.0)
+        x, J, g1 = out[0], out[1], float(out[5][0])
+        tau_g = out[6].copy()  # gravity torques b_r(θ, 0)
         v = J @ obs.qd
         reading = obs.owts
-        if reading is not None and len(reading.t) and reading.in_contact.any():
-            R = tcs_rotation(g1, float(th[2]))
-            n_t = reading.normal[reading.in_contact].mean(axis=0)
-            n_w = -(R @ n_t)  # surface normal = minus the tip's outward normal
-            self.normal = n_w / np.linalg.norm(n_w)
+        if reading is not None and reading.in_contact.any():
+            n_t = reading.normal[reading.in_contact].sum(axis=0)
+            n_w = -(tcs_rotation(g1, float(th[2])) @ n_t)  # surface normal = -tip normal
+            self.normal = n_w / math.sqrt(n_w @ n_w)
             self.touched = True
         n = self.normal
-        P = np.eye(3) - np.outer(n, n) if self.touched else np.eye(3)
-        xd = self.start + self.vd * t
-        if not self.touched:
-            xd = np.array([self.start[0], self.start[1], x[2]])
-        f = -self.fn * n + P @ (self.kp * (xd - x) + self.kv * (self.vd - v))
-        return J.T @ f + g
+        if self.touched:
+            e = self.kp * (self.start + self.vd * t - x) + self.kv * (self.vd - v)
+            e -= n * (n @ e)  # tangential part only
+        else:  # approach: hold x, y, press down
+            e = self.kp * (self.start - x) + self.kv * (self.vd - v)
+            e[2] = -self.kv * v[2]
+        return J.T @ (e - self.fn * n) + tau_g
 
 
 @dataclass(frozen=True)

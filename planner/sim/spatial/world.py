@@ -262,6 +262,26 @@ class SpatialWorld(WorldBase):
             parts.append(self.finger.thd)
         return np.concatenate(parts) if parts else np.zeros(0)
 
+    def record(self, log, k: int, tau: np.ndarray) -> None:
+        """Write the current state into row ``k`` of ``log`` (a leaner
+        :meth:`WorldBase.record`: same rows)."""
+        log.t[k] = self.time
+        for b in self._bodies():
+            log.poses[b.name][k] = b.pose()
+            log.velocities[b.name][k] = b.velocity()
+        if self.finger is not None:
+            log.q[k], log.qd[k], log.tau[k] = self.finger.th, self.finger.thd, tau
+        contacts = self._contacts
+        log.contact_count[k] = len(contacts)
+        for i, c in enumerate(contacts[: log.max_contacts]):
+            log.contact_pair[k, i] = log.pair_index(*c.bodies)
+            log.contact_point[k, i] = c.point
+            log.contact_normal[k, i] = c.normal
+            log.normal_force[k, i] = c.normal_force
+            log.tangential_force[k, i] = c.tangential_force
+            log.slip_velocity[k, i] = c.slip_velocity
+            log.gap[k, i] = c.gap
+
     # ------------------------------------------------------------------ stepping
     def step(self, tau=None) -> None:
         """Advance by ``dt``. ``tau``: (3,) motor torques of the 3GM [N m] (None: zeros);
@@ -301,6 +321,10 @@ class SpatialWorld(WorldBase):
 
     def _limit_event(self, f) -> None:
         lim = f.gm.joint_limits
+        th = f.th.tolist()
+        beyond = any(not lo <= a <= hi for a, (lo, hi) in zip(th, lim.tolist(), strict=True))
+        if beyond == self._at_limit:
+            return
         out = (f.th < lim[:, 0]) | (f.th > lim[:, 1])
         if out.any() and not self._at_limit:
             self._events.append(
@@ -315,15 +339,15 @@ class SpatialWorld(WorldBase):
 
     def _record_owts(self, contacts) -> None:
         f = self.finger
-        R = f.tcs()
         mine = [c for c in contacts if c.bodies[0] == f.name]
         if mine:
             c = max(mine, key=lambda c: c.normal_force)
-            n_t = R.T @ (-c.normal)
+            R = f.tcs()
+            n_t = (R.T @ (-c.normal)).tolist()
             inten = min(c.normal_force / FULL_INTENSITY_FORCE, 1.0)
-            ft = R.T @ np.asarray(c.tangential_force)
+            ft = (R.T @ c.tangential_force).tolist()
         else:
-            n_t, inten, ft = np.zeros(3), 0.0, np.zeros(3)
+            n_t, inten, ft = (0.0, 0.0, 0.0), 0.0, (0.0, 0.0, 0.0)
         self._owts.advance(self.time, n_t, inten, ft)
 
     # ------------------------------------------------------------------ sensing
