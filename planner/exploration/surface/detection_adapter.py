@@ -68,7 +68,12 @@ def collapse_pattern(signs) -> str:
 
 
 def analyse_path(
-    centers_uvw: np.ndarray, tip_radius: float, *, algorithm: int = 3, min_length: float = 0.0
+    centers_uvw: np.ndarray,
+    tip_radius: float,
+    *,
+    algorithm: int = 3,
+    min_length: float = 0.0,
+    smoothing: float | None = None,
 ) -> PathAnalysis:
     """Detect curvature features along a fingertip-centre path (algorithm 3 by default).
 
@@ -77,6 +82,10 @@ def analyse_path(
         tip_radius: fingertip radius r_f [m].
         algorithm: detection algorithm of thesis Fig. 3.8 (3: traced-curve curvature).
         min_length: paths shorter than this (horizontal) give no features [m].
+        smoothing: Gaussian smoothing scale along the path [m] (default ``r_f/10``, the
+            detector's scale at the thesis' noise level; its own noise estimate is too
+            optimistic for the 0.05 mm steps of quantized encoders, which then read as
+            curvature).
 
     Returns:
         :class:`PathAnalysis`.
@@ -93,7 +102,10 @@ def analyse_path(
         return PathAnalysis((), "", s, w)
     strip = np.column_stack([s, w])
     try:
-        found = detect_features(strip, tip_radius, algorithm, material_side="right")
+        scale = tip_radius / 10 if smoothing is None else smoothing
+        found = detect_features(
+            strip, tip_radius, algorithm, material_side="right", smoothing_scale=scale
+        )
     except Exception:  # too few samples after decimation etc.: no features on this path
         return PathAnalysis((), "", s, w)
     # the detector's arclength is along the 2-D strip (s, w); map it back to samples

@@ -185,7 +185,7 @@ def random_plate(
     h = checks.positive("size", size, "m")
     jitter = float(rng.uniform(0.8, 1.2))
     if kind in ("bump", "pit"):
-        w = 1.6 * h * jitter + 2e-3
+        w = (h + 1e-3) * jitter
     elif kind in ("ridge", "ravine"):
         w = 0.9 * h * jitter + 0.6e-3
     elif kind == "step":
