@@ -3,7 +3,10 @@
 Decision variables: the forces ``f = (f_L, f_R)`` (4,) [N] the two fingertips apply on the
 object at their sensed contacts (WCS). Cost (all terms quadratic)::
 
-    w_W |G f - W|^2  +  sum_i (f_i - d_i)^T S_i (f_i - d_i)  +  w_reg |f|^2
+    w_W |S_rho (G f - W)|^2  +  sum_i (f_i - d_i)^T S_i (f_i - d_i)  +  w_reg |f|^2
+
+(``S_rho = diag(1, 1, 1/rho)``: the torque error divided by the mean object radius ``rho``
+so that it weighs like a force at the contacts).
 
 * phase 1 (``grasp = 1``): ``W`` is the object-impedance wrench of eq. (2.7) about the
   estimated object centre, ``G`` the grasp matrix of eq. (2.6); ``S_i = w_int u_i u_i^T`` and
@@ -140,9 +143,13 @@ def grasp_qp_function(model, name: str = "hapex_grasp_qp"):
         target_other = explore[k] * cs.vertcat(*ftip) + (1 - explore[k]) * f_int * cs.vertcat(*hold)
         d[sl] = grasp * f_int * uk + (1 - grasp) * target_other
     wW = grasp * p["w_wrench"][0]
-    Hh = S + wW * (G.T @ G) + p["w_reg"][0] * cs.DM.eye(4)
+    # torque row in force units: divided by the object's radius (errors compare as forces)
+    rho = 0.5 * (r["rho"][0] + r["rho"][1])
+    Gs = cs.vertcat(G[0:2, :], G[2, :] / rho)
+    Ws = cs.vertcat(W[0:2], W[2] / rho)
+    Hh = S + wW * (Gs.T @ Gs) + p["w_reg"][0] * cs.DM.eye(4)
     H = 2 * Hh
-    cvec = -2 * (S @ d + wW * (G.T @ W))
+    cvec = -2 * (S @ d + wW * (Gs.T @ Ws))
     # feed-forward torques: gravity, finger mass x desired acceleration, distal moments
     tau0 = cs.SX.zeros(6, 1)
     acc = contact_accelerations(c, r["xdd_des"], xd_est[2], pts)

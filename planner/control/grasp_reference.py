@@ -78,8 +78,10 @@ def reference_step(model, data, q, qd, geo, ref, par, solver: str = "daqp") -> d
             else:
                 d[sl] = f_int * _unit(r["palm"] - pts[k])
     wW = grasp * p["w_wrench"][0]
-    H = 2 * (S + wW * G.T @ G + p["w_reg"][0] * np.eye(4))
-    c = -2 * (S @ d + wW * G.T @ W)
+    scale = np.array([1.0, 1.0, 2.0 / (r["rho"][0] + r["rho"][1])])
+    Gs, Ws = G * scale[:, None], W * scale
+    H = 2 * (S + wW * Gs.T @ Gs + p["w_reg"][0] * np.eye(4))
+    c = -2 * (S @ d + wW * Gs.T @ Ws)
     acc = contact_accelerations(centre, r["xdd_des"], xd_est[2], pts)
     M, gq = T["hand"]["M"], T["hand"]["g"]
     tau0, JT = np.zeros(6), np.zeros((6, 4))
