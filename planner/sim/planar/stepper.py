@@ -228,7 +228,7 @@ def _project(world, frames, cands, Minv):
     N, _, _ = _rows(world, frames, cands, nv)
     phi = np.array([c[2] for c in cands])
     L, lphi, _ = _limit_rows(world, nv, 0.0)
-    N, phi = np.vstack([N, L]), np.concatenate([phi, np.minimum(lphi, 0.0)])
+    N, phi = np.vstack([N, L]), np.concatenate([phi, lphi])
     z = _solve(N @ Minv @ N.T, phi, "position projection")
     dq = Minv @ (N.T @ z)
     nb = len(world._x)
