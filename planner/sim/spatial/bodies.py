@@ -170,9 +170,12 @@ class FingerBody:
         self._refresh_center()
 
     def project(self, dc: np.ndarray, dq: np.ndarray | None = None) -> None:
-        """Move the joints by ``dq`` (3,) [rad] (the caller's mass-weighted correction)."""
+        """Move the joints by ``dq`` (3,) [rad] (the caller's mass-weighted correction).
+
+        The projection's corrections are tiny (|dq| ~ 1e-9 rad): the centre is moved by
+        ``J dq``, exact to O(|dq|²) ~ 1e-18 m; the next step re-evaluates everything."""
         self.th = self.th + dq
-        self._refresh_center()
+        self.shift_center(self.J @ dq)
 
     def _refresh_center(self) -> None:
         """Kinematics at the new angles (centre, J, J_ω, γ1; M_r⁻¹ is left for the step)."""
@@ -186,6 +189,10 @@ class FingerBody:
         self._center = c.copy()
         self.J, self.Jw, self.gamma1 = J.copy(), Jw.copy(), float(g1[0])
         self._quat = None
+
+    def shift_center(self, dc: np.ndarray) -> None:
+        """Move the cached centre by ``dc`` [m] (first-order update after a tiny projection)."""
+        self._center = self._center + dc
 
     def tcs(self) -> np.ndarray:
         return tcs_rotation(self.gamma1, float(self.th[2]))

@@ -98,8 +98,7 @@ def step_finger(world, f, tau, fp: FastPlate) -> list[Contact] | None:
             break
         jn = n @ f.J
         mj = minv @ jn
-        f.th = f.th - gap * mj / (jn @ mj)
-        f._refresh_center()
+        f.project(None, -gap * mj / (jn @ mj))
     lam = out[1:4]
     t1, t2 = out[16:19], out[19:22]
     u = out[13:16]
