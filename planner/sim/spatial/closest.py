@@ -9,7 +9,8 @@ penetration). ``c`` lies on the offset surface ``S + r n`` exactly when ``g = 0`
 * :class:`Plate`, :class:`~planner.geometry.surfaces.HeightField` (graphs ``z = h(x, y)``):
   Newton on ``D(x, y) = ½|(x, y, h) - c|²`` with exact derivatives (closed-form profiles;
   the spline's derivatives), warm-started from the previous foot point and converged to
-  ``|Δ| <= 1e-15 m`` (quadratic convergence: 2-3 iterations per step when sliding).
+  a last step ``|Δ| <= 1e-13 m`` (quadratic convergence: the error after it is ~1e-26 m;
+  2-3 iterations per step when sliding).
 * :class:`~planner.geometry.surfaces.ParametricSurface` (any catalogue surface): Newton on
   ``(u, v)`` with CasADi's exact gradient and Hessian of ``D``.
 

@@ -65,6 +65,19 @@ def fast_plate(world) -> FastPlate | None:
     return FastPlate(name, placed, mu)
 
 
+def _project(f, fp: FastPlate):
+    """Mass-weighted Gauss-Newton onto the offset surface; ``(point, normal, gap)``."""
+    for _ in range(20):
+        p, n, d = fp.foot(f.center)
+        gap = d - f.radius
+        if abs(gap) <= _PROJ_TOL:
+            break
+        jn = n @ f.J
+        mj = f.minv @ jn
+        f.project(None, -gap * mj / (jn @ mj))
+    return p, n, gap
+
+
 def step_finger(world, f, tau, fp: FastPlate) -> list[Contact] | None:
     """One step of the finger on ``fp``; None when the kernel asks for the general path
     (nothing has been changed then)."""
@@ -88,17 +101,12 @@ def step_finger(world, f, tau, fp: FastPlate) -> list[Contact] | None:
     f.th = f.th + h * f.thd
     f._refresh_center()
     if not active:
+        if status == 1.0:  # a candidate that separated: it must not end up penetrating
+            _, _, d = fp.foot(f.center)
+            if d - f.radius < -_PROJ_TOL:
+                _project(f, fp)
         return []
-    minv = f.minv
-    gap = 0.0
-    for _ in range(20):
-        p, n, d = fp.foot(f.center)
-        gap = d - f.radius
-        if abs(gap) <= _PROJ_TOL:
-            break
-        jn = n @ f.J
-        mj = minv @ jn
-        f.project(None, -gap * mj / (jn @ mj))
+    p, n, gap = _project(f, fp)
     lam = out[1:4]
     t1, t2 = out[16:19], out[19:22]
     u = out[13:16]

@@ -85,6 +85,15 @@ def _project(world, body, active: list[_Candidate]) -> list[float]:
     return gaps
 
 
+def _unpenetrate(world, body, idle: list[_Candidate]) -> None:
+    """Project candidates that did not carry force but end the step penetrating."""
+    for c in idle:
+        foot = c.placed.foot(body.center, world._hints.get((body.name, c.surface)))
+        if foot is not None and foot.distance - body.radius < -_PROJ_TOL:
+            c.gap = foot.distance - body.radius
+            _project(world, body, [c])
+
+
 def step_body(world, body, tau) -> list[Contact]:
     """Advance one body by ``world.dt``; returns its contact records."""
     h = world.dt
@@ -110,8 +119,8 @@ def step_body(world, body, tau) -> list[Contact]:
     body.integrate(h)
     active = [c for i, c in enumerate(cands) if lam[3 * i] > 0.0]
     idx = [i for i, c in enumerate(cands) if lam[3 * i] > 0.0]
-    # new penetrations (contacts that were not candidates or did not activate)
     gaps = _project(world, body, active) if active else []
+    _unpenetrate(world, body, [c for i, c in enumerate(cands) if not lam[3 * i] > 0.0])
     out = []
     for c, i, g in zip(active, idx, gaps, strict=True):
         lam_i = lam[3 * i : 3 * i + 3]

@@ -17,15 +17,20 @@ of length ``h``:
    Jacobian ``J`` in the contact frame ``(n, t1, t2)``; ``ν⁺ = ν_f + M⁻¹ Jᵀ λ``;
 4. positions ``x⁺ = x + h ν⁺`` (quaternions by the exact exponential map; the 3GM's motor
    angles, the loop closed in closed form);
-5. projection (post-stabilization): every contact that carried force (``λ_n > 0``) — and
-   any new penetration — is projected onto its offset surface, ``g = 0``, by a
-   mass-weighted Gauss-Newton step along the centre Jacobian (spheres: a translation along
-   ``n``), iterated until ``|g| <= 1e-12 m``. So a sliding or sticking sphere centre stays
-   on the exact offset surface to round-off (no penetration, no hovering), without any
-   stiffness or Baumgarte gain.
+5. projection (post-stabilization): every contact that carried force (``λ_n > 0``) is
+   projected onto its offset surface, ``g = 0``, and every candidate that ends the step
+   penetrating (a curvature effect of the linearized gap, ``O(h² |v|² κ)``) back onto it, by
+   a mass-weighted Gauss-Newton step along the centre Jacobian (spheres: a translation along
+   ``n``), until ``|g| <= 1e-12 m``. So a sliding or sticking sphere centre stays on the
+   exact offset surface to round-off (no penetration, no hovering), without any stiffness or
+   Baumgarte gain.
 
-Contact records (``contacts()``): the contacts of the last step that carried force or
-touch (gap <= 0); forces are impulses / h; ``tangential_force`` and ``slip_velocity`` are
+One finger over one :class:`Plate`/:class:`Plane` runs through the scalar kernels of
+:mod:`planner.sim.spatial.fast_step` (numba-compiled when numba is installed); everything
+else through :mod:`planner.sim.spatial.stepping`; both give the same trajectories (tested).
+
+Contact records (``contacts()``): the contacts of the last step that carried force
+(``λ_n > 0``); forces are impulses / h; ``tangential_force`` and ``slip_velocity`` are
 (3,) WCS vectors in the tangent plane, the slip of the sphere's material point relative to
 the surface after the step. Friction of a contact: ``min`` of the coefficients given to the
 surface and to the body (a body's ``None`` leaves the surface's value).
