@@ -10,6 +10,7 @@ Keys (SI units)::
           width: 0.002           # profile width w [m]
           position: [0.0, 0.0]   # crest / centre in the plate frame [m]
           across_deg: 30.0       # direction of the profile coordinate [deg]
+          path: null             # polyline skeleton [[u, v], ...] of a finite/bent feature [m]
     region: [[-0.02, 0.02], [-0.02, 0.02]]   # explored box of the plate frame [m]
     strategy: raster             # raster | random_walk | bug2
     goal: null                   # bug2 goal [u, v] in the plate frame [m]
@@ -47,6 +48,15 @@ class FeatureSpec(StrictModel):
     position: tuple[float, float] = Field((0.0, 0.0), description="centre / crest point [m]")
     across_deg: float = Field(0.0, ge=-360, le=360, description="profile direction [deg]")
     rounding: float | None = Field(None, gt=0, description="cusp/wire rounding [m]")
+    path: list[tuple[float, float]] | None = Field(
+        None, min_length=1, description="polyline skeleton of a finite or bent feature [m]"
+    )
+
+    @model_validator(mode="after")
+    def _path(self):
+        if self.path is not None and self.kind == "step":
+            raise ValueError("a step has no skeleton path; use position and across_deg")
+        return self
 
     def build(self):
         from planner.sim.spatial.plate import PlateFeature
@@ -58,6 +68,7 @@ class FeatureSpec(StrictModel):
             self.position,
             math.radians(self.across_deg),
             self.rounding,
+            path=None if self.path is None else tuple(self.path),
         )
 
 

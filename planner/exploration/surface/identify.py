@@ -21,7 +21,10 @@ Cues read from each crossing (fingertip centres in the plate frame):
 * ``feet``: the curvature pattern has concave features on both sides of a convex one
   (``-+-``, Fig. 4.7's ridge) - a cusp has none (it is a crease between two planes);
 * ``crease``: the plate falls away on both sides at the ends of the crossing (a cusp's flanks
-  are planes tilted by its half-angle; the plate around a ridge is level).
+  are planes tilted by its half-angle; the plate around a ridge is level);
+* ``width`` (along): a raised or sunken part much longer along than across is elongated, flat
+  along like a ridge (a finite ridge drops at its end caps when the along crossing is longer
+  than the ridge; a bump is as wide along as across).
 
 Across the kinds predict (relief, step, feet, crease) and along the relief:
 
@@ -54,6 +57,7 @@ __all__ = [
     "TypeDecision",
     "crossing_axis",
     "evidence",
+    "feature_width",
     "flow_chart_next",
     "identify",
     "level_change",
@@ -84,6 +88,8 @@ class Crossing:
         relief: rise above minus dip below the line through the end levels [m].
         end_slopes: (2,) slope of the centre path at the start (going backwards) and at the
             end (going forwards): both negative when the plate falls away on both sides.
+        width: horizontal length over which the centre departs from the line through the end
+            levels by more than half the relief (the feature's width on this crossing) [m].
     """
 
     pattern: str
@@ -91,6 +97,7 @@ class Crossing:
     level_change: float = 0.0
     relief: float = 0.0
     end_slopes: tuple[float, float] = (0.0, 0.0)
+    width: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -139,6 +146,7 @@ def identify(
     level_threshold: float = 5e-4,
     relief_threshold: float = 3e-4,
     crease_slope: float = 0.12,
+    elongation: float = 1.8,
 ) -> TypeDecision:
     """Posterior over the six kinds from the crossings (the extended Fig. 4.7).
 
@@ -148,6 +156,9 @@ def identify(
         level_threshold: a level change beyond this is a step [m].
         relief_threshold: a relief beyond this is raised/sunken [m].
         crease_slope: both end slopes below minus this make a crease [-].
+        elongation: an along crossing whose raised (sunken) part is longer than this times the
+            across crossing's is elongated - flat along, as on a ridge (finite ridges drop at
+            their end caps when the along crossing is longer than they are).
 
     Returns:
         :class:`TypeDecision`; ``"unknown"`` with confidence 0 when no crossing saw anything.
@@ -178,9 +189,15 @@ def identify(
             logp[k] += np.log(_lik(step, ps, P_CUE))
             logp[k] += np.log(_lik(feet, pf, P_FEET))
             logp[k] += np.log(_lik(crease, pc, P_CUE))
+    w_across = max([c.width for c in across] + [1e-9])
     for c in along:
         rel = _rel(c.relief, relief_threshold)
-        path.append(f"along: pattern {c.pattern or '(none)'}, relief {rel}")
+        if rel != "flat" and c.width > elongation * w_across:
+            rel = "flat"  # a finite ridge or ravine: long along, its ends drop within the crossing
+        path.append(
+            f"along: pattern {c.pattern or '(none)'}, relief {rel}, width "
+            f"{c.width * 1e3:.1f} mm vs {w_across * 1e3:.1f} mm across"
+        )
         for k in KINDS:
             logp[k] += np.log(_lik(rel, PREDICTIONS[k][4], P_CUE))
     vals = np.array([logp[k] for k in KINDS])
@@ -241,6 +258,18 @@ def relief(s: np.ndarray, w: np.ndarray, fraction: float = 0.15) -> float:
     return float(d.max() + d.min())
 
 
+def feature_width(s: np.ndarray, w: np.ndarray, fraction: float = 0.15) -> float:
+    """Length [m] of the part of a crossing departing from the end-level line by more than
+    half of its largest departure (the full width at half maximum of the relief)."""
+    s, w = np.asarray(s, float), np.asarray(w, float)
+    _, (s0, w0), (s1, w1) = _ends(s, w, fraction)
+    d = np.abs(w - (w0 + (w1 - w0) * (s - s0) / max(s1 - s0, 1e-12)))
+    if d.max() <= 0:
+        return 0.0
+    on = np.flatnonzero(d > 0.5 * d.max())
+    return float(s[on[-1]] - s[on[0]])
+
+
 def end_slopes(s: np.ndarray, w: np.ndarray, fraction: float = 0.15) -> tuple[float, float]:
     """Slopes of the centre path over the first and last ``fraction`` of the crossing, each
     taken going away from the middle (negative: the plate falls away) [-]."""
@@ -272,7 +301,14 @@ def evidence(centers_uvw, normals_uvw, tip_radius: float, role: str = "across"):
     P = np.asarray(centers_uvw, float)
     a = analyse_path(P, tip_radius)
     if len(a.s) >= 6:
-        c = Crossing(a.pattern, role, level_change(a.w), relief(a.s, a.w), end_slopes(a.s, a.w))
+        c = Crossing(
+            a.pattern,
+            role,
+            level_change(a.w),
+            relief(a.s, a.w),
+            end_slopes(a.s, a.w),
+            feature_width(a.s, a.w),
+        )
     else:
         c = Crossing(a.pattern, role)
     d = P[-1, :2] - P[0, :2]

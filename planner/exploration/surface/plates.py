@@ -62,7 +62,22 @@ def _profile(f, s: np.ndarray) -> np.ndarray:
     return np.where(a <= xt, top, np.where(a < xc, fil, 0.0))
 
 
+def _polyline_distance(path, u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Distance [m] from ``(u, v)`` to the polyline ``path`` ((K, 2) [m])."""
+    P = np.asarray(path, float)
+    if len(P) == 1:
+        return np.hypot(u - P[0, 0], v - P[0, 1])
+    best = np.full(np.shape(u), np.inf)
+    for a, b in zip(P[:-1], P[1:], strict=True):
+        e = b - a
+        t = np.clip(((u - a[0]) * e[0] + (v - a[1]) * e[1]) / float(e @ e), 0.0, 1.0)
+        best = np.minimum(best, np.hypot(u - a[0] - t * e[0], v - a[1] - t * e[1]))
+    return best
+
+
 def _across(f, u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    if getattr(f, "path", None) is not None:
+        return _polyline_distance(f.path, u, v)
     du, dv = u - f.position[0], v - f.position[1]
     if f.kind in ("bump", "pit"):
         return np.hypot(du, dv)
@@ -147,11 +162,14 @@ def truth_features(
         gen = contourpy.contour_generator(V, U, slope)  # x = v, y = u: returns (v, u) pairs
         lines = [ln[:, ::-1] for ln in gen.lines(math.tan(boundary_tilt)) if len(ln) > 2]
         centre = np.array(f.position, float)
-        if f.kind in CLOSED_KINDS:
-            skel = centre[None].copy()
+        path = getattr(f, "path", None)
+        if f.kind in CLOSED_KINDS or path is not None:
+            skel = centre[None].copy() if path is None else np.array(path, float)
+            if path is not None:
+                centre = skel.mean(axis=0)
             closed = bool(lines) and all(np.allclose(ln[0], ln[-1], atol=2 * grid) for ln in lines)
-            if lines:  # the outer contour: the farthest from the centre
-                lines = [max(lines, key=lambda ln: np.linalg.norm(ln - centre, axis=1).mean())]
+            if lines:  # the outer contour: the longest
+                lines = [max(lines, key=lambda ln: float(np.sum(np.hypot(*np.diff(ln, axis=0).T))))]
         else:
             a = f.across
             axis = np.array([-math.sin(a), math.cos(a)])

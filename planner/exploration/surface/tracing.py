@@ -100,10 +100,10 @@ def trace_boundary(ex, cfg, region: np.ndarray, sigma: float, orient: float = 1.
             if tangent is not None and float(t @ tangent) < -0.2:
                 t = -t  # keep the sense of travel through saddles of the tilt field
             tangent = t
-            if abs(tilt - target) < 0.5 * target:
+            if abs(tilt - target) < 0.25 * target:
                 samples.append(ex.rec.n - 1)
-            lateral = np.clip(3.0 * (target - tilt) / target, -1.0, 1.0)
-            v = cfg.trace_speed * (t + 0.8 * lateral * sigma * up)
+            lateral = np.clip(1.2 * (target - tilt) / target, -0.6, 0.6)
+            v = cfg.trace_speed * (t + lateral * sigma * up)
         else:  # lost the feature: re-approach along the last uphill direction
             lost_since = ex.est.t if lost_since is None else lost_since
             ex.phase = PHASE["reapproach"]
