@@ -46,7 +46,7 @@ from __future__ import annotations
 import numpy as np
 
 from planner import checks
-from planner.errors import InvalidParameter, SingularConfiguration
+from planner.errors import InvalidParameter
 from planner.sim.events import SimEvent
 from planner.sim.observation import Observation, SensorSettings, read_forces, read_joints
 from planner.sim.records import Contact
@@ -307,16 +307,8 @@ class SpatialWorld(WorldBase):
             f = self.finger
             if self._fast is False:
                 self._fast = fast_plate(self) if self.use_kernels else None
-            try:
-                got = step_finger(self, f, t, self._fast) if self._fast is not None else None
-                contacts += got if got is not None else step_body(self, f, t)
-            except SingularConfiguration:
-                self._events.append(
-                    SimEvent(
-                        self.time + self.dt, "singular", "3GM singular", {"theta": f.th.tolist()}
-                    )
-                )
-                raise
+            got = step_finger(self, f, t, self._fast) if self._fast is not None else None
+            contacts += got if got is not None else step_body(self, f, t)
             self._limit_event(f)
         self.time += self.dt
         self.steps += 1
