@@ -9,8 +9,11 @@ Degenerate pivots are resolved with the **lexicographic minimum-ratio rule**: ti
 ratio ``rhs_i / col_i`` are broken by comparing the rows of the current basis inverse divided
 by ``col_i``; together with the standard preference for z0 leaving, this prevents cycling
 (Cottle-Pang-Stone Thm. 4.4.4). The per-step matrices of Stewart-Trinkle time stepping are
-copositive-plus with a feasible q-direction, for which Lemke terminates with a solution
-(Stewart & Trinkle 1996; Anitescu & Potra 1997) - rays are reported, not hidden.
+copositive, and Lemke terminates with a solution when ``q.z >= 0`` for every ``z >= 0``
+with ``M z >= 0`` and ``z.M z = 0`` (Cottle-Pang-Stone Thm. 3.8.6; Anitescu & Potra 1997).
+For contact LCPs those ``z`` are self-balancing impulse sets (jammed, redundant contacts),
+and ``q.z = phi.p_n / h >= 0`` holds when no contact penetrates - which is why the stepper
+projects penetrations out *before* its velocity LCP. Rays are reported, not hidden.
 
 Pivot elements below ``1e-9`` of the entering column's largest entry are treated as zero:
 Stewart-Trinkle matrices carry exactly duplicated rows (two corners of a face share their

@@ -27,7 +27,8 @@ class SimLog:
         poses: ``{body: (T, 3) (x, y, angle) planar [m, rad] | (T, 7) (xyz, quat wxyz)}``.
         velocities: ``{body: (T, 3) (vx, vy, omega) | (T, 6) (v, omega) in the world frame}``.
         q, qd: (T, n) joint angles [rad] and velocities [rad/s] of the hand/finger (true).
-        tau: (T, n) joint torques applied over the step that starts at ``t`` [N m].
+        tau: (T, n) joint torques (after saturation) held over the step that starts at
+            ``t`` [N m] (the last row repeats the last command).
         contact_count: (T,) number of contact candidates at ``t`` (may exceed K).
         contact_pair: (T, K) index into ``pairs`` (-1: empty slot).
         contact_point, contact_normal: (T, K, d) [m], unit (see :class:`Contact`).

@@ -178,5 +178,8 @@ def run(
                 break
     if bar is not None:
         bar.close()
+    # rows were written after each step with the torque of that step: shift so that tau[k] is
+    # the torque held over [t_k, t_k+1] (the last row repeats the last command)
+    log.tau[: rows - 1] = log.tau[1:rows].copy()
     log.trim(rows)
     return log

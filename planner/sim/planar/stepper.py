@@ -272,8 +272,11 @@ def step(world, tau) -> StepResult:
             A[e, c] = mu[c]
             A[e, nn + k] = A[e, nn + nf + k] = -1.0
         b = np.concatenate([R @ v_free, np.zeros(nf)])
-        b[:nn] += np.concatenate([gap, lphi]) / h
-        z = _solve(A, b, "contact problem")
+        phi = np.concatenate([gap, lphi])
+        z, status, _ = solve_lcp(A, b + np.concatenate([phi / h, np.zeros(m - nn)]))
+        if status != 0:  # a jam with sub-tolerance penetration: close gaps only (see lcp.py)
+            b[:nn] += np.maximum(phi, 0.0) / h
+            z = _solve(A, b, "contact problem")
         pn, pl = z[:nc], z[nc:nn]
         pt[fr] = z[nn : nn + nf] - z[nn + nf : nn + 2 * nf]
         nu_new = v_free + Minv @ (R.T @ z[: nn + 2 * nf])
