@@ -145,3 +145,23 @@ def test_bad_input_is_rejected():
         w.add_surface(Plane(), name="floor")
     with pytest.raises(InvalidParameter, match="dt"):
         SpatialWorld(dt=0.0)
+
+
+def test_frictionless_ball_leaves_a_dome_at_the_closed_form_angle():
+    """A particle sliding from rest at θ0 off a sphere leaves it at cos θ = (2/3) cos θ0; a
+    frictionless ball does not spin, so its centre does the same on the offset sphere
+    (parametric catalogue surface: the CasADi Newton foot point)."""
+    from planner.geometry.surfaces import sphere
+
+    R, r, th0 = 0.1, 0.01, 0.1
+    w = SpatialWorld(dt=1e-3)
+    w.add_surface(sphere(R), friction=0.0, name="dome")
+    b = w.add_sphere(r, 0.1, (R + r) * np.array([math.sin(th0), 0.0, math.cos(th0)]))
+    log = w.run(0.55)
+    on = log.normal_force[:, 0] > 0
+    k = np.flatnonzero(on)[-1]
+    assert on[1 : k + 1].all()  # in contact from the first step until it leaves
+    p = log.poses[b][k, :3]
+    leave = math.degrees(math.acos(p[2] / np.linalg.norm(p)))
+    assert leave == pytest.approx(math.degrees(math.acos(2 / 3 * math.cos(th0))), abs=0.5)
+    assert np.nanmax(np.abs(log.gap[on, 0])) <= 1e-12
