@@ -50,7 +50,7 @@ class ExplorationSettings:
     window: float | None = None
     friction: float = 0.1
     kp: float = 300.0
-    kv: float = 4.0
+    kv: float = 16.0
     trace_time: float = 12.0
     info_weight: float = 1.0
     cost_weight: float = 0.2

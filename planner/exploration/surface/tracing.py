@@ -102,7 +102,7 @@ def trace_boundary(ex, cfg, region: np.ndarray, sigma: float, orient: float = 1.
             tangent = t
             if abs(tilt - target) < 0.25 * target:
                 samples.append(ex.rec.n - 1)
-            lateral = np.clip(1.2 * (target - tilt) / target, -0.6, 0.6)
+            lateral = np.clip(0.3 * (target - tilt) / target, -0.3, 0.3)
             v = cfg.trace_speed * (t + lateral * sigma * up)
         else:  # lost the feature: re-approach along the last uphill direction
             lost_since = ex.est.t if lost_since is None else lost_since
