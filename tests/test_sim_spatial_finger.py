@@ -273,3 +273,27 @@ def test_plate_kernel_equals_the_plate():
             rtol=1e-13,
             atol=1e-16,
         )
+
+
+def test_fingertip_pressed_into_a_corner_holds_two_contacts():
+    """Two contacts (floor and wall) on one tip: block Gauss-Seidel over exact cones."""
+    c = GM.workspace_center
+    w = SpatialWorld()
+    w.add_surface(Plane((0, 0, c[2] - 0.008)), friction=0.5, name="floor")
+    w.add_surface(Plane((c[0] + 0.008, 0, 0), (-1, 0, 0)), friction=0.5, name="wall")
+    w.add_finger(GM, GM.center_theta)
+    fn = reduced_dynamics_function(GM)
+
+    def push(t, obs):
+        out = fn(w.finger.th, np.zeros(3), np.zeros(3), 0.0)
+        return np.array(out[1]).T @ np.array([0.4, 0.1, -0.5]) + np.array(out[6])
+
+    log = w.run(0.3, push)
+    assert log.status == "ok"
+    assert np.all(log.contact_count[1:] == 2)
+    assert np.all(log.normal_force[1:, :2] > 0)
+    assert np.abs(log.gap[1:, :2]).max() <= 1e-12
+    # sticking to the Gauss-Seidel tolerance (1e-13 relative on the impulses)
+    assert np.linalg.norm(log.slip_velocity[1:, :2], axis=2).max() <= 1e-10
+    x = log.poses["finger"][:, :3]
+    assert np.abs(x[1:] - x[-1]).max() <= 1e-12  # no creep
