@@ -57,6 +57,7 @@ def _grasp_inputs(mode=(1, 0, 0), seed=0):
             "x_des": [0.002, 0.068, 0.05], "xd_des": [0, 0, 0.1], "xdd_des": [0.1, 0, 0.2],
             "rho": [R, R], "f_int": 1.0, "m_roll": [0.001, -0.002], "p_des": [0.06, 0.1],
             "v_des": [0.0, 0.01], "phi_des": [-1.9, 1.0], "palm": [0.0, 0.015], "flags": mode,
+            "p_hold": [-0.037, 0.098],
         },
         REF, N_REF,
     )  # fmt: skip

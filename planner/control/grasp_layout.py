@@ -33,8 +33,9 @@ REF = {
     "phi_des": slice(19, 21),  # fingertip orientation commands (explorer) [rad]
     "palm": slice(21, 23),  # estimated object-palm contact point [m]
     "flags": slice(23, 26),  # (grasp, explore_left, explore_right)
+    "p_hold": slice(26, 28),  # anchor of the holding finger's contact (phases 2/3) [m]
 }
-N_REF = 26
+N_REF = 28
 
 #: slices of the parameter vector
 PAR = {

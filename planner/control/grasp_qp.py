@@ -13,8 +13,9 @@ so that it weighs like a force at the contacts).
   ``d_i = f_int u_i`` put the commanded internal force along the contact line (``u_L`` from
   the left contact to the right one, ``u_R = -u_L``);
 * phases 2/3 (``grasp = 0``): the holding finger tracks ``d = f_int u_hold`` (towards the
-  palm contact) and the exploring finger the fingertip-impedance force (0.3 N normal force,
-  §2.3.2), both with ``S = w_track I``.
+  palm contact) plus a tangential impedance about its anchor ``p_hold`` (so the held object
+  cannot be dragged along), the exploring finger the fingertip-impedance force (0.3 N normal
+  force, §2.3.2), both with ``S = w_track I``.
 
 Constraints: friction cones ``|t_i . f_i| <= mu n_i . f_i`` of the holding/grasping fingers
 (eq. 2.1, planar; the exploring finger may slide), ``n_i . f_i >= f_min`` and the joint
@@ -140,7 +141,10 @@ def grasp_qp_function(model, name: str = "hapex_grasp_qp"):
         S[sl, sl] = grasp * p["w_int"][0] * (uk @ uk.T) + (1 - grasp) * p["w_track"][0] * cs.DM.eye(
             2
         )
-        target_other = explore[k] * cs.vertcat(*ftip) + (1 - explore[k]) * f_int * cs.vertcat(*hold)
+        fhold = fingertip_force(
+            pts[k], vel[k], r["p_hold"], (0, 0), hold, f_int, p["kp_tip"][0], p["kv_tip"][0]
+        )
+        target_other = explore[k] * cs.vertcat(*ftip) + (1 - explore[k]) * cs.vertcat(*fhold)
         d[sl] = grasp * f_int * uk + (1 - grasp) * target_other
     wW = grasp * p["w_wrench"][0]
     # torque row in force units: divided by the object's radius (errors compare as forces)

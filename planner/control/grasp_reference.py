@@ -76,7 +76,10 @@ def reference_step(model, data, q, qd, geo, ref, par, solver: str = "daqp") -> d
                     p["kp_tip"][0], p["kv_tip"][0],
                 )  # fmt: skip
             else:
-                d[sl] = f_int * _unit(r["palm"] - pts[k])
+                d[sl] = fingertip_force(
+                    pts[k], vel[k], r["p_hold"], (0.0, 0.0), _unit(r["palm"] - pts[k]), f_int,
+                    p["kp_tip"][0], p["kv_tip"][0],
+                )  # fmt: skip
     wW = grasp * p["w_wrench"][0]
     scale = np.array([1.0, 1.0, 2.0 / (r["rho"][0] + r["rho"][1])])
     Gs, Ws = G * scale[:, None], W * scale

@@ -77,6 +77,7 @@ class RollingNLP:
         max_step: largest rotation per interval [rad].
         max_tip_angle: largest angle of the round contact from the tip axis [rad].
         travel: largest displacement of the object centre from its start [m].
+        pad_use: fraction of the pad's half-width the contact may use [-].
     """
 
     def __init__(
@@ -86,6 +87,7 @@ class RollingNLP:
         max_step: float = 0.08,
         max_tip_angle: float = 1.2,
         travel: float = 0.01,
+        pad_use: float = 0.6,
         tol: float = 1e-5,
     ) -> None:
         import casadi as cs
@@ -157,7 +159,7 @@ class RollingNLP:
             for i in range(6 if k > 0 else 0):
                 add(q[i] - lim[i, 0] - qm, 0, cs.inf)
                 add(q[i] - lim[i, 1] + qm, -cs.inf, 0)
-            add(u, -0.9 * pad, 0.9 * pad)
+            add(u, -pad_use * pad, pad_use * pad)
             # round contact near the tip axis: angle of (-n_R) in the tip frame vs +y
             add(cs.cos((bR + math.pi - phR) - math.pi / 2), math.cos(self.max_tip_angle), 1.0)
             # stability: contact line inside both cones with a margin

@@ -12,6 +12,7 @@ lost, path finished. The first event is kept in :attr:`GaitController.event`; th
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -33,8 +34,9 @@ class Segment:
         kind: 1, 2 or 3 (Fig. 2.3).
         duration: planned duration [s] ("path finished" after it).
         pose: ``t -> (x, y, theta), (vx, vy, omega)`` object references (phase 1).
-        rolling: ``t -> (u_des, s_right_des)`` fingertip contact locations [m] (phase 1 and
-            the holding finger).
+        rolling: ``t -> (u_des, s_right_des, phi_des (2,), phid_des (2,))``: fingertip
+            contact locations [m] and orientations [rad, rad/s] (phase 1 and the holding
+            finger).
         explore: ``t -> (p_des (2,), v_des (2,), phi_des)`` of the exploring finger.
         hold_force: ``t -> internal / holding force [N]``.
         explore_force: ``t -> exploring normal force [N]``.
@@ -49,6 +51,14 @@ class Segment:
     hold_force: Callable | None = None
     explore_force: Callable | None = None
     theta0: float = 0.0
+
+
+#: columns of :attr:`GaitController.trace` (sensed and commanded series, one row per call)
+TRACE_NAMES = (
+    "t", "kind", "u", "pad_touch", "pLx", "pLy", "pRx", "pRy", "nLx", "nLy", "nRx", "nRy",
+    "cx", "cy", "theta", "fnL", "fnR", "f_cmd", "f_int", "pdx", "pdy", "u_des", "sR",
+    "sR_des", "f_des", "fLx", "fLy", "fRx", "fRy",
+)  # fmt: skip
 
 
 class GaitController:
@@ -89,8 +99,10 @@ class GaitController:
         self._u0 = 0.0
         self._beta0 = 0.0
         self._weak = 0.0
+        self._hold_anchor = (0.0, 0.0)
         self.step_times: list[float] = []
         self.trace: list[tuple] = []
+        self.images: list[tuple[float, np.ndarray]] = []
 
     # ------------------------------------------------------------------ phases
     def start(self, segment: Segment, t: float) -> None:
@@ -101,6 +113,8 @@ class GaitController:
         self._weak = 0.0
         e = self.sensing.est
         self._u0, self._beta0 = e.u, e.beta[0]
+        holder = 0 if segment.kind == 2 else 1
+        self._hold_anchor = tuple(e.p[holder])
         self.pi.reset()
 
     # ------------------------------------------------------------------ the step
@@ -122,10 +136,12 @@ class GaitController:
             sensed = sensed_internal_force(e.p[holder], palm, e.forces[holder], -e.forces[holder])
         f_cmd = self.pi.command(f_des, sensed, 1.0 / s.control_rate)
         m_roll = [0.0, 0.0]
+        self._roll_cmd = (math.nan, math.nan, math.nan)
         if seg.rolling is not None:
-            u_des, sR_des = seg.rolling(tl)
+            u_des, sR_des, phi_ref, phid_ref = seg.rolling(tl)
             phiR = float(obs.q[3] + obs.q[4] + obs.q[5])
             sR = round_contact_arclength(e.beta[1], phiR, self.r)
+            self._roll_cmd = (u_des, sR, sR_des)
             w_des = seg.pose(tl)[1][2] if seg.pose is not None else 0.0
             qd = obs.qd
             # contact rates from pure rolling (eq. 2.4): ds = -d(phi - theta) / (k_f + k_o)
@@ -133,6 +149,11 @@ class GaitController:
             sdR = -(self.r * R / (self.r + R)) * (qd[3] + qd[4] + qd[5] - w_des)
             m_roll = [rolling_moment(-e.u, sdL, -u_des, 0.0, self.roll),
                       rolling_moment(sR, sdR, sR_des, 0.0, self.roll)]  # fmt: skip
+            # orientation of each grasping/holding fingertip along its planned path
+            for k in range(2):
+                phi = float(obs.q[3 * k] + obs.q[3 * k + 1] + obs.q[3 * k + 2])
+                phid = float(qd[3 * k] + qd[3 * k + 1] + qd[3 * k + 2])
+                m_roll[k] += s.hold_kp * (phi_ref[k] - phi) - s.hold_kv * (phid - phid_ref[k])
         x_des, xd_des = (
             seg.pose(tl) if seg.pose is not None else ((e.centre[0], e.centre[1], 0.0), (0, 0, 0))
         )
@@ -147,6 +168,7 @@ class GaitController:
                 "f_int": f_cmd, "m_roll": m_roll, "p_des": p_des, "v_des": v_des,
                 "phi_des": phis, "palm": (e.centre[0], 0.0),
                 "flags": (1.0 if seg.kind == 1 else 0.0, explorer[0], explorer[1]),
+                "p_hold": self._hold_anchor,
             },
             REF, N_REF,
         )  # fmt: skip
@@ -160,8 +182,11 @@ class GaitController:
         self.step_times.append(time.perf_counter() - tau_t0)
         self.trace.append(
             (t, seg.kind, e.u, e.pad_touch, *e.p.ravel(), *e.n.ravel(), *e.centre, self.theta,
-             *e.normal_force, f_cmd, sensed, *p_des)
+             *e.normal_force, f_cmd, sensed, *p_des, *self._roll_cmd, f_des,
+             *e.forces.ravel())
         )  # fmt: skip
+        if obs.tactile is not None and len(self.trace) % 5 == 0 and "left" in obs.tactile:
+            self.images.append((t, obs.tactile["left"].copy()))
         self._check_events(t, tl, obs, e)
         return tau
 
@@ -202,4 +227,4 @@ class GaitController:
         return self.event
 
 
-__all__ = ["GaitController", "Segment"]
+__all__ = ["TRACE_NAMES", "GaitController", "Segment"]

@@ -62,6 +62,24 @@ def preferred_orientation(hand, finger: str, position) -> float:
     return float(best[int(_quadrant(np.asarray(position, float) - centre))])
 
 
+def best_margin_ik(hand, finger: str, position, n: int = 241, around=None, spread=1.0):
+    """The IK solution of ``finger`` reaching ``position`` (2,) [m] whose smallest distance
+    to a joint limit is largest, over orientations within ``spread`` [rad] of ``around``
+    (default: all); None if unreachable."""
+    lim = hand.finger_limits(finger)
+    if around is None:
+        phis = np.linspace(lim[:, 0].sum(), lim[:, 1].sum(), n)
+    else:
+        phis = np.linspace(around - spread, around + spread, n)
+    target = np.broadcast_to(np.asarray(position, float), (n, 2))
+    sols, ok = hand.ik_candidates(finger, target, phis)
+    if not ok.any():
+        return None
+    m = np.where(ok, _margin(hand, finger, sols), -np.inf)
+    i, j = np.unravel_index(int(np.argmax(m)), m.shape)
+    return sols[i, j].copy()
+
+
 def pad_angle(beta: float, reference: float) -> float:
     """Orientation of the flat left pad lying on a contact of outward normal angle ``beta``
     (``phi = beta + pi/2``), unwrapped to the turn closest to ``reference`` [rad]."""
@@ -101,8 +119,10 @@ def start_grasp_candidates(
         nR = np.array([math.cos(b), math.sin(b)])
         try:
             qL = hand.inverse_kinematics("left", c + radius * nL, angle=pad_angle(a, mid))
-            qR = hand.inverse_kinematics("right", c + (radius + r) * nR)
         except Exception:  # noqa: BLE001 - unreachable candidates are skipped
+            continue
+        qR = best_margin_ik(hand, "right", c + (radius + r) * nR, around=b + 0.5 * math.pi)
+        if qR is None:
             continue
         m = min(_margin(hand, "left", qL), _margin(hand, "right", qR), stab)
         out.append((float(a), float(b), np.r_[qL, qR], float(m)))
@@ -113,6 +133,7 @@ def start_grasp_candidates(
 
 
 __all__ = [
+    "best_margin_ik",
     "four_region_orientations",
     "pad_angle",
     "preferred_orientation",

@@ -89,7 +89,7 @@ def explore_object(
     rotation = runner.rotation()
     from planner.exploration.planar.metrics import coverage_of, detect_pad_features
 
-    trace = runner.trace_arrays()
+    trace = trace_arrays(ctrl)
     features = detect_pad_features(trace, profile, start["rest"], R)
     timings = {
         "nlp_build_s": nlp_build,
@@ -248,13 +248,18 @@ class _Runner:
         self.events.append({"t": self.world.time, "kind": "end", "status": status,
                             "message": reason, "last_phase": last})  # fmt: skip
 
-    def trace_arrays(self) -> dict:
-        """The controller's sensed series as arrays (see ``GaitController.trace``)."""
-        tr = np.array(self.ctrl.trace, dtype=float) if self.ctrl.trace else np.zeros((0, 22))
-        names = ["t", "kind", "u", "pad_touch", "pLx", "pLy", "pRx", "pRy", "nLx", "nLy",
-                 "nRx", "nRy", "cx", "cy", "theta", "fnL", "fnR", "f_cmd", "f_int",
-                 "pdx", "pdy"]  # fmt: skip
-        return {k: tr[:, i] if len(tr) else np.zeros(0) for i, k in enumerate(names)}
+
+def trace_arrays(ctrl) -> dict:
+    """The controller's sensed series as arrays (columns ``TRACE_NAMES``) and the tactile
+    images it kept (``image_t`` (M,), ``images`` (M, 8, 8))."""
+    from planner.exploration.planar.controller import TRACE_NAMES
+
+    n = len(TRACE_NAMES)
+    tr = np.array(ctrl.trace, dtype=float) if ctrl.trace else np.zeros((0, n))
+    out = {k: tr[:, i] for i, k in enumerate(TRACE_NAMES)}
+    out["image_t"] = np.array([t for t, _ in ctrl.images])
+    out["images"] = np.array([im for _, im in ctrl.images]) if ctrl.images else np.zeros((0, 8, 8))
+    return out
 
 
-__all__ = ["explore_object"]
+__all__ = ["explore_object", "trace_arrays"]

@@ -99,4 +99,73 @@ def detect_pad_features(trace: dict, profile, rest, radius: float) -> list[Detec
     return out
 
 
-__all__ = ["VIRTUAL_RADIUS", "coverage_of", "detect_pad_features"]
+def _rms(x) -> float:
+    x = np.asarray(x, float)
+    return float(np.sqrt(np.mean(x * x))) if x.size else float("nan")
+
+
+def slip_distance(log) -> float:
+    """Total sliding distance of the fingertips over objects [m] (integrated slip speed)."""
+    total = 0.0
+    dt = np.diff(log.t, prepend=log.t[0]) if len(log.t) else np.zeros(0)
+    for j, pair in enumerate(log.pairs):
+        if not any(x.endswith((".left", ".right")) for x in pair.split("|")):
+            continue
+        m = (log.contact_pair == j) & (log.normal_force > 0)
+        v = np.abs(np.where(m, log.slip_velocity, 0.0))
+        total += float(np.sum(v * dt[:, None]))
+    return total
+
+
+def summary_metrics(res, ridge_angle, explore_force: float, internal_force: float) -> dict:
+    """The metrics of the ``gait`` scenario kind (see its docstring)."""
+    tr = res.trace
+    t = tr["t"]
+    kind = tr["kind"]
+    wall = res.timings.get("wall_s", float("nan"))
+    sim_t = float(res.log.t[-1]) if len(res.log.t) else 0.0
+    settled = np.zeros(len(t), dtype=bool)
+    for ph in res.phases:
+        settled |= (t >= ph.start + 0.1) & (t <= ph.end)
+    exp = np.where(kind == 2, tr["fnR"], tr["fnL"])
+    sel = settled & (kind > 1)
+    steps = np.asarray(res.timings.get("control_step_us", []), float)
+    nlp = np.asarray(res.timings.get("nlp_solve_ms", []), float)
+    out = {
+        "status": res.status,
+        "phases": len(res.phases),
+        "transitions_4": res.transitions4,
+        "rotation_deg": math.degrees(res.rotation),
+        "coverage": res.coverage,
+        "min_epsilon": res.min_epsilon,
+        "slip_distance_m": slip_distance(res.log),
+        "explore_force_rms_error_N": _rms(exp[sel] - explore_force),
+        "internal_force_rms_error_N": _rms((tr["f_int"] - tr["f_des"])[settled & (kind >= 1)]),
+        "features_found": len(res.features),
+        "real_time_factor": sim_t / wall if wall > 0 else float("nan"),
+        "wall_s": wall,
+        "nlp_build_s": res.timings.get("nlp_build_s", float("nan")),
+        "nlp_solve_median_ms": float(np.median(nlp)) if nlp.size else float("nan"),
+        "controller_call_median_us": float(np.median(steps)) if steps.size else float("nan"),
+        "end_event": res.phases[-1].event if res.phases else "",
+    }
+    feats = [{"angle_deg": math.degrees(f.angle), "kind": f.kind,
+              "error_deg": math.degrees(f.error) if np.isfinite(f.error) else None}
+             for f in res.features]  # fmt: skip
+    out["features"] = feats[:50]
+    if ridge_angle is not None:
+        errs = [abs(math.atan2(math.sin(f.angle - ridge_angle), math.cos(f.angle - ridge_angle)))
+                for f in res.features]  # fmt: skip
+        best = min(errs) if errs else float("nan")
+        out["ridge_error_deg"] = math.degrees(best) if errs else None
+        out["ridge_found"] = bool(errs) and math.degrees(best) <= 5.0
+    return out
+
+
+__all__ = [
+    "VIRTUAL_RADIUS",
+    "coverage_of",
+    "detect_pad_features",
+    "slip_distance",
+    "summary_metrics",
+]

@@ -53,16 +53,22 @@ def phase1_segment(plan, est, q, theta0: float, settings, hand, lift: float) -> 
     sR = np.array(
         [round_contact_arclength(b, p, r) for b, p in zip(plan.beta[:, 1], phiR, strict=True)]
     )
-    roll = np.column_stack([plan.u, sR])
+    phis = np.column_stack([plan.q[:, 0:3].sum(axis=1), phiR])
+    roll = np.column_stack([plan.u, sR, phis])
     roll = np.vstack([roll[0], roll])
     roll_f = _interp(ts, roll)
+
+    def rolling(t):
+        v, rate = roll_f(t)
+        return v[0], v[1], v[2:4], rate[2:4]
+
     f0 = float(max(min(est.normal_force), 0.0))
     ramp = ForceRamp(f0, s.internal_force, s.startup_time)
     return Segment(
         kind=1,
         duration=float(ts[-1]) + 0.05,
         pose=lambda t: (tuple(pose_f(t)[0]), tuple(pose_f(t)[1])),
-        rolling=lambda t: tuple(roll_f(t)[0]),
+        rolling=rolling,
         hold_force=lambda t: float(ramp(t)),
         theta0=theta0,
     )
@@ -112,7 +118,8 @@ def explore_segment(kind: int, est, q, target_beta: float, theta0: float, settin
     f_exp0 = float(max(est.normal_force[k], 0.0))
     fexp = ForceRamp(f_exp0, s.explore_force, s.startup_time)
     phiR = float(q[3:6].sum())
-    keep = (est.u, round_contact_arclength(est.beta[1], phiR, r))
+    keep = (est.u, round_contact_arclength(est.beta[1], phiR, r),
+            np.array([q[0:3].sum(), phiR]), np.zeros(2))  # fmt: skip
     return Segment(
         kind=kind,
         duration=T + 0.02,

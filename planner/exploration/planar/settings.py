@@ -20,6 +20,8 @@ class GaitSettings:
         object_mass: the planner's guess of the object mass [kg].
         object_kp, object_kv: object impedance gains (eq. 2.7).
         rolling_gains: (kp, kv, max_moment) of the rolling PD (eq. 2.8).
+        hold_kp, hold_kv: orientation stiffness [N m/rad] and damping [N m s/rad] of the
+            grasping/holding fingertips about their planned orientation.
         internal_gains: the internal-force PI gains.
         tip_kp, tip_kv, phi_kp, phi_kv: fingertip impedance of the explorer.
         min_force: minimum normal force of every touching finger in the QP [N].
@@ -45,13 +47,15 @@ class GaitSettings:
     object_kv: tuple[float, float, float] = (3.0, 3.0, 0.02)
     rolling_gains: tuple[float, float, float] = (1.0, 0.05, 0.04)
     internal_gains: InternalForceGains = InternalForceGains()
+    hold_kp: float = 0.3
+    hold_kv: float = 0.004
     tip_kp: float = 60.0
     tip_kv: float = 2.0
     phi_kp: float = 0.15
     phi_kv: float = 0.004
     min_force: float = 0.05
     torque_limit: float = 2.0
-    rotation_speed: float = 0.6
+    rotation_speed: float = 0.4
     explore_speed: float = 0.03
     startup_time: float = 0.08
     joint_margin: float = 0.03

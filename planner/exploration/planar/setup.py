@@ -7,7 +7,11 @@ import math
 import numpy as np
 
 from planner.errors import HapexError, InvalidParameter
-from planner.exploration.planar.heuristics import pad_angle, start_grasp_candidates
+from planner.exploration.planar.heuristics import (
+    best_margin_ik,
+    pad_angle,
+    start_grasp_candidates,
+)
 from planner.exploration.planar.objects import rest_height
 
 
@@ -32,13 +36,35 @@ def _place(hand, profile, origin, beta, q_ref):
     try:
         ang = math.atan2(nrm[0, 1], nrm[0, 0])
         qL = hand.inverse_kinematics("left", p[0], angle=pad_angle(ang, q_ref[:3].sum()))
-        qR = hand.inverse_kinematics("right", p[1] + r * nrm[1], q0=q_ref[3:])
     except HapexError:
+        return None
+    apex = math.atan2(nrm[1, 1], nrm[1, 0]) + 0.5 * math.pi  # contact at the tip's apex
+    qR = best_margin_ik(hand, "right", p[1] + r * nrm[1], around=apex)
+    if qR is None:
         return None
     return np.r_[qL, qR]
 
 
-def build_world(profile, hand, mu: float, radius: float, prior, settings, seed: int):
+def check_fits(profile, mu: float, hand=None, radius: float | None = None) -> str:
+    """Why the object cannot be grasped at the start ("" when it can): the bad-input test
+    of scenario validation (exit 2)."""
+    from planner.exploration.planar.objects import mean_radius
+    from planner.exploration.planar.settings import GaitSettings
+    from robots.planar_hand import PlanarHand
+
+    hand = hand or PlanarHand(friction=mu)
+    s = GaitSettings(mu=mu)
+    R = radius or mean_radius(profile)
+    try:
+        build_world(profile, hand, mu, R, None, s, 0, dry=True)
+    except InvalidParameter as exc:
+        return str(exc).removeprefix("profile: ")
+    return ""
+
+
+def build_world(
+    profile, hand, mu: float, radius: float, prior, settings, seed: int, dry: bool = False
+):
     """The planar world with the object resting on the palm and the fingers on it.
 
     Returns:
@@ -69,6 +95,8 @@ def build_world(profile, hand, mu: float, radius: float, prior, settings, seed: 
             "resting on the palm is within the fingers' joint limits"
         )
     bl, br, q = found
+    if dry:
+        return None, {"beta": (bl, br), "q": q, "rest": np.array([0.0, h, 0.0])}
     world = PlanarWorld(dt=settings.dt, seed=seed)
     world.add_hand(hand, q)
     world.add_body(profile, (0.0, h, 0.0), settings.object_mass, friction=mu, name="object")
