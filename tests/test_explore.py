@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import math
 
 import numpy as np
 import pytest
@@ -44,8 +43,8 @@ def test_features_closer_than_a_fingertip_diameter_are_warned():
     close = Plate((PlateFeature("bump", 2e-3, 3e-3, (-0.004, 0.0)), _bump_plate().features[0]))
     far = Plate((PlateFeature("bump", 2e-3, 3e-3, (-0.018, 0.0)), _bump_plate().features[0]))
     reg = np.array([[-0.03, 0.03], [-0.02, 0.02]])
-    assert spacing_warnings(close, reg, R, math.radians(12)) != []
-    assert spacing_warnings(far, reg, R, math.radians(12)) == []
+    assert spacing_warnings(close, reg, R) != []
+    assert spacing_warnings(far, reg, R) == []
 
 
 def test_strategies_stay_in_the_region():
@@ -85,7 +84,7 @@ def test_end_to_end_bump_identified_traced_closed():
     m = exploration_metrics(res, plate, region, R, 0.3)
     assert m["boundary_deviation_mean_mm"] < 0.5
     assert m["skeleton_hausdorff_mm"] < 1.5
-    truth = truth_features(plate, region)
+    truth = truth_features(plate, region, R)
     assert truth[0].closed
 
 

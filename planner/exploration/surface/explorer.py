@@ -102,7 +102,7 @@ def explore_surface(
         goal: (2,) bug-2 goal in the plate frame [m].
         sensors: :class:`planner.sim.SensorSettings` (default: the world's).
         **options: further :class:`ExplorationSettings` fields (``trace_speed``,
-            ``line_spacing``, ``boundary_tilt``, ``friction``, ``kp``, ``kv``, ...).
+            ``line_spacing``, ``boundary_rise``, ``friction``, ``kp``, ``kv``, ...).
 
     Returns:
         :class:`ExplorationResult` (status "failed" with a reason when the run could not go on).
@@ -136,14 +136,33 @@ def explore_surface(
     return _result(ex, state, log, cfg, T, wall)
 
 
+def _refine(dec, boundary: np.ndarray, closed: bool, elongation: float = 2.0):
+    """After tracing, compare the outline's shape with the kind (§4.4.1: the pattern of the
+    traced curvature region): a closed outline much longer than wide is a ridge or ravine, not
+    a bump or pit (the along crossing can run past a short ridge's end caps)."""
+    from dataclasses import replace
+
+    if not closed or len(boundary) < 10 or dec.kind not in ("bump", "pit"):
+        return dec
+    ev = np.sqrt(np.maximum(np.linalg.eigvalsh(np.cov(boundary.T)), 0.0))
+    ratio = float(ev[-1] / max(ev[0], 1e-12))
+    if ratio <= elongation:
+        return dec
+    kind = "ridge" if dec.kind == "bump" else "ravine"
+    scores = dict(dec.scores)
+    scores[kind], scores[dec.kind] = scores[dec.kind], scores[kind]
+    note = f"traced outline {ratio:.1f} times longer than wide: {dec.kind} -> {kind}"
+    return replace(dec, kind=kind, scores=scores, path=(*dec.path, note))
+
+
 def _result(ex, state, log, cfg, T, wall) -> ExplorationResult:
     rec = ex.rec
     n = rec.n
     feats = []
     for f in state.features:
-        sides = [rec.contact[s, :2] for s in f.sides if len(s)]
+        sides = [rec.centre[s, :2] for s in f.sides if len(s)]
         boundary = np.vstack(sides) if sides else np.zeros((0, 2))
-        dec = f.decision
+        dec = _refine(f.decision, boundary, f.closed)
         feats.append(
             ExploredFeature(
                 kind=dec.kind,

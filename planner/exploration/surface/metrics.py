@@ -65,7 +65,7 @@ def exploration_metrics(result, plate, region, tip_radius: float, normal_force: 
 
     from planner.exploration.surface.plates import truth_features
 
-    truth = truth_features(plate, region, result.settings.boundary_tilt)
+    truth = truth_features(plate, region, tip_radius, result.settings.boundary_rise)
     match = match_features(result, truth, tip_radius)
     found_true = {j for j in match if j is not None}
     correct, devs, dmax, closures, haus = 0, [], 0.0, [], []

@@ -2,11 +2,10 @@
 
 The plate itself is the simulator's :class:`planner.sim.spatial.plate.Plate` (macro features
 with closed-form cross-sections ``Z(s)``). This module adds what the explorer and its metrics
-need: a vectorized height function, the **true outline** of each feature - the outer contour
-on which the surface slope reaches the tracing tilt (the contour the boundary tracer of
-Fig. 4.8 servoes on: the contact normal tilted by ``boundary_tilt`` from the plate normal) -
-and the **true skeleton** (the crest/axis line, a point for a bump or pit), plus seeded
-random plates for the benchmark.
+need: a vectorized height function, the **true outline** of each feature - the level line
+of the traced surface (fingertip centre) a little above the plate level, which the boundary
+tracer of Fig. 4.8 servoes on - and the **true skeleton** (the crest/axis line, a point for
+a bump or pit), plus seeded random plates for the benchmark.
 """
 
 from __future__ import annotations
@@ -138,29 +137,42 @@ def _clip_line(p: np.ndarray, d: np.ndarray, region: np.ndarray) -> np.ndarray:
 
 
 def truth_features(
-    plate, region, boundary_tilt: float = math.radians(12.0), grid: float = 2.5e-4
+    plate, region, tip_radius: float = 0.008, rise: float = 2.5e-4, grid: float = 3e-4
 ) -> list[TruthFeature]:
-    """True outline (slope contour at ``boundary_tilt``) and skeleton of each feature.
+    """True outline and skeleton of each feature (each feature alone on the plate).
+
+    The outline is the level line of the traced surface (the fingertip centre resting on the
+    feature, grey dilation of its heights by the ball, :func:`planner.geometry.surfaces.
+    offset_surfaces`) ``rise`` above the plate level (below it for pits and ravines): the
+    line :mod:`~planner.exploration.surface.tracing` servoes on.
 
     Args:
         plate: a :class:`~planner.sim.spatial.plate.Plate`.
         region: ((u0, u1), (v0, v1)) box in the plate frame [m].
-        boundary_tilt: tilt of the surface normal on the outline [rad].
-        grid: sampling of the slope field for the contour [m].
+        tip_radius: r_f [m]; rise: the outline level above/below the plate [m].
+        grid: sampling of the traced surface [m].
     """
     import contourpy
 
+    from planner.geometry.surfaces import offset_surfaces
+
     reg = np.asarray(region, float)
-    u = np.arange(reg[0, 0], reg[0, 1] + grid / 2, grid)
-    v = np.arange(reg[1, 0], reg[1, 1] + grid / 2, grid)
+    pad = tip_radius + 2 * grid
+    u = np.arange(reg[0, 0] - pad, reg[0, 1] + pad + grid / 2, grid)
+    v = np.arange(reg[1, 0] - pad, reg[1, 1] + pad + grid / 2, grid)
     U, V = np.meshgrid(u, v, indexing="ij")
+    inside = (U >= reg[0, 0]) & (U <= reg[0, 1]) & (V >= reg[1, 0]) & (V <= reg[1, 1])
     out = []
     for f in plate.features:
         H = feature_height(f, U, V)
-        gu, gv = np.gradient(H, grid, grid)
-        slope = np.hypot(gu, gv)
-        gen = contourpy.contour_generator(V, U, slope)  # x = v, y = u: returns (v, u) pairs
-        lines = [ln[:, ::-1] for ln in gen.lines(math.tan(boundary_tilt)) if len(ln) > 2]
+        traced = offset_surfaces(u, v, H, tip_radius).traced - tip_radius
+        sunken = f.kind in ("pit", "ravine")
+        level = -rise if sunken else rise
+        if f.kind == "cusp":  # the plate falls away from the crest: no plate level
+            level = float(traced[inside].max()) - rise
+        field = np.where(inside, traced, np.nan)
+        gen = contourpy.contour_generator(V, U, field)  # x = v, y = u: returns (v, u) pairs
+        lines = [ln[:, ::-1] for ln in gen.lines(level) if len(ln) > 2]
         centre = np.array(f.position, float)
         path = getattr(f, "path", None)
         if f.kind in CLOSED_KINDS or path is not None:
@@ -175,9 +187,8 @@ def truth_features(
             axis = np.array([-math.sin(a), math.cos(a)])
             skel = _clip_line(centre, axis, reg)
             closed = False
-            if f.kind in ("ridge", "ravine", "wire", "cusp") and len(lines) > 2:
-                across = np.array([math.cos(a), math.sin(a)])
-                lines = sorted(lines, key=lambda ln: -np.abs((ln - centre) @ across).mean())[:2]
+            if len(lines) > 2:
+                lines = sorted(lines, key=lambda ln: -len(ln))[:2]
         out.append(TruthFeature(KIND_OF[f.kind], tuple(lines), closed, skel, centre))
     return out
 

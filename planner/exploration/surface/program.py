@@ -116,13 +116,11 @@ def trace_feature(ex, cfg, rec_f: FeatureRecord, region, half: float):
     for side in sides_todo:
         start = rec_f.centre + side * (half + 0.25 * cfg.tip_radius) * rec_f.across
         inward = -side * rec_f.across
-        found = yield from find_outline(ex, cfg, start, inward, 1.0, 2 * half + cfg.tip_radius)
-        if not found:
+        outline = yield from find_outline(ex, cfg, start, inward, 2 * half + cfg.tip_radius)
+        if outline is None:
             rec_f.reasons.append("outline not found")
             continue
-        up = -ex.est.normal[:2] / max(ex.est.tilt, 1e-9)
-        sigma = 1.0 if float(up @ inward) > 0 else -1.0
-        res = yield from trace_boundary(ex, cfg, region, sigma)
+        res = yield from trace_boundary(ex, cfg, region, outline)
         rec_f.sides.append(res.samples)
         rec_f.closed = rec_f.closed or res.closed
         rec_f.ends += res.ends
@@ -134,7 +132,7 @@ def trace_feature(ex, cfg, rec_f: FeatureRecord, region, half: float):
 def _remember(ex, state: ProgramState, rec_f: FeatureRecord, r: float) -> None:
     import shapely
 
-    pts = [ex.rec.contact[s, :2] for s in rec_f.sides if len(s)]
+    pts = [ex.rec.centre[s, :2] for s in rec_f.sides if len(s)]
     geo = shapely.MultiPoint(np.vstack(pts)) if pts else shapely.Point(*rec_f.centre)
     area = geo.convex_hull.buffer(1.5 * r)
     state.known.append(area)

@@ -9,13 +9,14 @@ import numpy as np
 __all__ = ["report", "spacing_warnings"]
 
 
-def spacing_warnings(plate, region, tip_radius: float, tilt: float) -> list[str]:
-    """Messages for pairs of features closer than a fingertip diameter (§4.2.1)."""
+def spacing_warnings(plate, region, tip_radius: float, rise: float = 2.5e-4) -> list[str]:
+    """Messages for pairs of features closer than a fingertip diameter (§4.2.1): distance
+    between their footprints (where each rises ``rise`` [m] above the plate)."""
     import shapely
 
     from planner.exploration.surface.plates import truth_features
 
-    truth = truth_features(plate, region, tilt)
+    truth = truth_features(plate, region, 3.1e-4, rise)
     geoms = []
     for t in truth:
         lines = [ln for ln in t.outline if len(ln) >= 2]
@@ -37,7 +38,6 @@ def report(config, ctx):
     """Run the exploration of an ``explore`` scenario and package its results."""
     from planner.exploration.surface.explorer import explore_surface
     from planner.exploration.surface.metrics import exploration_metrics
-    from planner.exploration.surface.result import ExplorationSettings
     from planner.results import Event, RunResult
 
     plate = config.plate.build(config.name)
@@ -45,9 +45,7 @@ def report(config, ctx):
     duration = min(config.duration, config.quick_duration) if ctx.quick else config.duration
     events = [
         Event("features_too_close", m, t=0.0)
-        for m in spacing_warnings(
-            plate, region, config.tip_radius, ExplorationSettings().boundary_tilt
-        )
+        for m in spacing_warnings(plate, region, config.tip_radius)
     ]
     for e in events:
         ctx.log(f"warning: {e.message}")
@@ -135,7 +133,7 @@ def _figures(res, plate, region, config, ctx) -> dict:
     from robots.three_gm import ThreeGM
 
     with ctx.timer("plots"):
-        truth = truth_features(plate, region, res.settings.boundary_tilt)
+        truth = truth_features(plate, region, res.settings.tip_radius, res.settings.boundary_rise)
         figs = {
             "top_view": top_view(res, plate, region, truth, f"{config.name}: top view"),
             "time_series": time_series(res, config.normal_force, f"{config.name}: time series"),

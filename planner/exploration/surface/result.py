@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -26,7 +25,9 @@ class ExplorationSettings:
         speed: sliding speed while searching [m/s].
         trace_speed: sliding speed while tracing a boundary [m/s].
         line_spacing: distance between raster lines [m] (default 1.5 r_f).
-        boundary_tilt: tilt of the contact normal on the traced outline [rad] (Fig. 4.8).
+        boundary_rise: the traced outline is where the fingertip centre is this much above
+            (below, for pits and ravines) the plate level [m] (see
+            :mod:`~planner.exploration.surface.tracing`).
         detect_every: online detection period [s] (algorithm 3 over a sliding window).
         window: length of the sliding detection window along the path [m] (default 6 r_f).
         friction: Coulomb coefficient of the fingertip on the plate (graphite: low) [-].
@@ -45,7 +46,7 @@ class ExplorationSettings:
     speed: float = 0.02
     trace_speed: float = 0.012
     line_spacing: float | None = None
-    boundary_tilt: float = math.radians(12.0)
+    boundary_rise: float = 2.5e-4
     detect_every: float = 0.02
     window: float | None = None
     friction: float = 0.1
@@ -66,7 +67,7 @@ class ExplorationSettings:
         if self.line_spacing is None:
             object.__setattr__(self, "line_spacing", 1.5 * r)
         checks.positive("line_spacing", self.line_spacing, "m")
-        checks.in_range("boundary_tilt", self.boundary_tilt, 0.02, 1.2, "rad")
+        checks.in_range("boundary_rise", self.boundary_rise, 1e-5, 5e-3, "m")
         checks.positive("detect_every", self.detect_every, "s")
         if self.window is None:
             object.__setattr__(self, "window", 6.0 * r)
@@ -94,8 +95,8 @@ class ExploredFeature:
     Attributes:
         kind: identified type (bump, pit, ridge, ravine, step, cusp, or unknown).
         confidence: posterior probability of ``kind`` [-]; ``scores`` of every kind.
-        boundary: (N, 2) traced boundary samples in the plate frame [m] (re-approach
-            samples dropped).
+        boundary: (N, 2) traced boundary samples in the plate frame [m]: fingertip centres on
+            the outline level (re-approach samples dropped).
         closed: whether the trace closed its loop.
         ends_reached: ends of an open feature reached (0, 1 or 2).
         skeleton: the feature skeleton (:class:`planner.skeleton.Skeleton`) or None.
