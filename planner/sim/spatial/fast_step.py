@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from planner.sim.records import Contact
-from planner.sim.spatial.kernel import finger_contact, pack_plate, plate_foot
+from planner.sim.spatial.kernel import finger_contact, pack_plate, plate_foot_world
 from planner.sim.spatial.plate import Plane, Plate
 
 __all__ = ["FastPlate", "fast_plate"]
@@ -43,14 +43,17 @@ class FastPlate:
         self.R = np.ascontiguousarray(self.R)
         self.hint: tuple[float, float] | None = None
         self.out = np.zeros(26)
+        self._foot = np.zeros(9)
 
     def foot(self, c: np.ndarray):
         """(point (3,), normal (3,), distance) of ``c`` [m, WCS]; updates the warm start."""
-        cs = self.R.T @ (c - self.t)
-        hx, hy = self.hint if self.hint is not None else (cs[0], cs[1])
-        x, y, h, nx, ny, nz, d = plate_foot(self.F, self.P, self.base, cs[0], cs[1], cs[2], hx, hy)
-        self.hint = (x, y)
-        return self.R @ np.array([x, y, h]) + self.t, self.R @ np.array([nx, ny, nz]), d
+        if self.hint is None:
+            cs = self.R.T @ (c - self.t)
+            self.hint = (cs[0], cs[1])
+        o = self._foot
+        plate_foot_world(self.F, self.P, self.base, self.R, self.t, c, *self.hint, o)
+        self.hint = (o[7], o[8])
+        return o[0:3].copy(), o[3:6].copy(), o[6]
 
 
 def fast_plate(world) -> FastPlate | None:

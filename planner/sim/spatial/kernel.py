@@ -45,6 +45,7 @@ __all__ = [
     "pack_plate",
     "plate_eval",
     "plate_foot",
+    "plate_foot_world",
 ]
 
 _KINDS = {"ridge": 0, "ravine": 1, "step": 2, "bump": 3, "pit": 4, "cusp": 5, "wire": 6}
@@ -208,6 +209,21 @@ def plate_foot(F, P, base, cx, cy, cz, x, y):
     nx, ny, nz = -hx / nrm, -hy / nrm, 1.0 / nrm
     dist = (cx - x) * nx + (cy - y) * ny + (cz - h) * nz
     return x, y, h, nx, ny, nz, dist
+
+
+@_jit
+def plate_foot_world(F, P, base, R, t, c, x, y, out):
+    """:func:`plate_foot` of a WCS point ``c`` (3,) for the plate placed by ``(R, t)``:
+    ``out`` (9,) = foot point (3) and normal (3) in the WCS, distance, plate-frame hint (2)."""
+    d0, d1, d2 = c[0] - t[0], c[1] - t[1], c[2] - t[2]
+    cx = R[0, 0] * d0 + R[1, 0] * d1 + R[2, 0] * d2
+    cy = R[0, 1] * d0 + R[1, 1] * d1 + R[2, 1] * d2
+    cz = R[0, 2] * d0 + R[1, 2] * d1 + R[2, 2] * d2
+    x, y, h, nx, ny, nz, dist = plate_foot(F, P, base, cx, cy, cz, x, y)
+    for i in range(3):
+        out[i] = R[i, 0] * x + R[i, 1] * y + R[i, 2] * h + t[i]
+        out[3 + i] = R[i, 0] * nx + R[i, 1] * ny + R[i, 2] * nz
+    out[6], out[7], out[8] = dist, x, y
 
 
 @_jit

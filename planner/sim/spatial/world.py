@@ -340,12 +340,14 @@ class SpatialWorld(WorldBase):
         if mine:
             c = max(mine, key=lambda c: c.normal_force)
             R = f.tcs()
-            n_t = (R.T @ (-c.normal)).tolist()
+            n = c.normal.tolist()
+            ft = c.tangential_force.tolist()
+            n_t = [-(R[0, j] * n[0] + R[1, j] * n[1] + R[2, j] * n[2]) for j in range(3)]
+            f_t = [R[0, j] * ft[0] + R[1, j] * ft[1] + R[2, j] * ft[2] for j in range(3)]
             inten = min(c.normal_force / FULL_INTENSITY_FORCE, 1.0)
-            ft = (R.T @ c.tangential_force).tolist()
         else:
-            n_t, inten, ft = (0.0, 0.0, 0.0), 0.0, (0.0, 0.0, 0.0)
-        self._owts.advance(self.time, n_t, inten, ft)
+            n_t, inten, f_t = (0.0, 0.0, 0.0), 0.0, (0.0, 0.0, 0.0)
+        self._owts.advance(self.time, n_t, inten, f_t)
 
     # ------------------------------------------------------------------ sensing
     def observe(self, oracle: bool = False) -> Observation:
