@@ -12,6 +12,7 @@ import math
 import numpy as np
 
 from planner import checks
+from planner.errors import HapexError
 from planner.geometry import shapes
 from planner.sim.observation import SensorSettings
 from planner.sim.planar.presets import FingerTask, FingertipForceControl
@@ -106,8 +107,11 @@ def pinch_scene(
     return world, ctrl, {"holds": 2 * mu * F > m * g, "squeeze": F, "weight": m * g}
 
 
+SPREAD_LEFT = (0.5, -0.3, -0.8)  # the left finger spread away from the palm [rad]
+
+
 def palm_roll_scene(
-    radius: float = 0.01,
+    radius: float = 0.0075,
     force: float = 0.5,
     speed: float = 0.02,
     friction: float = 1.0,
@@ -116,18 +120,18 @@ def palm_roll_scene(
     seed: int = 0,
 ) -> tuple[PlanarWorld, FingertipForceControl, dict]:
     """A disc on the palm rolled by the right round fingertip pressing down with ``force``
-    [N] while its set point moves along +x at ``speed`` [m/s] (the disc rolls at half
-    speed). ``info``: ``radius``, ``revolution_time`` (the time of one revolution) [s]."""
+    [N] while its set point moves along +x at ``speed`` [m/s]; rolling on the palm and under
+    the fingertip, the disc's centre moves at half that speed. One revolution moves the tip
+    by ``4 pi radius`` (the default fits the finger's reach). ``info``: ``radius``,
+    ``revolution_time`` [s]."""
     R = checks.positive("radius", radius, "m")
     Fn = checks.positive("force", force, "N")
     v = checks.positive("speed", speed, "m/s")
     hand = PlanarHand(friction=friction)
     rt = hand.params.right.tip_radius
-    x0 = -math.pi * R
+    x0 = -2.0 * math.pi * R
     tip = np.array([x0, 2 * R + rt])
-    qr = _grip_q(hand, "right", tip)
-    q = np.concatenate([hand.neutral()[:3], qr])
-    q[:3] = hand.finger_limits("left")[:, 0] * 0.0 + np.array([-0.3, -1.2, -1.0])
+    q = np.concatenate([SPREAD_LEFT, _grip_q(hand, "right", tip)])
     world = PlanarWorld(dt=dt, seed=seed)
     world.add_hand(hand, q)
     world.add_body(shapes.circle(R), (x0, R, 0.0), mass, friction=friction, name="disc")
@@ -136,27 +140,43 @@ def palm_roll_scene(
     return world, ctrl, {"radius": R, "revolution_time": 2 * math.pi * R / (v / 2)}
 
 
+def _pad_on_ball(hand: PlanarHand, centre: np.ndarray, R: float) -> tuple[np.ndarray, np.ndarray]:
+    """Left flat pad touching the ball at the first reachable contact angle from 150 deg
+    downward: (q_left (3,), contact point (2,))."""
+    for deg in np.arange(150.0, 100.0, -2.0):
+        a = math.radians(deg)
+        p = centre + R * np.array([math.cos(a), math.sin(a)])
+        axis = (centre - p) / R  # the pad's outward normal points into the ball
+        phi = math.atan2(-axis[0], axis[1])
+        try:
+            return hand.inverse_kinematics("left", p, angle=phi), p
+        except HapexError:
+            continue
+    raise HapexError("the left pad cannot reach the ball")  # pragma: no cover
+
+
 def palm_hold_slide_scene(
     radius: float = 0.05,
-    force: float = 1.0,
+    force: float = 2.0,
+    slide_force: float = 0.3,
     slide_speed: float = 0.01,
     friction: float = 1.0,
     mass: float = 0.1,
     dt: float = 1e-3,
     seed: int = 0,
 ) -> tuple[PlanarWorld, FingertipForceControl, dict]:
-    """The full hand: the flat left pad holds a ball against the palm while the right round
-    fingertip slides along the ball's top at ``slide_speed`` [m/s] pressing with ``force``
-    [N]."""
+    """The full hand: the flat left pad presses a ball against the palm with ``force`` [N]
+    while the right round fingertip, pressing with ``slide_force`` [N], slides along the
+    ball's top at ``slide_speed`` [m/s]. ``info``: ``radius``, the left pad's ``pad_point``."""
     R = checks.positive("radius", radius, "m")
+    F = checks.positive("force", force, "N")
+    Fs = checks.positive("slide_force", slide_force, "N")
     hand = PlanarHand(friction=friction)
     rt = hand.params.right.tip_radius
     c = np.array([0.0, R])
-    lp = c + R * np.array([-math.cos(0.6), math.sin(0.6)])
-    ql = hand.inverse_kinematics("left", lp, angle=math.pi / 2 - 0.6 + 0.0)
+    ql, lp = _pad_on_ball(hand, c, R)
     rp = c + (R + rt) * np.array([math.cos(1.2), math.sin(1.2)])
-    qr = _grip_q(hand, "right", rp)
-    q = np.concatenate([ql, qr])
+    q = np.concatenate([ql, _grip_q(hand, "right", rp)])
     world = PlanarWorld(dt=dt, seed=seed)
     world.add_hand(hand, q)
     world.add_body(shapes.circle(R), (0.0, R, 0.0), mass, friction=friction, name="ball")
@@ -164,8 +184,8 @@ def palm_hold_slide_scene(
     nr = (c - rp) / np.linalg.norm(c - rp)
     tr = np.array([-nr[1], nr[0]])
     tasks = (
-        FingerTask("left", tuple(lp), tuple(force * nl)),
-        FingerTask("right", tuple(rp), tuple(force * nr), tuple(slide_speed * tr), 300.0, 3.0),
+        FingerTask("left", tuple(lp), tuple(F * nl)),
+        FingerTask("right", tuple(rp), tuple(Fs * nr), tuple(slide_speed * tr), 300.0, 3.0),
     )
     ctrl = FingertipForceControl(hand, tasks, q, gravity=world.gravity)
-    return world, ctrl, {"radius": R}
+    return world, ctrl, {"radius": R, "pad_point": lp}
