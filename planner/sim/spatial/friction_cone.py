@@ -265,9 +265,10 @@ def residual(W: np.ndarray, u_free: np.ndarray, gap_rate: float, mu: float, lam:
     lt = float(np.linalg.norm(lam[1:]))
     st = float(np.linalg.norm(u[1:]))
     r = [max(-lam[0], 0.0), max(-un, 0.0), abs(lam[0] * un), max(lt - mu * lam[0], 0.0)]
-    if lam[0] > 0 and mu * lam[0] - lt > 1e-9 * lam[0]:
+    inside = mu * lam[0] - lt > 1e-9 * lam[0]
+    if lam[0] > 0 and inside:
         r.append(st)  # strictly inside the cone: must stick
-    if st > 1e-12 and lam[0] > 0:
+    elif st > 1e-12 and lam[0] > 0:  # on the cone's boundary: friction opposes the slip
         r.append(float(np.linalg.norm(lam[1:] + mu * lam[0] * u[1:] / st)))
     return float(max(r))
 
