@@ -26,7 +26,7 @@ def _bump_plate(h=2e-3, w=3e-3, pos=(0.0, 0.0)):
 @pytest.mark.parametrize(
     ("kwargs", "match"),
     [
-        ({"region": ((0.2, 0.3), (0.2, 0.3))}, "region"),
+        ({"region": ((-0.2, 0.2), (-0.2, 0.2))}, "region"),
         ({"strategy": "bug2", "goal": (0.2, 0.0)}, "goal"),
         ({"strategy": "bug2"}, "goal"),
         ({"normal_force": 50.0}, "normal_force"),
@@ -41,8 +41,8 @@ def test_bad_input_is_invalid_parameter(kwargs, match):
 
 def test_features_closer_than_a_fingertip_diameter_are_warned():
     close = Plate((PlateFeature("bump", 2e-3, 3e-3, (-0.004, 0.0)), _bump_plate().features[0]))
-    far = Plate((PlateFeature("bump", 2e-3, 3e-3, (-0.018, 0.0)), _bump_plate().features[0]))
-    reg = np.array([[-0.03, 0.03], [-0.02, 0.02]])
+    far = Plate((PlateFeature("bump", 2e-3, 3e-3, (-0.03, 0.0)), _bump_plate().features[0]))
+    reg = np.array([[-0.04, 0.02], [-0.02, 0.02]])
     assert spacing_warnings(close, reg, R) != []
     assert spacing_warnings(far, reg, R) == []
 
@@ -74,7 +74,7 @@ def test_short_closed_loop_search_keeps_contact_and_force():
 def test_end_to_end_bump_identified_traced_closed():
     """Search meets the bump, the flow chart says bump, the loop closes on the outline."""
     plate = _bump_plate()
-    region = np.array([[-0.012, 0.012], [-0.008, 0.008]])
+    region = np.array([[-0.016, 0.016], [-0.016, 0.016]])
     res = explore_surface(plate, region=region, duration=30.0, speed=0.03, line_spacing=0.05)
     assert res.status == "ok", res.reason
     assert len(res.features) == 1
@@ -92,7 +92,7 @@ def test_explore_kind_bad_region_exits_2(tmp_path):
     src = (ROOT / "scenarios" / "ridge_plate.yaml").read_text()
     bad = tmp_path / "bad.yaml"
     bad.write_text(
-        src.replace("region: [[-0.02, 0.02], [-0.02, 0.02]]", "region: [[0.2, 0.3], [0.2, 0.3]]")
+        src.replace("region: [[-0.02, 0.02], [-0.02, 0.02]]", "region: [[-0.2, 0.2], [-0.2, 0.2]]")
     )
     proc = run_cli("validate", str(bad))
     assert proc.returncode == 2

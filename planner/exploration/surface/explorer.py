@@ -176,6 +176,7 @@ def _result(ex, state, log, cfg, T, wall) -> ExplorationResult:
                 detected_at=float(f.detected_at),
                 latency=float(f.latency),
                 evidence=tuple(dec.path) + tuple(f.reasons),
+                rise=float(f.rise),
             )
         )
     gs, regions = global_model([f.boundary for f in feats], cfg.tip_radius)

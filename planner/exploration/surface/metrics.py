@@ -72,7 +72,7 @@ def exploration_metrics(result, plate, region, tip_radius: float, normal_force: 
     for f, j in zip(result.features, match, strict=True):
         if j is None:
             continue
-        t = truth[j]
+        t = truth_features(plate, region, tip_radius, _rises(plate, j, f.rise))[j]
         correct += f.kind == t.kind
         if len(f.boundary) and t.outline:
             outline = shapely.MultiLineString([ln for ln in t.outline if len(ln) >= 2])
@@ -106,6 +106,12 @@ def exploration_metrics(result, plate, region, tip_radius: float, normal_force: 
         "detection_latency_mean_s": float(np.mean(lat)) if lat else float("nan"),
         "saturation_events": sum(e.kind == "torque_saturated" for e in result.events),
     }
+
+
+def _rises(plate, j: int, rise: float) -> np.ndarray:
+    out = np.full(len(plate.features), 2.5e-4)
+    out[j] = rise
+    return out
 
 
 def _normal_force_error(result, log, normal_force: float) -> float:

@@ -137,7 +137,7 @@ def _clip_line(p: np.ndarray, d: np.ndarray, region: np.ndarray) -> np.ndarray:
 
 
 def truth_features(
-    plate, region, tip_radius: float = 0.008, rise: float = 2.5e-4, grid: float = 3e-4
+    plate, region, tip_radius: float = 0.008, rise=2.5e-4, grid: float = 3e-4
 ) -> list[TruthFeature]:
     """True outline and skeleton of each feature (each feature alone on the plate).
 
@@ -149,7 +149,8 @@ def truth_features(
     Args:
         plate: a :class:`~planner.sim.spatial.plate.Plate`.
         region: ((u0, u1), (v0, v1)) box in the plate frame [m].
-        tip_radius: r_f [m]; rise: the outline level above/below the plate [m].
+        tip_radius: r_f [m].
+        rise: the outline level above/below the plate [m], one for all or one per feature.
         grid: sampling of the traced surface [m].
     """
     import contourpy
@@ -163,7 +164,8 @@ def truth_features(
     U, V = np.meshgrid(u, v, indexing="ij")
     inside = (U >= reg[0, 0]) & (U <= reg[0, 1]) & (V >= reg[1, 0]) & (V <= reg[1, 1])
     out = []
-    for f in plate.features:
+    rises = np.broadcast_to(np.asarray(rise, float), (len(plate.features),))
+    for f, rise in zip(plate.features, rises, strict=True):
         H = feature_height(f, U, V)
         traced = offset_surfaces(u, v, H, tip_radius).traced - tip_radius
         sunken = f.kind in ("pit", "ravine")

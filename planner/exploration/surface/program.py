@@ -35,6 +35,7 @@ class FeatureRecord:
     ends: int = 0
     detected_at: float = 0.0
     latency: float = float("nan")
+    rise: float = 2.5e-4
     reasons: list = field(default_factory=list)
 
 
@@ -92,8 +93,8 @@ def _extent(ex, k0: int, k1: int, c, across, r: float) -> float:
 
 
 def identify_feature(ex, cfg, det, search_ev):
-    """Across and along crossings of a detection; returns the decision, centre, across and
-    the half-width of the feature along ``across`` [m]."""
+    """Across and along crossings of a detection; returns the decision, centre, across, the
+    half-width of the feature along ``across`` [m] and the across crossing's relief [m]."""
     r = cfg.tip_radius
     across = _axis_from_search(ex, det, r)
     c = det.centre
@@ -104,7 +105,7 @@ def identify_feature(ex, cfg, det, search_ev):
     width = _extent(ex, k0, k1, c, across, r) if k1 - k0 > 20 else half
     axis = np.array([-across[1], across[0]])
     ev2, _, _ = yield from _crossing(ex, cfg, c, axis, half, "along")
-    return identify([search_ev, ev1, ev2]), c, across, min(width, half)
+    return identify([search_ev, ev1, ev2]), c, across, min(width, half), abs(ev1.relief)
 
 
 def trace_feature(ex, cfg, rec_f: FeatureRecord, region, half: float):
@@ -116,7 +117,8 @@ def trace_feature(ex, cfg, rec_f: FeatureRecord, region, half: float):
     for side in sides_todo:
         start = rec_f.centre + side * (half + 0.25 * cfg.tip_radius) * rec_f.across
         inward = -side * rec_f.across
-        outline = yield from find_outline(ex, cfg, start, inward, 2 * half + cfg.tip_radius)
+        limit = 2 * half + cfg.tip_radius
+        outline = yield from find_outline(ex, cfg, start, inward, limit, rec_f.rise)
         if outline is None:
             rec_f.reasons.append("outline not found")
             continue
@@ -158,8 +160,9 @@ def exploration_program(ex, cfg, region: np.ndarray, rng, state: ProgramState):
                 r,
                 "search",
             )
-            dec, c, across, half = yield from identify_feature(ex, cfg, det, search_ev)
+            dec, c, across, half, relief = yield from identify_feature(ex, cfg, det, search_ev)
             rec_f = FeatureRecord(dec, c, across, detected_at=det.t, latency=det.latency)
+            rec_f.rise = max(cfg.boundary_rise, 0.3 * relief)
             ex.event("feature_identified", f"{dec.kind} ({dec.confidence:.2f})", kind=dec.kind)
             if dec.kind != "unknown":
                 yield from trace_feature(ex, cfg, rec_f, region, half)

@@ -9,13 +9,14 @@ import numpy as np
 __all__ = ["report", "spacing_warnings"]
 
 
-def spacing_warnings(plate, region, tip_radius: float, rise: float = 2.5e-4) -> list[str]:
+def spacing_warnings(plate, region, tip_radius: float) -> list[str]:
     """Messages for pairs of features closer than a fingertip diameter (§4.2.1): distance
-    between their footprints (where each rises ``rise`` [m] above the plate)."""
+    between their footprints (where each rises a quarter of its height above the plate)."""
     import shapely
 
     from planner.exploration.surface.plates import truth_features
 
+    rise = [0.25 * f.height for f in plate.features]
     truth = truth_features(plate, region, 3.1e-4, rise)
     geoms = []
     for t in truth:

@@ -103,6 +103,9 @@ class ExploredFeature:
         centre: (2,) where it was met [m]; detected_at: time of the detection [s].
         latency: online detection latency (peak crossed -> detection) [s].
         evidence: the cues read by the flow chart.
+        rise: height of the traced outline above (below) the plate level [m]: the boundary
+            tracer keeps the fingertip centre there (30 % of the feature's relief, at least
+            ``boundary_rise``).
     """
 
     kind: str
@@ -116,6 +119,7 @@ class ExploredFeature:
     detected_at: float
     latency: float
     evidence: tuple[str, ...] = ()
+    rise: float = 2.5e-4
 
 
 @dataclass(frozen=True)

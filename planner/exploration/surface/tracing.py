@@ -52,12 +52,14 @@ class Outline:
 
     Attributes:
         level: centre height to keep [m]; sigma: +1 raised from this side, -1 sunken.
+        rise: distance of ``level`` from the plate level [m].
         inward: (2,) direction of the approach [-].
     """
 
     level: float
     sigma: float
     inward: np.ndarray
+    rise: float = 2.5e-4
 
 
 def _inside(p: np.ndarray, region: np.ndarray, margin: float) -> bool:
@@ -67,7 +69,7 @@ def _inside(p: np.ndarray, region: np.ndarray, margin: float) -> bool:
     )
 
 
-def find_outline(ex, cfg, start, inward, limit: float):
+def find_outline(ex, cfg, start, inward, limit: float, rise: float | None = None):
     """Slide from ``start`` along ``inward`` until the centre leaves the plate level by
     ``boundary_rise``; returns an :class:`Outline` or None (not met within ``limit`` [m])."""
     yield from move_to(ex, start, cfg.speed)
@@ -79,12 +81,13 @@ def find_outline(ex, cfg, start, inward, limit: float):
         yield np.zeros(2)
     w0 = float(np.mean(ref))
     p0 = ex.est.uv.copy()
-    while abs(ex.est.centre[2] - w0) < cfg.boundary_rise:
+    rise = cfg.boundary_rise if rise is None else rise
+    while abs(ex.est.centre[2] - w0) < rise:
         if float(np.hypot(*(ex.est.uv - p0))) > limit:
             return None
         yield cfg.trace_speed * inward
     sigma = 1.0 if ex.est.centre[2] > w0 else -1.0
-    return Outline(w0 + sigma * cfg.boundary_rise, sigma, inward)
+    return Outline(w0 + sigma * rise, sigma, inward, rise)
 
 
 def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float = 1.0):
@@ -93,7 +96,7 @@ def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float 
     Returns:
         :class:`TraceResult`.
     """
-    r, rise = cfg.tip_radius, cfg.boundary_rise
+    r, rise = cfg.tip_radius, outline.rise
     k_start, t_start = ex.rec.n, ex.est.t
     start_uv = ex.est.uv.copy()
     samples: list[int] = []
