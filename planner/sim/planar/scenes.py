@@ -141,18 +141,25 @@ def palm_roll_scene(
 
 
 def _pad_on_ball(hand: PlanarHand, centre: np.ndarray, R: float) -> tuple[np.ndarray, np.ndarray]:
-    """Left flat pad touching the ball at the first reachable contact angle from 150 deg
-    downward: (q_left (3,), contact point (2,))."""
+    """Left flat pad touching the ball at the contact angle (100..150 deg) whose joint
+    solution stays farthest from the joint limits: (q_left (3,), contact point (2,))."""
+    lim = hand.finger_limits("left")
+    best, best_margin = None, -1.0
     for deg in np.arange(150.0, 100.0, -2.0):
         a = math.radians(deg)
         p = centre + R * np.array([math.cos(a), math.sin(a)])
         axis = (centre - p) / R  # the pad's outward normal points into the ball
         phi = math.atan2(-axis[0], axis[1])
         try:
-            return hand.inverse_kinematics("left", p, angle=phi), p
+            q = hand.inverse_kinematics("left", p, angle=phi)
         except HapexError:
             continue
-    raise HapexError("the left pad cannot reach the ball")  # pragma: no cover
+        margin = float(np.min(np.minimum(q - lim[:, 0], lim[:, 1] - q)))
+        if margin > best_margin:
+            best, best_margin = (q, p), margin
+    if best is None:  # pragma: no cover - the default hand reaches it
+        raise HapexError("the left pad cannot reach the ball")
+    return best
 
 
 def palm_hold_slide_scene(
