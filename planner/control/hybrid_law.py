@@ -117,19 +117,24 @@ def kernel_parameters(finger, settings: HybridSettings, owts=None) -> np.ndarray
     return par
 
 
-def owts_voltages(obs, out: np.ndarray) -> np.ndarray:
-    """Write the latest OWTS voltages (4,) [V] of an observation into ``out`` (zeros if none).
+def owts_voltages(obs, out: np.ndarray, threshold: float = 1e-3) -> np.ndarray:
+    """Write the OWTS voltages (4,) [V] of an observation into ``out`` (zeros: no contact).
 
-    Accepts ``obs.owts`` as None, a (4,) or (k, 4) voltage array (last row taken), or an object
-    with a ``voltages`` attribute of those shapes.
+    Accepts ``obs.owts`` as None, a (4,) or (k, 4) voltage array, or an object with a
+    ``voltages`` attribute of those shapes (:class:`planner.sim.spatial.sensing.OWTSReading`).
+    The k samples taken at 5 kHz since the last 1 kHz observation are averaged over those in
+    contact (total light above ``threshold``) - the oversampling App. C.1.2 allows.
     """
     o = getattr(obs, "owts", None)
     if o is None:
         out[:] = 0.0
         return out
-    v = getattr(o, "voltages", o)
-    a = np.asarray(v, dtype=float)
-    out[:] = a[-1] if a.ndim == 2 else a
+    a = np.asarray(getattr(o, "voltages", o), dtype=float)
+    if a.ndim == 1:
+        out[:] = a
+        return out
+    on = a.sum(axis=1) > threshold if len(a) else np.zeros(0, bool)
+    out[:] = a[on].mean(axis=0) if on.any() else 0.0
     return out
 
 
