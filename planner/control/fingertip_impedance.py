@@ -60,9 +60,25 @@ def fingertip_force(x, xd, x_des, xd_des, normal, normal_force, kp, kv):
     return [normal_force * nx + ex - en * nx, normal_force * ny + ey - en * ny]
 
 
+def holding_force(x, xd, anchor, direction, force, kp, kv):
+    """Force the HOLDING fingertip applies on the object (phases 2/3) [N].
+
+    ``force`` [N] along ``direction`` (unit, towards the palm contact: it presses the
+    object against the palm) plus a stiff 2-D impedance ``kp`` [N/m], ``kv`` [N s/m] about
+    the contact's ``anchor`` [m] (where it was at the phase start). The 2-D spring matters:
+    a holder that is only force-controlled along ``direction`` yields to the object rolling
+    on the palm into it, and the exploring finger's friction then rolls the object backwards
+    (this undid most of each phase-1 rotation).
+    """
+    return [
+        force * direction[0] + kp * (anchor[0] - x[0]) - kv * xd[0],
+        force * direction[1] + kp * (anchor[1] - x[1]) - kv * xd[1],
+    ]
+
+
 def orientation_moment(phi, phid, phi_des, k_phi, d_phi):
     """Moment on the distal link holding the fingertip orientation [N m]."""
     return k_phi * (phi_des - phi) - d_phi * phid
 
 
-__all__ = ["FingertipImpedanceGains", "fingertip_force", "orientation_moment"]
+__all__ = ["FingertipImpedanceGains", "fingertip_force", "holding_force", "orientation_moment"]

@@ -56,8 +56,10 @@ PAR = {
     "w_int": slice(19, 20),
     "w_track": slice(20, 21),
     "w_reg": slice(21, 22),
+    "kp_hold": slice(22, 23),  # holding finger's stiffness about its anchor [N/m]
+    "kv_hold": slice(23, 24),  # its damping [N s/m]
 }
-N_PAR = 22
+N_PAR = 24
 
 #: QP size: forces of the two fingers on the object (f_L, f_R), and constraint rows:
 #: 4 friction-cone rows, 2 minimum-normal-force rows, 6 torque-limit rows

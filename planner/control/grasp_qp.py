@@ -32,7 +32,7 @@ are ``tau = tau_0 + J_h^T f*``.
 
 from __future__ import annotations
 
-from planner.control.fingertip_impedance import fingertip_force, orientation_moment
+from planner.control.fingertip_impedance import fingertip_force, holding_force, orientation_moment
 from planner.control.grasp_kinematics import finger_terms_sx
 from planner.control.grasp_layout import (
     DAMPING,
@@ -141,8 +141,8 @@ def grasp_qp_function(model, name: str = "hapex_grasp_qp"):
         S[sl, sl] = grasp * p["w_int"][0] * (uk @ uk.T) + (1 - grasp) * p["w_track"][0] * cs.DM.eye(
             2
         )
-        fhold = fingertip_force(
-            pts[k], vel[k], r["p_hold"], (0, 0), hold, f_int, p["kp_tip"][0], p["kv_tip"][0]
+        fhold = holding_force(
+            pts[k], vel[k], r["p_hold"], hold, f_int, p["kp_hold"][0], p["kv_hold"][0]
         )
         target_other = explore[k] * cs.vertcat(*ftip) + (1 - explore[k]) * cs.vertcat(*fhold)
         d[sl] = grasp * f_int * uk + (1 - grasp) * target_other

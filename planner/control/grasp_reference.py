@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from planner.control.fingertip_impedance import fingertip_force, orientation_moment
+from planner.control.fingertip_impedance import fingertip_force, holding_force, orientation_moment
 from planner.control.grasp_kinematics import numeric_finger_terms
 from planner.control.grasp_layout import DAMPING, N_CON, PAR, REF
 from planner.control.object_impedance import (
@@ -76,9 +76,9 @@ def reference_step(model, data, q, qd, geo, ref, par, solver: str = "daqp") -> d
                     p["kp_tip"][0], p["kv_tip"][0],
                 )  # fmt: skip
             else:
-                d[sl] = fingertip_force(
-                    pts[k], vel[k], r["p_hold"], (0.0, 0.0), _unit(r["palm"] - pts[k]), f_int,
-                    p["kp_tip"][0], p["kv_tip"][0],
+                d[sl] = holding_force(
+                    pts[k], vel[k], r["p_hold"], _unit(r["palm"] - pts[k]), f_int,
+                    p["kp_hold"][0], p["kv_hold"][0],
                 )  # fmt: skip
     wW = grasp * p["w_wrench"][0]
     scale = np.array([1.0, 1.0, 2.0 / (r["rho"][0] + r["rho"][1])])

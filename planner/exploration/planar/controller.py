@@ -88,6 +88,7 @@ class GaitController:
                 "tau_max": s.torque_limit, "kp_tip": s.tip_kp, "kv_tip": s.tip_kv,
                 "f_n_tip": s.explore_force, "k_phi": s.phi_kp, "d_phi": s.phi_kv,
                 "w_wrench": 1.0, "w_int": 1.0, "w_track": 1.0, "w_reg": 1e-4,
+                "kp_hold": s.hold_stiffness, "kv_hold": s.hold_damping,
             },
             PAR, N_PAR,
         )  # fmt: skip
@@ -99,7 +100,8 @@ class GaitController:
         self._u0 = 0.0
         self._beta0 = 0.0
         self._weak = 0.0
-        self._hold_anchor = (0.0, 0.0)
+        self._holder = 0
+        self._hold_tip = np.zeros(2)
         self.step_times: list[float] = []
         self.trace: list[tuple] = []
         self.images: list[tuple[float, np.ndarray]] = []
@@ -114,8 +116,13 @@ class GaitController:
         e = self.sensing.est
         self._u0, self._beta0 = e.u, e.beta[0]
         holder = 0 if segment.kind == 2 else 1
-        self._hold_anchor = tuple(e.p[holder])
+        # the holding finger is anchored by its fingertip point (encoders), not by the sensed
+        # contact: the contact estimate jumps when the tactile centroid or the centre
+        # estimate changes, and a stiff anchor on it dragged the held object
+        self._holder = holder
+        self._hold_tip = e.tips[holder].copy()
         self.pi.reset()
+        self._trigger = None  # limit triggers, set from the phase's first joint reading
 
     # ------------------------------------------------------------------ the step
     def __call__(self, t: float, obs) -> np.ndarray:
@@ -168,7 +175,7 @@ class GaitController:
                 "f_int": f_cmd, "m_roll": m_roll, "p_des": p_des, "v_des": v_des,
                 "phi_des": phis, "palm": (e.centre[0], 0.0),
                 "flags": (1.0 if seg.kind == 1 else 0.0, explorer[0], explorer[1]),
-                "p_hold": self._hold_anchor,
+                "p_hold": self._hold_tip + (e.p[self._holder] - e.tips[self._holder]),
             },
             REF, N_REF,
         )  # fmt: skip
@@ -196,8 +203,10 @@ class GaitController:
             return
         s, seg = self.s, self.segment
         q = obs.q
-        margin = s.joint_margin
-        near = np.flatnonzero((q < self.lim[:, 0] + margin) | (q > self.lim[:, 1] - margin))
+        if self._trigger is None:
+            self._trigger = limit_triggers(q, self.lim, s.joint_margin)
+        lo, hi = self._trigger
+        near = np.flatnonzero((q < lo) | (q > hi))
         moving = {1: range(6), 2: range(3, 6), 3: range(0, 3)}[seg.kind]
         hit = [int(j) for j in near if j in moving]
         if hit and tl > s.startup_time:
@@ -225,6 +234,19 @@ class GaitController:
     def stop(self, t: float, world) -> str | None:
         """The ``stop`` callback of ``world.run``: the event that ends the phase, if any."""
         return self.event
+
+
+def limit_triggers(q, lim, margin: float) -> tuple[np.ndarray, np.ndarray]:
+    """Joint angles [rad] beyond which a finger is at its workspace limit in this phase.
+
+    A joint is at its limit within ``margin`` [rad] of it; a joint that STARTS the phase
+    inside that band triggers only after moving a further ``margin / 2`` toward the limit
+    (a phase that starts next to a limit and moves away from it must not end at once: ending
+    phases 2/3 right after their startup segment stalled the whole gait)."""
+    q = np.asarray(q, float)
+    lo = np.minimum(lim[:, 0] + margin, q - 0.5 * margin)
+    hi = np.maximum(lim[:, 1] - margin, q + 0.5 * margin)
+    return lo, hi
 
 
 __all__ = ["TRACE_NAMES", "GaitController", "Segment"]

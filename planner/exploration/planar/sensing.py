@@ -43,6 +43,7 @@ class GraspEstimate:
         normal_force: (2,) their components along ``-n`` [N].
         offsets: (4,) contact points in the fingertip frames [m] (for the control step).
         tip_normals: (4,) tip-frame unit normals pointing into the object.
+        tips: (2, 2) fingertip points from the encoders (pad centre, tip-disc centre) [m].
     """
 
     u: float = 0.0
@@ -55,6 +56,7 @@ class GraspEstimate:
     normal_force: np.ndarray = None  # type: ignore[assignment]
     offsets: np.ndarray = None  # type: ignore[assignment]
     tip_normals: np.ndarray = None  # type: ignore[assignment]
+    tips: np.ndarray = None  # type: ignore[assignment]
 
 
 class GraspSensing:
@@ -82,6 +84,7 @@ class GraspSensing:
             normal_force=np.zeros(2),
             offsets=np.zeros(4),
             tip_normals=np.array([0.0, 1.0, 0.0, 1.0]),
+            tips=np.zeros((2, 2)),
         )
 
     def update(self, obs, source: str = "auto") -> GraspEstimate:
@@ -105,6 +108,7 @@ class GraspSensing:
         e.p[0] = tipL + e.u * np.array([cL, sL])
         e.n[0] = (sL, -cL)
         tipR = hand.fingertip_pose(q, "right").position
+        e.tips[0], e.tips[1] = tipL, tipR
         R, r = self.radius, self.r
         if source == "pad" or (source == "auto" and e.pad_touch):
             e.centre[:] = e.p[0] - R * e.n[0]

@@ -24,6 +24,8 @@ class GaitSettings:
             grasping/holding fingertips about their planned orientation.
         internal_gains: the internal-force PI gains.
         tip_kp, tip_kv, phi_kp, phi_kv: fingertip impedance of the explorer.
+        hold_stiffness, hold_damping: 2-D impedance of the holding fingertip about its
+            anchor in phases 2/3 [N/m, N s/m] (it must out-hold the explorer's friction).
         min_force: minimum normal force of every touching finger in the QP [N].
         torque_limit: joint torque limit used by the QP [N m].
         rotation_speed: object rotation speed of phase 1 [rad/s].
@@ -53,6 +55,8 @@ class GaitSettings:
     tip_kv: float = 2.0
     phi_kp: float = 0.15
     phi_kv: float = 0.004
+    hold_stiffness: float = 300.0
+    hold_damping: float = 3.0
     min_force: float = 0.05
     torque_limit: float = 2.0
     rotation_speed: float = 0.4
@@ -73,10 +77,10 @@ class GaitSettings:
         checks.in_range("friction_margin", self.friction_margin, 0.0, 0.9)
         for name in ("internal_force", "explore_force", "object_mass", "tip_kp", "phi_kp",
                      "rotation_speed", "explore_speed", "startup_time", "dt", "control_rate",
-                     "lost_time", "torque_limit"):  # fmt: skip
+                     "lost_time", "torque_limit", "hold_stiffness"):  # fmt: skip
             checks.positive(name, getattr(self, name))
         for name in ("tip_kv", "phi_kv", "min_force", "joint_margin", "min_epsilon",
-                     "lost_force", "nlp_margin"):  # fmt: skip
+                     "lost_force", "nlp_margin", "hold_damping"):  # fmt: skip
             checks.nonnegative(name, getattr(self, name))
         checks.vector("object_kp", self.object_kp, 3)
         checks.vector("object_kv", self.object_kv, 3)
