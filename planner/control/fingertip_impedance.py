@@ -60,20 +60,28 @@ def fingertip_force(x, xd, x_des, xd_des, normal, normal_force, kp, kv):
     return [normal_force * nx + ex - en * nx, normal_force * ny + ey - en * ny]
 
 
-def holding_force(x, xd, anchor, direction, force, kp, kv):
+def holding_force(x, xd, anchor, direction, force, kp, kv, mu, sqrt=None):
     """Force the HOLDING fingertip applies on the object (phases 2/3) [N].
 
     ``force`` [N] along ``direction`` (unit, towards the palm contact: it presses the
     object against the palm) plus a stiff 2-D impedance ``kp`` [N/m], ``kv`` [N s/m] about
     the contact's ``anchor`` [m] (where it was at the phase start). The 2-D spring matters:
     a holder that is only force-controlled along ``direction`` yields to the object rolling
-    on the palm into it, and the exploring finger's friction then rolls the object backwards
-    (this undid most of each phase-1 rotation).
+    on the palm into it, and the exploring finger's friction then rolls the object backwards.
+    The press grows with the spring's sideways part ``s_t`` (``force + |s_t| / mu``) so the
+    holding force stays inside the friction cone (``mu`` [-] with margin) instead of being
+    cut by it (a holder at its cone let the object roll away). ``sqrt``: the square root to
+    use (``casadi.sqrt`` in the compiled step; default ``math.sqrt``).
     """
-    return [
-        force * direction[0] + kp * (anchor[0] - x[0]) - kv * xd[0],
-        force * direction[1] + kp * (anchor[1] - x[1]) - kv * xd[1],
-    ]
+    import math
+
+    root = sqrt or math.sqrt
+    sx = kp * (anchor[0] - x[0]) - kv * xd[0]
+    sy = kp * (anchor[1] - x[1]) - kv * xd[1]
+    along = sx * direction[0] + sy * direction[1]
+    tx, ty = sx - along * direction[0], sy - along * direction[1]
+    press = force + root(tx * tx + ty * ty + 1e-8) / mu
+    return [press * direction[0] + sx, press * direction[1] + sy]
 
 
 def orientation_moment(phi, phid, phi_des, k_phi, d_phi):

@@ -142,8 +142,9 @@ def grasp_qp_function(model, name: str = "hapex_grasp_qp"):
             2
         )
         fhold = holding_force(
-            pts[k], vel[k], r["p_hold"], hold, f_int, p["kp_hold"][0], p["kv_hold"][0]
-        )
+            pts[k], vel[k], r["p_hold"], hold, f_int, p["kp_hold"][0], p["kv_hold"][0],
+            p["mu"][0], sqrt=cs.sqrt,
+        )  # fmt: skip
         target_other = explore[k] * cs.vertcat(*ftip) + (1 - explore[k]) * cs.vertcat(*fhold)
         d[sl] = grasp * f_int * uk + (1 - grasp) * target_other
     wW = grasp * p["w_wrench"][0]

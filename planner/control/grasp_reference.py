@@ -78,7 +78,7 @@ def reference_step(model, data, q, qd, geo, ref, par, solver: str = "daqp") -> d
             else:
                 d[sl] = holding_force(
                     pts[k], vel[k], r["p_hold"], _unit(r["palm"] - pts[k]), f_int,
-                    p["kp_hold"][0], p["kv_hold"][0],
+                    p["kp_hold"][0], p["kv_hold"][0], p["mu"][0],
                 )  # fmt: skip
     wW = grasp * p["w_wrench"][0]
     scale = np.array([1.0, 1.0, 2.0 / (r["rho"][0] + r["rho"][1])])

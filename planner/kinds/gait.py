@@ -25,6 +25,9 @@ Keys (SI units)::
     max_rotation_deg: 360        # stop after this rotation [deg]
     dt: 0.002                    # simulator step [s]
     control_rate: 500            # [Hz]
+    hand:                        # joint ranges of the RIGHT finger (the left one mirrors it)
+      joint_lower_deg: [-40, 0, -10]
+      joint_upper_deg: [70, 110, 100]
     gains: {...}                 # see GainsConfig
     rolling: {amplitude: 0.003, period: 1.0}   # explicit_rolling only
     output: {animation: false}   # + the usual plots/formats/dpi
@@ -109,6 +112,43 @@ class GainsConfig(StrictModel):
         return self
 
 
+class HandConfig(StrictModel):
+    """Joint ranges of the two-finger hand (right finger; the left finger mirrors them).
+
+    The default ranges (110 deg per joint) suit 2-8 cm objects; on a 10 cm ball the right
+    finger starts within a few degrees of its joint-2 stop and its joint 1 runs into -40 deg,
+    so every phase ends at the workspace limit after a few degrees of rotation.
+    """
+
+    joint_lower_deg: tuple[float, float, float] = Field((-40.0, 0.0, -10.0))
+    joint_upper_deg: tuple[float, float, float] = Field((70.0, 110.0, 100.0))
+
+    @model_validator(mode="after")
+    def _ranges(self):
+        for lo, hi in zip(self.joint_lower_deg, self.joint_upper_deg, strict=True):
+            if not (-180.0 <= lo < hi <= 180.0):
+                raise ValueError(
+                    f"joint ranges must satisfy -180 <= lower < upper <= 180 deg, got "
+                    f"{list(self.joint_lower_deg)} / {list(self.joint_upper_deg)}"
+                )
+        return self
+
+    def hand(self, mu: float):
+        """The ``robots.planar_hand.PlanarHand`` with these ranges."""
+        import dataclasses
+
+        from robots.planar_hand import PlanarHand
+        from robots.planar_hand.params import HandParams, default_finger
+
+        lo = tuple(math.radians(v) for v in self.joint_lower_deg)
+        hi = tuple(math.radians(v) for v in self.joint_upper_deg)
+        right = dataclasses.replace(default_finger("right"), lower=lo, upper=hi)
+        left = dataclasses.replace(
+            default_finger("left"), lower=tuple(-v for v in hi), upper=tuple(-v for v in lo)
+        )
+        return PlanarHand(HandParams(left=left, right=right, friction=float(mu)))
+
+
 class RollingConfig(StrictModel):
     """The explicit-rolling task (Figs. 2.9/2.10)."""
 
@@ -140,6 +180,7 @@ class Config(ScenarioBase):
     max_rotation_deg: float = Field(360.0, gt=0, le=3600, description="[deg]")
     dt: float = Field(0.002, gt=0, le=0.01, description="simulator step [s]")
     control_rate: float = Field(500.0, ge=50, le=5000, description="[Hz]")
+    hand: HandConfig = Field(default_factory=HandConfig)
     gains: GainsConfig = Field(default_factory=GainsConfig)
     rolling: RollingConfig = Field(default_factory=RollingConfig)
     output: GaitOutput = Field(default_factory=GaitOutput)
@@ -148,7 +189,7 @@ class Config(ScenarioBase):
     def _fits(self):
         from planner.exploration.planar.setup import check_fits
 
-        why = check_fits(self.object.profile(), self.mu)
+        why = check_fits(self.object.profile(), self.mu, hand=self.hand.hand(self.mu))
         if why:
             raise ValueError(f"object: {why}")
         return self
@@ -182,7 +223,8 @@ def run(config: Config, ctx):
                                    period=config.rolling.period, duration=duration, seed=seed,
                                    settings=s)  # fmt: skip
         else:
-            res = explore_object(profile, mu=config.mu, nominal=nominal, seed=seed,
+            res = explore_object(profile, hand=_hand(config), mu=config.mu, nominal=nominal,
+                                 seed=seed,
                                  duration=duration, settings=s,
                                  max_rotation=math.radians(config.max_rotation_deg))  # fmt: skip
     return _report(config, ctx, res, profile, duration)
@@ -241,6 +283,4 @@ def _report(config: Config, ctx, res, profile, duration: float):
 
 
 def _hand(config: Config):
-    from robots.planar_hand import PlanarHand
-
-    return PlanarHand(friction=config.mu)
+    return config.hand.hand(config.mu)

@@ -156,11 +156,17 @@ class GaitController:
             sdR = -(self.r * R / (self.r + R)) * (qd[3] + qd[4] + qd[5] - w_des)
             m_roll = [rolling_moment(-e.u, sdL, -u_des, 0.0, self.roll),
                       rolling_moment(sR, sdR, sR_des, 0.0, self.roll)]  # fmt: skip
+            if seg.kind != 1:
+                # the holder of phases 2/3 gets no rolling PD: on a round tip its distal
+                # moment becomes a tangential contact force (moment / tip radius) that
+                # rolled the held object away along the palm
+                m_roll = [0.0, 0.0]
             # orientation of each grasping/holding fingertip along its planned path
             for k in range(2):
                 phi = float(obs.q[3 * k] + obs.q[3 * k + 1] + obs.q[3 * k + 2])
                 phid = float(qd[3 * k] + qd[3 * k + 1] + qd[3 * k + 2])
-                m_roll[k] += s.hold_kp * (phi_ref[k] - phi) - s.hold_kv * (phid - phid_ref[k])
+                kp = s.hold_kp if seg.kind == 1 else 0.0
+                m_roll[k] += kp * (phi_ref[k] - phi) - s.hold_kv * (phid - phid_ref[k])
         x_des, xd_des = (
             seg.pose(tl) if seg.pose is not None else ((e.centre[0], e.centre[1], 0.0), (0, 0, 0))
         )
@@ -240,12 +246,12 @@ def limit_triggers(q, lim, margin: float) -> tuple[np.ndarray, np.ndarray]:
     """Joint angles [rad] beyond which a finger is at its workspace limit in this phase.
 
     A joint is at its limit within ``margin`` [rad] of it; a joint that STARTS the phase
-    inside that band triggers only after moving a further ``margin / 2`` toward the limit
+    inside that band triggers only after moving a further ``margin`` toward the limit
     (a phase that starts next to a limit and moves away from it must not end at once: ending
     phases 2/3 right after their startup segment stalled the whole gait)."""
     q = np.asarray(q, float)
-    lo = np.minimum(lim[:, 0] + margin, q - 0.5 * margin)
-    hi = np.maximum(lim[:, 1] - margin, q + 0.5 * margin)
+    lo = np.minimum(lim[:, 0] + margin, q - margin)
+    hi = np.maximum(lim[:, 1] - margin, q + margin)
     return lo, hi
 
 

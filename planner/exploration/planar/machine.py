@@ -90,7 +90,7 @@ def explore_object(
     from planner.exploration.planar.metrics import coverage_of, detect_pad_features
 
     trace = trace_arrays(ctrl)
-    features = detect_pad_features(trace, profile, start["rest"], R)
+    features = detect_pad_features(trace, profile, start["rest"], R, s.explore_force)
     timings = {
         "nlp_build_s": nlp_build,
         "nlp_solve_ms": [1e3 * p.nlp_time_s for p in runner.records if p.kind == 1],

@@ -51,17 +51,56 @@ def _detect(points: np.ndarray, normals: np.ndarray) -> list[tuple[np.ndarray, i
     return [(np.asarray(f.position, float), int(f.sign)) for f in feats]
 
 
-def detect_pad_features(trace: dict, profile, rest, radius: float) -> list[DetectedFeature]:
+#: steady sliding: skip this long after the pad starts exploring (startup ramps) [s]
+SETTLE_TIME = 0.1
+#: steady sliding: the pad's normal force within these multiples of the commanded one [-]
+FORCE_BAND = (0.5, 3.0)
+#: steady sliding: the contact moves over the object at least this fast [m/s]
+MIN_SLIDE_SPEED = 0.002
+#: detections of one feature on repeated passes closer than this are merged [rad]
+MERGE_ANGLE = math.radians(3.0)
+
+
+def steady_sliding(trace: dict, explore_force: float = 0.3) -> np.ndarray:
+    """Rows of ``trace`` where the left pad explores in steady sliding contact (phase 3,
+    touching, past the startup ramps, normal force near ``explore_force`` [N], contact
+    moving over the object): the only rows the detector sees (the rest gave spurious
+    features: startup transients, pressing and sticking)."""
+    t, kind = trace["t"], trace["kind"]
+    sel = (kind == 3) & (trace["pad_touch"] > 0)
+    start = np.full(len(t), np.inf)
+    idx = np.flatnonzero(kind == 3)
+    if idx.size:
+        runs = np.split(idx, np.flatnonzero(np.diff(idx) > 1) + 1)
+        for run in runs:
+            start[run] = t[run[0]]
+    sel &= t >= start + SETTLE_TIME
+    fn = trace["fnL"]
+    sel &= (fn >= FORCE_BAND[0] * explore_force) & (fn <= FORCE_BAND[1] * explore_force)
+    if len(t) > 2:
+        th = trace["theta"]
+        px, py = trace["pLx"] - trace["cx"], trace["pLy"] - trace["cy"]
+        ang = np.unwrap(np.arctan2(py, px) - th)  # polar angle of the contact on the object
+        speed = np.abs(np.gradient(ang, t)) * np.hypot(px, py)
+        k = np.ones(9) / 9.0
+        sel &= np.convolve(speed, k, mode="same") >= MIN_SLIDE_SPEED
+    return sel
+
+
+def detect_pad_features(
+    trace: dict, profile, rest, radius: float, explore_force: float = 0.3
+) -> list[DetectedFeature]:
     """Features in the left pad's sensed trace while it explores (phase 3).
 
-    Points are mapped to the object frame with the *estimated* pose (centre and rotation
-    from the sensors), detected per contiguous phase-3 run, reported as polar angles on the
-    object and matched to the nearest true curvature feature of ``profile``.
+    Only rows of steady sliding contact are used (:func:`steady_sliding`). Points are
+    mapped to the object frame with the *estimated* pose (centre and rotation from the
+    sensors), detected per contiguous run, reported as polar angles on the object (one per
+    feature: repeated detections within :data:`MERGE_ANGLE` are merged) and matched to the
+    nearest true curvature feature of ``profile``.
     """
     if len(trace.get("t", ())) == 0:
         return []
-    kind, touch = trace["kind"], trace["pad_touch"] > 0
-    sel = (kind == 3) & touch
+    sel = steady_sliding(trace, explore_force)
     truth = [math.atan2(f.position[1], f.position[0])
              for f in profile.curvature_features(VIRTUAL_RADIUS)]  # fmt: skip
     out = []
@@ -96,7 +135,21 @@ def detect_pad_features(trace: dict, profile, rest, radius: float) -> list[Detec
                 )
             else:
                 out.append(DetectedFeature(a, "convex" if sign > 0 else "concave"))
-    return out
+    return _merge(out)
+
+
+def _merge(found: list[DetectedFeature]) -> list[DetectedFeature]:
+    """One detection per feature and kind (the first of those within MERGE_ANGLE)."""
+    kept: list[DetectedFeature] = []
+    for f in found:
+        if not any(
+            g.kind == f.kind
+            and abs(math.atan2(math.sin(f.angle - g.angle), math.cos(f.angle - g.angle)))
+            < MERGE_ANGLE
+            for g in kept
+        ):
+            kept.append(f)
+    return kept
 
 
 def _rms(x) -> float:
@@ -167,5 +220,6 @@ __all__ = [
     "coverage_of",
     "detect_pad_features",
     "slip_distance",
+    "steady_sliding",
     "summary_metrics",
 ]

@@ -22,6 +22,10 @@ from planner.exploration.planar.heuristics import pad_angle, preferred_orientati
 from planner.exploration.planar.sensing import round_contact_arclength
 from planner.trajectory import ForceRamp, QuinticSpline
 
+#: largest change of the round exploring tip's orientation in one phase [rad] (0: the tip
+#: slides without re-orienting; 0.15 still ended runs in simulator faults, see the report)
+MAX_REORIENT = 0.0
+
 
 def _interp(times: np.ndarray, values: np.ndarray):
     """Piecewise-linear ``t -> (value, rate)`` through knots (held outside)."""
@@ -94,6 +98,10 @@ def explore_segment(kind: int, est, q, target_beta: float, theta0: float, settin
         pref = preferred_orientation(hand, "right", end)
         lim = 0.5  # keep the contact within 0.5 rad of the apex
         phi1 = apex + float(np.clip(pref - apex, -lim, lim))
+        # turn the tip towards that orientation by at most MAX_REORIENT per phase: on a
+        # 10 cm ball the full turn twisted the finger into its joint-2 stop, phase 2 ended
+        # at the workspace limit and the gait stalled (transition 4 on every cycle)
+        phi1 = phi0 + float(np.clip(phi1 - phi0, -MAX_REORIENT, MAX_REORIENT))
 
         def phi_of(t, b):
             w = min(max((t - s.startup_time) / T_move, 0.0), 1.0)

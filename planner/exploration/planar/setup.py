@@ -45,6 +45,25 @@ def _place(hand, profile, origin, beta, q_ref):
     return np.r_[qL, qR]
 
 
+#: a start grasp whose fingertips penetrate the palm or the object deeper than this is
+#: rejected [m] (with wider joint ranges the best-margin grasp can fold the pad into the palm)
+START_PENETRATION = 5e-4
+
+
+def _collides(hand, profile, q, pose, mu, settings) -> bool:
+    """Whether the start configuration ``q`` puts a fingertip into the palm or the object."""
+    from planner.sim import PlanarWorld
+
+    world = PlanarWorld(dt=settings.dt)
+    world.add_hand(hand, q)
+    world.add_body(profile, pose, settings.object_mass, friction=mu, name="object")
+    return any(
+        gap < -START_PENETRATION
+        for (a, b, gap) in world.penetrations()
+        if {a, b} != {"hand.palm", "object"}
+    )
+
+
 def check_fits(profile, mu: float, hand=None, radius: float | None = None) -> str:
     """Why the object cannot be grasped at the start ("" when it can): the bad-input test
     of scenario validation (exit 2)."""
@@ -86,7 +105,7 @@ def build_world(
     cands = start_grasp_candidates(hand, (0.0, radius), radius, mu_eff, first, settings.nlp_margin)
     for bl, br, q_nom, _ in cands:
         q = _place(hand, profile, origin, (bl, br), q_nom)
-        if q is not None:
+        if q is not None and not _collides(hand, profile, q, (0.0, h, 0.0), mu, settings):
             found = (bl, br, q)
             break
     if found is None:
