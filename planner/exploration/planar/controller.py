@@ -61,6 +61,12 @@ TRACE_NAMES = (
 )  # fmt: skip
 
 
+#: a command beyond this many torque limits is rejected (safe fallback) [-]
+FALLBACK_RATIO = 5.0
+#: joint damping of the fallback command [N m s/rad]
+FALLBACK_DAMPING = 0.02
+
+
 class GaitController:
     """The controller of the whole gait; :meth:`start` switches it to a new phase.
 
@@ -103,6 +109,8 @@ class GaitController:
         self._holder = 0
         self._hold_tip = np.zeros(2)
         self.step_times: list[float] = []
+        self.fallbacks = 0  # control steps that used the safe fallback command
+        self._last_tau = np.zeros(6)
         self.trace: list[tuple] = []
         self.images: list[tuple[float, np.ndarray]] = []
 
@@ -192,6 +200,14 @@ class GaitController:
         if seg.kind == 3:  # the exploring pad is steered by its centre (it slides)
             st.geo[0:2] = 0.0
         tau = st().copy()
+        if not np.all(np.isfinite(tau)) or np.max(np.abs(tau)) > FALLBACK_RATIO * s.torque_limit:
+            # a near-singular finger Jacobian or an infeasible QP gave a command of tens of
+            # N m: saturated at the torque limits it threw the light fingers into the object
+            # (simulator faults); hold the last good command, damped, for this step instead
+            tau = self._last_tau - FALLBACK_DAMPING * np.asarray(obs.qd, float)
+            self.fallbacks += 1
+        else:
+            self._last_tau = tau
         self.step_times.append(time.perf_counter() - tau_t0)
         self.trace.append(
             (t, seg.kind, e.u, e.pad_touch, *e.p.ravel(), *e.n.ravel(), *e.centre, self.theta,

@@ -179,8 +179,19 @@ class _Runner:
             seg = phase1_segment(plan, est, q, self.theta, s, self.hand, lift=0.0015)
             return seg, plan.rotation, plan.solve_time_s, ""
         target = self.start["beta"][1 if kind == 2 else 0]
+        if kind == 2:
+            target = max(target, self._right_hold_angle())
         seg = explore_segment(kind, est, q, target, self.theta, s, self.hand)
         return seg, 0.0, 0.0, ""
+
+    def _right_hold_angle(self) -> float:
+        """Lowest polar angle [rad] of the right contact from which the right finger can
+        press the object against the palm in phase 3: the chord to the palm contact makes
+        (pi/2 - beta) / 2 with the contact normal and must lie inside the friction cone
+        (with a 0.2 rad reserve). Below it the holder's cone-limited push rolled the object
+        backwards along the palm (+10-18 deg per phase 3 with beta = 5 deg)."""
+        mu = self.s.mu * (1 - self.s.friction_margin)
+        return 0.5 * math.pi - 2 * math.atan(mu) + 0.2
 
     def _run(self, kind, skip, seg, planned, nlp_t):
         w, c = self.world, self.ctrl
