@@ -51,3 +51,17 @@ def test_phase2_holder_keeps_the_ball(short_run):
     assert p2.kind == 2
     assert abs(math.degrees(p2.rotation)) < 2.0
     assert short_run.rotation < math.radians(-10.0)
+
+
+def test_sensing_fingertips_match_the_hand_kinematics():
+    from planner.exploration.planar.sensing import GraspSensing
+    from robots.planar_hand import PlanarHand
+
+    hand = PlanarHand()
+    sensing = GraspSensing(hand, 0.05)
+    rng = np.random.default_rng(3)
+    for q in rng.uniform(-2.0, 2.0, (100, 6)):
+        for k, side in enumerate(("left", "right")):
+            np.testing.assert_allclose(
+                sensing._tip(k, q), hand.fingertip_pose(q, side).position, atol=1e-12
+            )

@@ -150,6 +150,7 @@ class GaitController:
             palm = np.array([e.centre[0], 0.0])
             sensed = sensed_internal_force(e.p[holder], palm, e.forces[holder], -e.forces[holder])
         f_cmd = self.pi.command(f_des, sensed, 1.0 / s.control_rate)
+        pose_now = seg.pose(tl) if seg.pose is not None else None
         m_roll = [0.0, 0.0]
         self._roll_cmd = (math.nan, math.nan, math.nan)
         if seg.rolling is not None:
@@ -157,7 +158,7 @@ class GaitController:
             phiR = float(obs.q[3] + obs.q[4] + obs.q[5])
             sR = round_contact_arclength(e.beta[1], phiR, self.r)
             self._roll_cmd = (u_des, sR, sR_des)
-            w_des = seg.pose(tl)[1][2] if seg.pose is not None else 0.0
+            w_des = float(pose_now[1][2]) if pose_now is not None else 0.0
             qd = obs.qd
             # contact rates from pure rolling (eq. 2.4): ds = -d(phi - theta) / (k_f + k_o)
             sdL = -R * (qd[0] + qd[1] + qd[2] - w_des)
@@ -176,7 +177,7 @@ class GaitController:
                 kp = s.hold_kp if seg.kind == 1 else 0.0
                 m_roll[k] += kp * (phi_ref[k] - phi) - s.hold_kv * (phid - phid_ref[k])
         x_des, xd_des = (
-            seg.pose(tl) if seg.pose is not None else ((e.centre[0], e.centre[1], 0.0), (0, 0, 0))
+            pose_now if pose_now is not None else ((e.centre[0], e.centre[1], 0.0), (0, 0, 0))
         )
         p_des, v_des, phi_des = (
             seg.explore(tl) if seg.explore is not None else ((0.0, 0.0), (0.0, 0.0), 0.0)

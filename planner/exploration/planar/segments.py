@@ -71,7 +71,7 @@ def phase1_segment(plan, est, q, theta0: float, settings, hand, lift: float) -> 
     return Segment(
         kind=1,
         duration=float(ts[-1]) + 0.05,
-        pose=lambda t: (tuple(pose_f(t)[0]), tuple(pose_f(t)[1])),
+        pose=pose_f,
         rolling=rolling,
         hold_force=lambda t: float(ramp(t)),
         theta0=theta0,
