@@ -4,6 +4,13 @@ Joint order (``q``, nq == 6): ``left_j1, left_j2, left_j3, right_j1, right_j2, r
 every joint is a revolute joint about +z of the hand plane (``JointModelRZ``). Frames
 ``left_tip`` / ``right_tip`` sit at the fingertip point (round: disc centre; flat: pad centre),
 ``palm`` at the palm centre. Links are uniform rods of ``LINK_MASS`` [kg].
+
+Mass properties (the thesis gives none): every link is a 50 g uniform rod along the link
+(``I_zz = m L^2 / 12`` about its centre, COM at mid-length) - about an aluminium link with a
+tendon-driven joint whose motors sit off the finger, as on the thesis' test bed; the
+fingertips' mass is lumped into the distal rod. These are the inertias the contact simulator
+(``planner.sim.PlanarWorld``, via CRBA/RNEA) and its MJCF export use; torque limits
+``EFFORT_LIMIT`` = 2 N m per joint.
 """
 
 from __future__ import annotations

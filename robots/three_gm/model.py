@@ -9,6 +9,13 @@ Frames: ``endpoint`` (l5 along the distal link), ``closure_a`` (l4 along the dis
 ``closure_b`` (l3 along link l3). The loop closes where ``closure_a == closure_b``; the
 constraint is also provided as a ``pin.RigidConstraintModel`` (CONTACT_3D between the two
 joints) for Pinocchio's constrained algorithms.
+
+Dynamics (the thesis gives no masses; values and reasons in :mod:`robots.three_gm.params`):
+uniform rods of ``LINK_MASSES`` along each link (``l1`` on theta1, ``l2`` on theta2, ``l3``
+on gamma2, the distal link ``l5`` on gamma1), the fingertip sphere ``FINGERTIP_MASS`` at the
+endpoint, the rotating base ``BASE_INERTIA`` on theta3, and the motors' reflected rotor
+inertia ``MOTOR_ARMATURE`` as Pinocchio ``armature`` of the actuated joints. Gravity is
+Pinocchio's default ``(0, 0, -9.81)`` m/s² (the WCS z axis is vertical, up).
 """
 
 from __future__ import annotations
@@ -19,11 +26,17 @@ import numpy as np
 import pinocchio as pin
 
 from planner.errors import SingularConfiguration
+from robots.three_gm.params import (
+    BASE_INERTIA,
+    FINGERTIP_MASS,
+    LINK_MASSES,
+    MOTOR_ARMATURE,
+)
 
 JOINTS = ("theta3", "theta1", "gamma1", "theta2", "gamma2")
 ACTUATED = (1, 3, 0)  # q indices of (θ1, θ2, θ3)
 PASSIVE = (2, 4)
-LINK_MASS = 0.03  # [kg] per link (uniform rods), nominal
+FINGERTIP_RADIUS = 0.008  # [m] radius of the fingertip sphere used for its inertia
 
 
 def _rot_x(angle: float) -> np.ndarray:
@@ -31,9 +44,17 @@ def _rot_x(angle: float) -> np.ndarray:
     return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
 
 
-def _rod_x(length: float) -> pin.Inertia:
-    i = LINK_MASS * length**2 / 12.0
-    return pin.Inertia(LINK_MASS, np.array([length / 2, 0.0, 0.0]), np.diag([1e-9, i, i]))
+def _rod_x(mass: float, length: float) -> pin.Inertia:
+    """A uniform rod of ``mass`` [kg] and ``length`` [m] along the local x axis."""
+    i = mass * length**2 / 12.0
+    return pin.Inertia(mass, np.array([length / 2, 0.0, 0.0]), np.diag([1e-9 * mass, i, i]))
+
+
+def _distal(p: dict[str, float]) -> pin.Inertia:
+    """The distal link (rod of length l5) plus the fingertip sphere at its end."""
+    tip_i = 0.4 * FINGERTIP_MASS * FINGERTIP_RADIUS**2
+    tip = pin.Inertia(FINGERTIP_MASS, np.array([p["l5"], 0.0, 0.0]), np.eye(3) * tip_i)
+    return _rod_x(LINK_MASSES["l5"], p["l5"]) + tip
 
 
 def build_model(p: dict[str, float], joint_limits: np.ndarray) -> pin.Model:
@@ -58,14 +79,15 @@ def build_model(p: dict[str, float], joint_limits: np.ndarray) -> pin.Model:
 
     plane = _rot_x(np.pi / 2)
     lim = np.asarray(joint_limits, float)
-    j3 = add(0, "theta3", pin.SE3.Identity(), lim[2, 0], lim[2, 1], None)
+    base = pin.Inertia(0.0, np.zeros(3), np.diag([0.0, 0.0, BASE_INERTIA]))
+    j3 = add(0, "theta3", pin.SE3.Identity(), lim[2, 0], lim[2, 1], base)
     j1 = add(
         j3,
         "theta1",
         pin.SE3(plane, np.array([p["h2"], -p["h3"], 0.0])),
         lim[0, 0],
         lim[0, 1],
-        _rod_x(p["l1"]),
+        _rod_x(LINK_MASSES["l1"], p["l1"]),
     )
     g1 = add(
         j1,
@@ -73,7 +95,7 @@ def build_model(p: dict[str, float], joint_limits: np.ndarray) -> pin.Model:
         pin.SE3(np.eye(3), np.array([p["l1"], 0.0, 0.0])),
         -big[0],
         big[0],
-        _rod_x(p["l5"]),
+        _distal(p),
     )
     j2 = add(
         j3,
@@ -81,7 +103,7 @@ def build_model(p: dict[str, float], joint_limits: np.ndarray) -> pin.Model:
         pin.SE3(plane, np.array([p["h2"], -p["h3"], -p["h1"]])),
         lim[1, 0],
         lim[1, 1],
-        _rod_x(p["l2"]),
+        _rod_x(LINK_MASSES["l2"], p["l2"]),
     )
     g2 = add(
         j2,
@@ -89,8 +111,12 @@ def build_model(p: dict[str, float], joint_limits: np.ndarray) -> pin.Model:
         pin.SE3(np.eye(3), np.array([p["l2"], 0.0, 0.0])),
         -big[0],
         big[0],
-        _rod_x(p["l3"]),
+        _rod_x(LINK_MASSES["l3"], p["l3"]),
     )
+    arm = np.zeros(m.nv)
+    for jid, a in zip((j1, j2, j3), MOTOR_ARMATURE, strict=True):
+        arm[m.idx_vs[jid]] = a
+    m.armature = arm
     for name, jid, d in (
         ("endpoint", g1, p["l5"]),
         ("closure_a", g1, p["l4"]),

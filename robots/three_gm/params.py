@@ -44,4 +44,19 @@ WORKSPACE_Z = (-0.125, -0.125 + 4.0 * INCH)
 WORKSPACE_HALF_ANGLE = 0.75
 
 MAX_FORCE_AT_CENTER = 9.0  # [N] App. C.2.1
+
+#: Link masses [kg] of the dynamic model (the thesis gives none; chosen here). Links are
+#: hollow aluminium bars of ~6 x 6 mm section (about 0.3 kg/m with bearings and screws):
+#: ``l1`` (motor-1 link, 100 mm) 30 g, ``l2`` (motor-2 crank, 40 mm) 15 g, ``l3`` (passive
+#: link, 100 mm) 25 g, distal link (``l5``, 120 mm, carries the sensor's fibre bundle) 35 g.
+#: Each is modelled as a uniform rod along its axis (inertia m l²/12 about its centre).
+LINK_MASSES: dict[str, float] = {"l1": 0.030, "l2": 0.015, "l3": 0.025, "l5": 0.035}
+#: The OWTS fingertip [kg]: "its low weight, 27g" (App. C.1.3), modelled as a solid sphere of
+#: radius 8 mm centred at the endpoint (inertia 2/5 m r²).
+FINGERTIP_MASS = 0.027
+#: Reflected rotor inertia ("armature") of each motor, about its joint axis [kg m²]
+#: (small DC motors, ~1e-6 kg m² rotor through a 1:3 cable reduction). Order (θ1, θ2, θ3).
+MOTOR_ARMATURE = (1e-5, 1e-5, 1e-5)
+#: Inertia of the rotating base (the five-bar's support plate) about the θ3 axis [kg m²].
+BASE_INERTIA = 2e-4
 POSITION_RESOLUTION = 0.05e-3  # [m] App. C.2.1

@@ -1,0 +1,312 @@
+"""Benchmark of the contact simulator (issue 15): hapex and MuJoCo on the same scenes.
+
+Scenes (dt = 1 ms, the same Python controller at 1 kHz for both engines):
+
+* ``pinch hold``: a disc pinched by two round fingertips (mu = 1, 4x friction margin), 10 s:
+  creep = drift of the disc centre relative to the fingertips' midpoint after the first second
+  (same definition for both engines; it includes rolling and the impedance settling), and
+  for hapex ``slip_m`` = the integrated slip speed at the fingertip contacts (true creep);
+* ``palm roll``: a disc rolled one revolution on the palm by a fingertip: rolling error
+  ``|dx + R dtheta| / |R dtheta|``;
+* ``ridge slide (3GM)``: B2's spatial scene, the 3GM tip (r = 8 mm, 0.3 N, mu = 0.3) dragged at
+  10 mm/s over a 1 mm ridge: centre path against the exact offset surface, lost-contact steps;
+* ``hand hold+slide``: the flat pad holds a ball against the palm while the round fingertip
+  slides on it.
+
+MuJoCo runs the model from :func:`planner.sim.to_mjcf` at its default settings and at its
+best ones (elliptic cone, impratio = 100, noslip iterations, stiff solref 0.002); its rows say
+"not installed" without the ``[peers]`` extra. Timings are warm (JIT caches filled, model
+built); build time is reported separately. Benchmarks measure; they never assert.
+
+Run: ``python benchmarks/bench_sim.py [--quick] [--out DIR]``.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).parent))
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))  # this checkout's planner
+from _common import arg_parser, write_report  # noqa: E402
+
+COLUMNS = [
+    "scene",
+    "engine",
+    "settings",
+    "sim_s",
+    "build_s",
+    "steps_per_s",
+    "real_time_factor",
+    "creep_m",
+    "slip_m",
+    "rolling_err_rel",
+    "path_rms_m",
+    "path_max_m",
+    "lost_steps",
+    "penetration_m",
+    "status",
+]
+
+
+def _mujoco():
+    try:
+        import mujoco
+    except ImportError:
+        return None
+    return mujoco
+
+
+def _hapex_run(build, duration):
+    t0 = time.perf_counter()
+    world, ctrl, info = build()
+    world.step(ctrl(0.0, world.observe()) if ctrl else None)  # fills the JIT caches
+    world, ctrl, info = build()
+    build_s = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    log = world.run(duration, ctrl)
+    wall = time.perf_counter() - t0
+    steps = len(log.t) - 1
+    row = {
+        "engine": "hapex",
+        "settings": "exact LCP (no parameters)",
+        "sim_s": log.t[-1],
+        "build_s": build_s,
+        "steps_per_s": steps / wall,
+        "real_time_factor": log.t[-1] / wall,
+        "penetration_m": max(0.0, -float(np.nanmin(log.gap))) if np.isfinite(log.gap).any() else 0,
+        "status": log.status + (f" ({log.reason})" if log.reason else ""),
+    }
+    return world, info, log, row
+
+
+def _mj_rollout(world, ctrl, duration, settings, bodies):
+    """Run the world's MJCF in MuJoCo; returns (row, {body: (T, 3) poses}, (T, 6) q)."""
+    mujoco = _mujoco()
+    from planner.sim import Observation, to_mjcf
+
+    t0 = time.perf_counter()
+    m = mujoco.MjModel.from_xml_string(to_mjcf(world))
+    if settings == "best":
+        m.opt.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
+        m.opt.impratio = 100.0
+        m.opt.noslip_iterations = 20
+        m.geom_solref[:, 0] = 2 * world.dt
+    d = mujoco.MjData(m)
+    mujoco.mj_resetDataKeyframe(m, d, 0)
+    build_s = time.perf_counter() - t0
+    nh = 6 if world.hand is not None else 0
+    n = int(round(duration / world.dt))
+    poses = {b: np.zeros((n + 1, 3)) for b in bodies}
+    qs = np.zeros((n + 1, nh))
+    start = {b: world._x[world._names[b].index].copy() for b in bodies}
+    adr = {b: m.jnt_qposadr[m.joint(f"{b}_x").id] for b in bodies}
+
+    def record(k):
+        for b in bodies:
+            a = adr[b]
+            poses[b][k] = start[b] + d.qpos[a : a + 3]
+        qs[k] = d.qpos[:nh]
+
+    record(0)
+    pen = 0.0
+    t0 = time.perf_counter()
+    for k in range(n):
+        if ctrl is not None:
+            obs = Observation(d.time, d.qpos[:nh].copy(), d.qvel[:nh].copy())
+            d.ctrl[:] = np.clip(ctrl(d.time, obs), -2.0, 2.0)
+        mujoco.mj_step(m, d)
+        for i in range(d.ncon):
+            pen = max(pen, -d.contact[i].dist)
+        record(k + 1)
+    wall = time.perf_counter() - t0
+    row = {
+        "engine": "MuJoCo " + mujoco.__version__,
+        "settings": "default" if settings == "default" else "elliptic, impratio=100, noslip",
+        "sim_s": n * world.dt,
+        "build_s": build_s,
+        "steps_per_s": n / wall,
+        "real_time_factor": n * world.dt / wall,
+        "penetration_m": pen,
+        "status": "ok" if np.all(np.isfinite(d.qpos)) else "diverged",
+    }
+    return row, poses, qs
+
+
+def _tips(world, q):
+    hand = world.hand.hand
+    out = np.zeros((len(q), 2, 2))
+    for k in range(len(q)):
+        tp = hand.fingertip_positions(q[k])
+        out[k, 0], out[k, 1] = tp["left"], tp["right"]
+    return out
+
+
+def _slip(world, log, body):
+    """Integrated |slip velocity| over the fingertip-``body`` contacts [m] (true creep)."""
+    m = log.pair_mask("hand.left", body) | log.pair_mask("hand.right", body)
+    return float(np.abs(np.where(m, log.slip_velocity, 0.0)).sum() * world.dt)
+
+
+def _creep(world, disc, q, t_settle):
+    k0 = int(round(t_settle / world.dt))
+    tips = _tips(world, q[[k0, -1]])
+    rel0 = disc[k0, :2] - tips[0].mean(axis=0)
+    rel1 = disc[-1, :2] - tips[1].mean(axis=0)
+    return float(np.linalg.norm(rel1 - rel0))
+
+
+def bench_pinch(quick: bool) -> list[dict]:
+    from planner.sim.planar.scenes import pinch_scene
+
+    T = 1.5 if quick else 10.0
+    world, info, log, row = _hapex_run(lambda: pinch_scene(squeeze=1.96, friction=1.0), T)
+    row["creep_m"] = _creep(world, log.poses["disc"], log.q, 1.0)
+    row["slip_m"] = _slip(world, log, "disc")
+    rows = [row]
+    rows += _mj_rows(pinch_scene, dict(squeeze=1.96, friction=1.0), T, ["disc"], "pinch")
+    for r in rows:
+        r["scene"] = f"pinch hold {T:g} s"
+    return rows
+
+
+def _mj_rows(builder, kwargs, T, bodies, kind, info=None):
+    if _mujoco() is None:
+        return [{"engine": "MuJoCo", "settings": "-", "status": "not installed"}]
+    rows = []
+    for settings in ("default", "best"):
+        world, ctrl, info = builder(**kwargs)
+        row, poses, qs = _mj_rollout(world, ctrl, T, settings, bodies)
+        if kind == "pinch":
+            row["creep_m"] = _creep(world, poses["disc"], qs, 1.0)
+            if poses["disc"][-1, 1] < poses["disc"][0, 1] - 0.01:
+                row["status"] = "dropped"
+        elif kind == "roll":
+            p = poses["disc"]
+            R = info["radius"]
+            dx, dth = p[-1, 0] - p[0, 0], p[-1, 2] - p[0, 2]
+            row["rolling_err_rel"] = abs(dx + R * dth) / abs(R * dth)
+        elif kind == "slide":
+            row["creep_m"] = float(np.linalg.norm(poses["ball"][-1, :2] - poses["ball"][0, :2]))
+        rows.append(row)
+    return rows
+
+
+def bench_roll(quick: bool) -> list[dict]:
+    from planner.sim.planar.scenes import palm_roll_scene
+
+    _, _, info = palm_roll_scene()
+    T = 0.5 if quick else info["revolution_time"]
+    world, info, log, row = _hapex_run(palm_roll_scene, T)
+    p = log.poses["disc"]
+    R = info["radius"]
+    dx, dth = p[-1, 0] - p[0, 0], p[-1, 2] - p[0, 2]
+    row["rolling_err_rel"] = abs(dx + R * dth) / abs(R * dth)
+    rows = [row, *_mj_rows(palm_roll_scene, {}, T, ["disc"], "roll")]
+    for r in rows:
+        r["scene"] = f"palm roll {dth / (2 * math.pi):.2f} rev"
+    return rows
+
+
+def bench_hold_slide(quick: bool) -> list[dict]:
+    from planner.sim.planar.scenes import palm_hold_slide_scene
+
+    T = 0.3 if quick else 1.5  # the straight set-point path leaves the ball after ~1.6 s
+    world, info, log, row = _hapex_run(palm_hold_slide_scene, T)
+    row["creep_m"] = float(np.linalg.norm(log.poses["ball"][-1, :2] - log.poses["ball"][0, :2]))
+    row["slip_m"] = _slip(world, log, "ball")  # includes the intended slide of the right tip
+    rows = [row, *_mj_rows(palm_hold_slide_scene, {}, T, ["ball"], "slide")]
+    for r in rows:
+        r["scene"] = f"hand hold+slide {T:g} s"
+    return rows
+
+
+def bench_ridge(quick: bool) -> list[dict]:
+    try:
+        from planner.sim.spatial.scenes import centre_path_error, ridge_slide_scene
+    except ImportError as exc:
+        return [{"scene": "ridge slide (3GM)", "engine": "hapex", "status": f"n/a: {exc}"}]
+    kw = {"travel": 0.006} if quick else {}
+    t0 = time.perf_counter()
+    sc = ridge_slide_scene(**kw)
+    build_s = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    log = sc.world.run(sc.duration, sc.controller)
+    wall = time.perf_counter() - t0
+    pe = centre_path_error(sc, log)
+    gaps = log.gap[np.isfinite(log.gap)]
+    rows = [
+        {
+            "engine": "hapex",
+            "settings": "exact (no parameters)",
+            "sim_s": log.t[-1],
+            "build_s": build_s,
+            "steps_per_s": (len(log.t) - 1) / wall,
+            "real_time_factor": log.t[-1] / wall,
+            "path_rms_m": pe.rms,
+            "path_max_m": pe.max,
+            "lost_steps": pe.lost_steps,
+            "penetration_m": max(0.0, -float(gaps.min())) if gaps.size else 0.0,
+            "status": log.status,
+        }
+    ]
+    if _mujoco() is None:
+        rows.append({"engine": "MuJoCo", "settings": "-", "status": "not installed"})
+    else:
+        try:
+            from planner.sim.spatial.scenes import mujoco_ridge_rollout
+        except ImportError:
+            mujoco_ridge_rollout = None
+        for settings in ("default", "best"):
+            if mujoco_ridge_rollout is None:
+                rows.append({"engine": "MuJoCo", "settings": settings, "status": "not measured"})
+                continue
+            r = mujoco_ridge_rollout(ridge_slide_scene(**kw), settings)
+            rows.append(
+                {
+                    "engine": "MuJoCo",
+                    "settings": settings,
+                    "sim_s": sc.duration,
+                    "steps_per_s": r.get("steps_per_s"),
+                    "real_time_factor": r.get("steps_per_s", 0) * sc.world.dt,
+                    "path_rms_m": r.get("rms"),
+                    "path_max_m": r.get("max"),
+                    "lost_steps": r.get("lost_steps"),
+                    "penetration_m": r.get("penetration_max"),
+                    "status": "ok",
+                }
+            )
+    for r in rows:
+        r["scene"] = "ridge slide (3GM)"
+    return rows
+
+
+def main() -> None:
+    args = arg_parser(__doc__.splitlines()[0]).parse_args()
+    rows = []
+    for bench in (bench_pinch, bench_roll, bench_ridge, bench_hold_slide):
+        rows += bench(args.quick)
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    write_report(
+        "sim",
+        rows,
+        title="Contact simulator: hapex vs MuJoCo on the same scenes (dt = 1 ms)",
+        out=args.out,
+        columns=COLUMNS,
+        notes=[
+            "targets: >= 20x real time (planar hand), >= 10x (3GM), creep <= 1 nm / 10 s, "
+            "penetration <= 1 um, path error <= 0.1 um RMS / 1 um max, 0 lost steps, "
+            "rolling error <= 1e-6",
+            "steps/s include the Python controller at 1 kHz for both engines (warm)",
+            f"load average at the end: {load:.2f} (shared machine)",
+        ],
+    )
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,141 @@
+"""Planning heuristics of the gait: the start grasp and the fingertip orientation (§2.2.3).
+
+* :func:`four_region_orientations`: "The Cartesian workspace of each finger is divided into
+  four regions, each of which has a preferred fingertip orientation - one that maximizes the
+  local configuration space." The regions are the quadrants about the centroid of the
+  finger's reachable fingertip points (sampled over its joint ranges); the preferred
+  orientation of a region is the one whose inverse kinematics at the region's mean point
+  stays farthest from every joint limit.
+* :func:`preferred_orientation`: maps a (final) fingertip position to its region.
+* :func:`start_grasp_candidates`: phase-1 grasps of the nominal object resting on the palm,
+  best first (largest joint-limit margin among Yoshikawa-Nagai-stable ones).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+_CACHE: dict = {}
+
+
+def _margin(hand, finger: str, q: np.ndarray) -> np.ndarray:
+    lim = hand.finger_limits(finger)
+    return np.minimum(q - lim[:, 0], lim[:, 1] - q).min(axis=-1)
+
+
+def four_region_orientations(hand, finger: str, samples: int = 4000, seed: int = 0):
+    """Centroid (2,) of the finger's workspace and the preferred orientation [rad] of each
+    quadrant about it (``(4,)``, quadrants counter-clockwise from +x, +y)."""
+    key = (hand.params, finger)
+    if key in _CACHE:
+        return _CACHE[key]
+    from robots.planar_hand import kinematics as kin
+
+    lim = hand.finger_limits(finger)
+    rng = np.random.default_rng(seed)
+    q = rng.uniform(lim[:, 0], lim[:, 1], size=(samples, 3))
+    f = hand.params.finger(finger)
+    tips, _ = kin.fingertip(np.array(f.base), np.array(f.lengths), q)
+    centre = tips.mean(axis=0)
+    quad = _quadrant(tips - centre)
+    phis = np.linspace(lim[:, 0].sum(), lim[:, 1].sum(), 181)
+    best = np.zeros(4)
+    for k in range(4):
+        pts = tips[quad == k]
+        point = pts.mean(axis=0) if len(pts) else centre
+        sols, ok = hand.ik_candidates(finger, np.broadcast_to(point, (phis.size, 2)), phis)
+        m = np.where(ok, _margin(hand, finger, sols), -np.inf).max(axis=1)
+        best[k] = phis[int(np.argmax(m))]
+    _CACHE[key] = (centre, best)
+    return centre, best
+
+
+def _quadrant(v: np.ndarray) -> np.ndarray:
+    return np.where(v[..., 0] >= 0, np.where(v[..., 1] >= 0, 0, 3), np.where(v[..., 1] >= 0, 1, 2))
+
+
+def preferred_orientation(hand, finger: str, position) -> float:
+    """The preferred fingertip orientation [rad] of the region holding ``position`` (2,)."""
+    centre, best = four_region_orientations(hand, finger)
+    return float(best[int(_quadrant(np.asarray(position, float) - centre))])
+
+
+def best_margin_ik(hand, finger: str, position, n: int = 241, around=None, spread=1.0):
+    """The IK solution of ``finger`` reaching ``position`` (2,) [m] whose smallest distance
+    to a joint limit is largest, over orientations within ``spread`` [rad] of ``around``
+    (default: all); None if unreachable."""
+    lim = hand.finger_limits(finger)
+    if around is None:
+        phis = np.linspace(lim[:, 0].sum(), lim[:, 1].sum(), n)
+    else:
+        phis = np.linspace(around - spread, around + spread, n)
+    target = np.broadcast_to(np.asarray(position, float), (n, 2))
+    sols, ok = hand.ik_candidates(finger, target, phis)
+    if not ok.any():
+        return None
+    m = np.where(ok, _margin(hand, finger, sols), -np.inf)
+    i, j = np.unravel_index(int(np.argmax(m)), m.shape)
+    return sols[i, j].copy()
+
+
+def pad_angle(beta: float, reference: float) -> float:
+    """Orientation of the flat left pad lying on a contact of outward normal angle ``beta``
+    (``phi = beta + pi/2``), unwrapped to the turn closest to ``reference`` [rad]."""
+    phi = beta + 0.5 * math.pi
+    return phi + 2 * math.pi * round((reference - phi) / (2 * math.pi))
+
+
+def start_grasp_candidates(
+    hand, centre, radius: float, mu: float, prior=None, stability_margin: float = 0.15
+):
+    """Phase-1 grasps of the nominal circle (``centre`` (2,), ``radius``) [m], best first:
+    by the smaller of the joint-limit margin and the Yoshikawa-Nagai stability margin
+    (``atan(mu) - stability_margin`` minus the contact line's angle to the normals) [rad].
+
+    Args:
+        prior: optional ``(beta_left, beta_right)`` world contact angles [rad] (the gait
+            prior of ``plan_gait``) tried first.
+
+    Returns:
+        list of ``(beta_left, beta_right, q (6,), margin [rad])``.
+    """
+    r = hand.params.right.tip_radius
+    c = np.asarray(centre, float)
+    out = []
+    bl = np.deg2rad(np.arange(110.0, 176.0, 5.0))
+    br = np.deg2rad(np.arange(-10.0, 71.0, 5.0))
+    pairs = [(a, b) for a in bl for b in br]
+    if prior is not None:
+        pairs.insert(0, (float(prior[0]), float(prior[1])))
+    mid = float(hand.finger_limits("left").sum(axis=0).mean())
+    for a, b in pairs:
+        half = 0.5 * abs(a - b)
+        stab = math.atan(mu) - stability_margin - (0.5 * math.pi - half)
+        if stab < 0:  # the contact line leaves the (reduced) cones
+            continue
+        nL = np.array([math.cos(a), math.sin(a)])
+        nR = np.array([math.cos(b), math.sin(b)])
+        try:
+            qL = hand.inverse_kinematics("left", c + radius * nL, angle=pad_angle(a, mid))
+        except Exception:  # noqa: BLE001 - unreachable candidates are skipped
+            continue
+        qR = best_margin_ik(hand, "right", c + (radius + r) * nR, around=b + 0.5 * math.pi)
+        if qR is None:
+            continue
+        m = min(_margin(hand, "left", qL), _margin(hand, "right", qR), stab)
+        out.append((float(a), float(b), np.r_[qL, qR], float(m)))
+    if prior is not None and out and out[0][:2] == (float(prior[0]), float(prior[1])):
+        first, rest = out[0], sorted(out[1:], key=lambda g: -g[3])
+        return [first, *rest]
+    return sorted(out, key=lambda g: -g[3])
+
+
+__all__ = [
+    "best_margin_ik",
+    "four_region_orientations",
+    "pad_angle",
+    "preferred_orientation",
+    "start_grasp_candidates",
+]

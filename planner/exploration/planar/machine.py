@@ -1,0 +1,276 @@
+"""The phase machine of Fig. 2.3 executed in the planar world: :func:`explore_object`.
+
+Cycle 1 -> 2 -> 3 -> 1 ...: phase 1 rotates the object clockwise with both fingers (the
+rolling NLP planned from the current estimate), phase 2 lets the right finger slide back to
+its next grasp while the left finger holds the object against the palm, phase 3 mirrors it.
+A phase ends on an event (path finished, workspace limit, grasp stability lost, contact
+lost). When phase 2 ends before the right finger can hold the object with the palm, phase 3
+is skipped (transition 4) and the object is rotated again with two fingers; when no stable
+grasp remains (phase 1 cannot be planned twice in a row, or a contact is lost) the gait
+terminates with the reason. The planner knows only the nominal shape and what was sensed;
+the world holds the true shape.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from planner.errors import InvalidParameter
+from planner.exploration.planar.controller import GaitController
+from planner.exploration.planar.logs import concat_logs
+from planner.exploration.planar.objects import mean_radius
+from planner.exploration.planar.result import ExplorationResult, PhaseRecord
+from planner.exploration.planar.segments import explore_segment, phase1_segment
+from planner.exploration.planar.settings import GaitSettings
+from planner.exploration.planar.setup import build_world, gait_prior
+
+FULL_TURN = 2 * math.pi
+
+
+def explore_object(
+    profile,
+    hand=None,
+    mu: float = 1.0,
+    nominal=None,
+    *,
+    seed: int = 0,
+    duration: float | None = None,
+    settings: GaitSettings | None = None,
+    max_rotation: float = FULL_TURN,
+    use_prior: bool = True,
+) -> ExplorationResult:
+    """Explore a planar object with the two-finger hand and palm (thesis ch. 2).
+
+    Args:
+        profile: the TRUE closed object profile (object frame, star-shaped about its origin)
+            [m]; the simulated object has this shape.
+        hand: ``robots.planar_hand.PlanarHand`` (default: flat left pad with the 8x8 array,
+            2.5 cm round right tip).
+        mu: true friction coefficient of fingers, palm and object [-] (> 0).
+        nominal: the planner's model of the object (a closed profile; default a feature-less
+            circle of the object's area). Only its mean radius is used by the planners.
+        seed: seed of the sensor noise.
+        duration: simulated time limit [s] (default: until ``max_rotation`` or failure).
+        settings: :class:`GaitSettings` (gains, speeds, thresholds, time step).
+        max_rotation: stop after this much (true) rotation [rad].
+        use_prior: run ``planner.grasp.plan_gait`` on the nominal shape for the start grasp.
+
+    Returns:
+        the :class:`ExplorationResult`.
+
+    Raises:
+        InvalidParameter: bad arguments (open profile, mu <= 0, an object that does not fit).
+    """
+    wall0 = time.perf_counter()
+    if getattr(profile, "closed", False) is not True:
+        raise InvalidParameter("profile: expected a closed planar Profile (the object outline)")
+    if not (isinstance(mu, (int, float)) and math.isfinite(mu) and mu > 0):
+        raise InvalidParameter(f"mu: expected a finite number > 0, got {mu!r}")
+    s = settings or GaitSettings(mu=float(mu))
+    if hand is None:
+        from robots.planar_hand import PlanarHand
+
+        hand = PlanarHand(friction=float(mu))
+    R = mean_radius(nominal if nominal is not None else profile)
+    prior = gait_prior(nominal, R, hand, mu) if use_prior else None
+    world, start = build_world(profile, hand, mu, R, prior, s, seed)
+    ctrl = GaitController(hand, s, R, world.gravity)
+    from planner.trajectory import RollingNLP
+
+    t_build = time.perf_counter()
+    nlp = RollingNLP(hand, knots=s.nlp_knots)
+    nlp_build = time.perf_counter() - t_build
+    runner = _Runner(world, ctrl, nlp, s, hand, start, duration, max_rotation)
+    runner.execute()
+    log = concat_logs(runner.logs)
+    rotation = runner.rotation()
+    from planner.exploration.planar.metrics import coverage_of, detect_pad_features
+
+    trace = trace_arrays(ctrl)
+    features = detect_pad_features(trace, profile, start["rest"], R, s.explore_force)
+    timings = {
+        "nlp_build_s": nlp_build,
+        "nlp_solve_ms": [1e3 * p.nlp_time_s for p in runner.records if p.kind == 1],
+        "control_step_us": list(1e6 * np.asarray(ctrl.step_times)),
+        "wall_s": time.perf_counter() - wall0,
+    }
+    eps = [p.epsilon for p in runner.records if p.kind == 1 and np.isfinite(p.epsilon)]
+    return ExplorationResult(
+        status=runner.status,
+        reason=runner.reason,
+        phases=tuple(runner.records),
+        rotation=rotation,
+        coverage=coverage_of(log, "object", profile),
+        min_epsilon=float(min(eps)) if eps else float("nan"),
+        features=tuple(features),
+        log=log,
+        trace=trace,
+        prior=prior,
+        timings=timings,
+        events=tuple(runner.events),
+    )
+
+
+class _Runner:
+    """State of one execution (kept out of :func:`explore_object` to keep it short)."""
+
+    def __init__(self, world, ctrl, nlp, s, hand, start, duration, max_rotation):
+        self.world, self.ctrl, self.nlp, self.s, self.hand = world, ctrl, nlp, s, hand
+        self.start = start
+        self.t_end = math.inf if duration is None else float(duration)
+        self.max_rotation = max_rotation
+        self.logs, self.records, self.events = [], [], []
+        self.status, self.reason = "ok", ""
+        self.theta = 0.0
+        self.angle0 = float(world.pose("object")[2])
+        self._traces: list = []
+
+    def rotation(self) -> float:
+        """True rotation of the object so far [rad] (unwrapped from the logs)."""
+        if not self.logs:
+            return 0.0
+        a = np.unwrap(np.concatenate([lg.poses["object"][:, 2] for lg in self.logs]))
+        return float(a[-1] - a[0])
+
+    def execute(self) -> None:
+        kind, skip, failures = 1, False, 0
+        while True:
+            if len(self.records) >= self.s.max_phases:
+                self._end("ok", f"phase limit {self.s.max_phases} reached")
+                return
+            if self.world.time >= self.t_end - 1e-9:
+                self._end("ok", f"duration {self.t_end:g} s reached")
+                return
+            if abs(self.rotation()) >= self.max_rotation:
+                self._end("ok", f"object turned {math.degrees(abs(self.rotation())):.1f} deg")
+                return
+            obs = self.world.observe()
+            est = self.ctrl.sensing.update(obs, {1: "auto", 2: "pad", 3: "palm"}[kind])
+            seg, planned, nlp_t, why = self._plan(kind, est, obs.q)
+            if seg is None:
+                failures += 1
+                self.events.append({"t": self.world.time, "kind": "no_plan", "phase": kind,
+                                    "message": why})  # fmt: skip
+                if failures >= 2:
+                    self._end("failed", f"no stable grasp within the workspace ({why})")
+                    return
+                kind, skip = (2 if kind == 1 else 1), False
+                continue
+            failures = 0
+            event, rec = self._run(kind, skip, seg, planned, nlp_t)
+            if event in ("contact lost", "object dropped", "sim fault"):
+                self._end("failed", f"{event} in phase {kind}: {rec.event}")
+                return
+            kind, skip = self._next(kind, event, est)
+
+    def _plan(self, kind, est, q):
+        s = self.s
+        if kind == 1:
+            r = self.hand.params.right.tip_radius
+            mu = s.mu * (1 - s.friction_margin)
+            R = self.ctrl.sensing.radius
+            plan = self.nlp.solve(q, est.centre, R, r, mu, est.beta, est.u, margin=s.nlp_margin,
+                                  joint_margin=s.joint_margin + 0.02)  # fmt: skip
+            if not plan.success or abs(plan.rotation) < math.radians(1.0):
+                return None, 0.0, plan.solve_time_s, f"phase-1 NLP: {plan.stop}"
+            seg = phase1_segment(plan, est, q, self.theta, s, self.hand, lift=0.0015)
+            return seg, plan.rotation, plan.solve_time_s, ""
+        target = self.start["beta"][1 if kind == 2 else 0]
+        if kind == 2:
+            target = max(target, self._right_hold_angle())
+        seg = explore_segment(kind, est, q, target, self.theta, s, self.hand)
+        return seg, 0.0, 0.0, ""
+
+    def _right_hold_angle(self) -> float:
+        """Lowest polar angle [rad] of the right contact from which the right finger can
+        press the object against the palm in phase 3: the chord to the palm contact makes
+        (pi/2 - beta) / 2 with the contact normal and must lie inside the friction cone
+        (with a 0.2 rad reserve). Below it the holder's cone-limited push rolled the object
+        backwards along the palm (+10-18 deg per phase 3 with beta = 5 deg)."""
+        mu = self.s.mu * (1 - self.s.friction_margin)
+        return 0.5 * math.pi - 2 * math.atan(mu) + 0.2
+
+    def _run(self, kind, skip, seg, planned, nlp_t):
+        w, c = self.world, self.ctrl
+        t0 = w.time
+        c.start(seg, t0)
+        n0 = len(c.trace)
+        eps_min = [math.inf]
+        horizon = min(seg.duration + 0.5, self.t_end - t0)
+        log = w.run(max(horizon, w.dt), c, control_rate=self.s.control_rate, stop=c.stop)
+        self.logs.append(log)
+        self.theta = c.theta
+        event = c.event or "time limit"
+        if log.status == "failed":
+            event = "object dropped" if "drop" in log.reason else "sim fault"
+            self.events.append({"t": w.time, "kind": "sim", "message": log.reason})
+        for ev in log.events:
+            if ev.kind == "object_dropped":
+                event = "object dropped"
+        a = np.unwrap(log.poses["object"][:, 2])
+        if kind == 1:
+            from planner.grasp import epsilon_two_planar
+
+            tr = np.array(c.trace[n0:], dtype=float)
+            if len(tr):
+                p, n = tr[:, 4:8].reshape(-1, 2, 2), tr[:, 8:12].reshape(-1, 2, 2)
+                e = epsilon_two_planar(p[:, 0], -n[:, 0], p[:, 1], -n[:, 1], self.s.mu)
+                eps_min[0] = float(np.min(e))
+        rec = PhaseRecord(
+            kind=kind, skip=skip, start=t0, end=w.time, rotation=float(a[-1] - a[0]),
+            planned_rotation=planned, event=event,
+            epsilon=eps_min[0] if math.isfinite(eps_min[0]) else float("nan"),
+            nlp_time_s=nlp_t,
+        )  # fmt: skip
+        self.records.append(rec)
+        if kind == 1 and abs(rec.rotation) < 0.5 * abs(planned):
+            msg = (f"rotated {math.degrees(rec.rotation):.1f} deg of the planned "
+                   f"{math.degrees(planned):.1f} deg ({event})")  # fmt: skip
+            self.events.append({"t": w.time, "kind": "deviation", "phase": 1, "message": msg})
+        return event, rec
+
+    def _next(self, kind, event, est):
+        if kind == 1:
+            return 2, False
+        if kind == 2:
+            if event == "path finished":
+                return 3, False
+            # phase 2 ended early: can the right finger hold the object with the palm?
+            from planner.grasp import epsilon_two_planar
+
+            obs = self.world.observe()
+            e = self.ctrl.sensing.update(obs, "pad")
+            palm = np.array([e.centre[0], 0.0])
+            eps = float(epsilon_two_planar(e.p[1], -e.n[1], palm, np.array([0.0, 1.0]), self.s.mu))
+            if eps < self.s.min_epsilon:
+                self.events.append({"t": self.world.time, "kind": "transition_4",
+                                    "message": f"phase 2 ended by {event}; right-palm grasp "
+                                    f"epsilon {eps:.3f}: skip phase 3, rotate again"})  # fmt: skip
+                return 1, True
+            return 3, False
+        return 1, False
+
+    def _end(self, status: str, reason: str) -> None:
+        self.status, self.reason = status, reason
+        last = self.records[-1].kind if self.records else 0
+        self.events.append({"t": self.world.time, "kind": "end", "status": status,
+                            "message": reason, "last_phase": last})  # fmt: skip
+
+
+def trace_arrays(ctrl) -> dict:
+    """The controller's sensed series as arrays (columns ``TRACE_NAMES``) and the tactile
+    images it kept (``image_t`` (M,), ``images`` (M, 8, 8))."""
+    from planner.exploration.planar.controller import TRACE_NAMES
+
+    n = len(TRACE_NAMES)
+    tr = np.array(ctrl.trace, dtype=float) if ctrl.trace else np.zeros((0, n))
+    out = {k: tr[:, i] for i, k in enumerate(TRACE_NAMES)}
+    out["image_t"] = np.array([t for t, _ in ctrl.images])
+    out["images"] = np.array([im for _, im in ctrl.images]) if ctrl.images else np.zeros((0, 8, 8))
+    return out
+
+
+__all__ = ["explore_object", "trace_arrays"]

@@ -1,0 +1,225 @@
+"""Measures of an exploration: outline coverage and the exploring pad's features."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from planner.exploration.planar.result import DetectedFeature
+
+#: radius of the virtual fingertip the pad's trace is offset by for the detection [m]
+VIRTUAL_RADIUS = 0.003
+
+
+def coverage_of(log, body: str, profile, cells: int = 360) -> float:
+    """Fraction of the outline's polar-angle cells touched by a fingertip (true contacts)."""
+    hit = np.zeros(cells, dtype=bool)
+    pose = log.poses[body]
+    for j, pair in enumerate(log.pairs):
+        a, b = pair.split("|")
+        if body not in (a, b) or not any(x.endswith((".left", ".right")) for x in (a, b)):
+            continue
+        rows, slots = np.nonzero((log.contact_pair == j) & (log.normal_force > 0))
+        if rows.size == 0:
+            continue
+        P = log.contact_point[rows, slots]
+        x, y, ang = pose[rows, 0], pose[rows, 1], pose[rows, 2]
+        dx, dy = P[:, 0] - x, P[:, 1] - y
+        c, s = np.cos(ang), np.sin(ang)
+        ox, oy = c * dx + s * dy, -s * dx + c * dy
+        k = (np.floor(np.mod(np.arctan2(oy, ox), 2 * np.pi) / (2 * np.pi) * cells)).astype(int)
+        hit[np.clip(k, 0, cells - 1)] = True
+    return float(hit.mean())
+
+
+def _detect(points: np.ndarray, normals: np.ndarray) -> list[tuple[np.ndarray, int]]:
+    """THE adapter to ``planner.detection`` (its types are being unified elsewhere).
+
+    Args:
+        points: (N, 2) sensed contact points of the pad in the object frame [m].
+        normals: (N, 2) outward object normals there.
+
+    Returns:
+        ``[(position (2,), sign), ...]`` of the curvature features found.
+    """
+    from planner.detection import detect_features
+
+    centres = points + VIRTUAL_RADIUS * normals
+    feats = detect_features(centres, VIRTUAL_RADIUS, algorithm=1, normals=normals,
+                            contacts=points)  # fmt: skip
+    return [(np.asarray(f.position, float), int(f.sign)) for f in feats]
+
+
+#: steady sliding: skip this long after the pad starts exploring (startup ramps) [s]
+SETTLE_TIME = 0.1
+#: steady sliding: the pad's normal force within these multiples of the commanded one [-]
+FORCE_BAND = (0.5, 3.0)
+#: steady sliding: the contact moves over the object at least this fast [m/s]
+MIN_SLIDE_SPEED = 0.002
+#: detections of one feature on repeated passes closer than this are merged [rad]
+MERGE_ANGLE = math.radians(3.0)
+
+
+def steady_sliding(trace: dict, explore_force: float = 0.3) -> np.ndarray:
+    """Rows of ``trace`` where the left pad explores in steady sliding contact (phase 3,
+    touching, past the startup ramps, normal force near ``explore_force`` [N], contact
+    moving over the object): the only rows the detector sees (the rest gave spurious
+    features: startup transients, pressing and sticking)."""
+    t, kind = trace["t"], trace["kind"]
+    sel = (kind == 3) & (trace["pad_touch"] > 0)
+    start = np.full(len(t), np.inf)
+    idx = np.flatnonzero(kind == 3)
+    if idx.size:
+        runs = np.split(idx, np.flatnonzero(np.diff(idx) > 1) + 1)
+        for run in runs:
+            start[run] = t[run[0]]
+    sel &= t >= start + SETTLE_TIME
+    fn = trace["fnL"]
+    sel &= (fn >= FORCE_BAND[0] * explore_force) & (fn <= FORCE_BAND[1] * explore_force)
+    if len(t) > 2:
+        th = trace["theta"]
+        px, py = trace["pLx"] - trace["cx"], trace["pLy"] - trace["cy"]
+        ang = np.unwrap(np.arctan2(py, px) - th)  # polar angle of the contact on the object
+        speed = np.abs(np.gradient(ang, t)) * np.hypot(px, py)
+        k = np.ones(9) / 9.0
+        sel &= np.convolve(speed, k, mode="same") >= MIN_SLIDE_SPEED
+    return sel
+
+
+def detect_pad_features(
+    trace: dict, profile, rest, radius: float, explore_force: float = 0.3
+) -> list[DetectedFeature]:
+    """Features in the left pad's sensed trace while it explores (phase 3).
+
+    Only rows of steady sliding contact are used (:func:`steady_sliding`). Points are
+    mapped to the object frame with the *estimated* pose (centre and rotation from the
+    sensors), detected per contiguous run, reported as polar angles on the object (one per
+    feature: repeated detections within :data:`MERGE_ANGLE` are merged) and matched to the
+    nearest true curvature feature of ``profile``.
+    """
+    if len(trace.get("t", ())) == 0:
+        return []
+    sel = steady_sliding(trace, explore_force)
+    truth = [math.atan2(f.position[1], f.position[0])
+             for f in profile.curvature_features(VIRTUAL_RADIUS)]  # fmt: skip
+    out = []
+    idx = np.flatnonzero(sel)
+    if idx.size == 0:
+        return []
+    runs = np.split(idx, np.flatnonzero(np.diff(idx) > 1) + 1)
+    for run in runs:
+        if run.size < 20:
+            continue
+        th = trace["theta"][run]
+        c, s = np.cos(-th), np.sin(-th)
+        px, py = trace["pLx"][run] - trace["cx"][run], trace["pLy"][run] - trace["cy"][run]
+        nx, ny = trace["nLx"][run], trace["nLy"][run]
+        P = np.column_stack([c * px - s * py, s * px + c * py])
+        N = np.column_stack([c * nx - s * ny, s * nx + c * ny])
+        keep = np.concatenate([[True], np.any(np.abs(np.diff(P, axis=0)) > 1e-6, axis=1)])
+        P, N = P[keep], N[keep]
+        if len(P) < 10:
+            continue
+        try:
+            found = _detect(P, N)
+        except Exception:  # noqa: BLE001 - a trace the detector cannot use adds nothing
+            continue
+        for pos, sign in found:
+            a = math.atan2(pos[1], pos[0])
+            if truth:
+                err = [math.atan2(math.sin(a - b), math.cos(a - b)) for b in truth]
+                j = int(np.argmin(np.abs(err)))
+                out.append(
+                    DetectedFeature(a, "convex" if sign > 0 else "concave", truth[j], err[j])
+                )
+            else:
+                out.append(DetectedFeature(a, "convex" if sign > 0 else "concave"))
+    return _merge(out)
+
+
+def _merge(found: list[DetectedFeature]) -> list[DetectedFeature]:
+    """One detection per feature and kind (the first of those within MERGE_ANGLE)."""
+    kept: list[DetectedFeature] = []
+    for f in found:
+        if not any(
+            g.kind == f.kind
+            and abs(math.atan2(math.sin(f.angle - g.angle), math.cos(f.angle - g.angle)))
+            < MERGE_ANGLE
+            for g in kept
+        ):
+            kept.append(f)
+    return kept
+
+
+def _rms(x) -> float:
+    x = np.asarray(x, float)
+    return float(np.sqrt(np.mean(x * x))) if x.size else float("nan")
+
+
+def slip_distance(log) -> float:
+    """Total sliding distance of the fingertips over objects [m] (integrated slip speed)."""
+    total = 0.0
+    dt = np.diff(log.t, prepend=log.t[0]) if len(log.t) else np.zeros(0)
+    for j, pair in enumerate(log.pairs):
+        if not any(x.endswith((".left", ".right")) for x in pair.split("|")):
+            continue
+        m = (log.contact_pair == j) & (log.normal_force > 0)
+        v = np.abs(np.where(m, log.slip_velocity, 0.0))
+        total += float(np.sum(v * dt[:, None]))
+    return total
+
+
+def summary_metrics(res, ridge_angle, explore_force: float, internal_force: float) -> dict:
+    """The metrics of the ``gait`` scenario kind (see its docstring)."""
+    tr = res.trace
+    t = tr["t"]
+    kind = tr["kind"]
+    wall = res.timings.get("wall_s", float("nan"))
+    sim_t = float(res.log.t[-1]) if len(res.log.t) else 0.0
+    settled = np.zeros(len(t), dtype=bool)
+    for ph in res.phases:
+        settled |= (t >= ph.start + 0.1) & (t <= ph.end)
+    exp = np.where(kind == 2, tr["fnR"], tr["fnL"])
+    sel = settled & (kind > 1)
+    steps = np.asarray(res.timings.get("control_step_us", []), float)
+    nlp = np.asarray(res.timings.get("nlp_solve_ms", []), float)
+    out = {
+        "status": res.status,
+        "phases": len(res.phases),
+        "transitions_4": res.transitions4,
+        "rotation_deg": math.degrees(res.rotation),
+        "coverage": res.coverage,
+        "min_epsilon": res.min_epsilon,
+        "slip_distance_m": slip_distance(res.log),
+        "explore_force_rms_error_N": _rms(exp[sel] - explore_force),
+        "internal_force_rms_error_N": _rms((tr["f_int"] - tr["f_des"])[settled & (kind >= 1)]),
+        "features_found": len(res.features),
+        "real_time_factor": sim_t / wall if wall > 0 else float("nan"),
+        "wall_s": wall,
+        "nlp_build_s": res.timings.get("nlp_build_s", float("nan")),
+        "nlp_solve_median_ms": float(np.median(nlp)) if nlp.size else float("nan"),
+        "controller_call_median_us": float(np.median(steps)) if steps.size else float("nan"),
+        "end_event": res.phases[-1].event if res.phases else "",
+    }
+    feats = [{"angle_deg": math.degrees(f.angle), "kind": f.kind,
+              "error_deg": math.degrees(f.error) if np.isfinite(f.error) else None}
+             for f in res.features]  # fmt: skip
+    out["features"] = feats[:50]
+    if ridge_angle is not None:
+        errs = [abs(math.atan2(math.sin(f.angle - ridge_angle), math.cos(f.angle - ridge_angle)))
+                for f in res.features]  # fmt: skip
+        best = min(errs) if errs else float("nan")
+        out["ridge_error_deg"] = math.degrees(best) if errs else None
+        out["ridge_found"] = bool(errs) and math.degrees(best) <= 5.0
+    return out
+
+
+__all__ = [
+    "VIRTUAL_RADIUS",
+    "coverage_of",
+    "detect_pad_features",
+    "slip_distance",
+    "steady_sliding",
+    "summary_metrics",
+]

@@ -1,0 +1,107 @@
+"""Result types of :func:`planner.exploration.explore_object` (frozen)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+#: names of the phase kinds (Fig. 2.3); 4 marks a phase entered by transition 4 (skip)
+PHASE_KINDS = {1: "rotate (left-right)", 2: "right explores", 3: "left explores"}
+
+
+@dataclass(frozen=True)
+class PhaseRecord:
+    """One executed phase.
+
+    Attributes:
+        kind: 1, 2 or 3 (Fig. 2.3).
+        skip: entered through transition 4 (the nominal next phase was skipped).
+        start, end: world time at its start and end [s].
+        rotation: true object rotation during it [rad] (negative: clockwise).
+        planned_rotation: what its plan expected [rad] (phase 1; 0 otherwise).
+        event: what ended it ("path finished", "workspace limit", "grasp stability lost",
+            "contact lost", "no plan: ...", "object dropped", ...).
+        epsilon: smallest sensed epsilon of the grasp during the phase (NaN if not a grasp).
+        nlp_time_s: solve time of its NLP [s] (phase 1), else 0.
+    """
+
+    kind: int
+    skip: bool
+    start: float
+    end: float
+    rotation: float
+    planned_rotation: float
+    event: str
+    epsilon: float = float("nan")
+    nlp_time_s: float = 0.0
+
+    def to_json(self) -> dict:
+        return {
+            "kind": self.kind, "name": PHASE_KINDS[self.kind], "skip": self.skip,
+            "start_s": round(self.start, 4), "end_s": round(self.end, 4),
+            "rotation_deg": round(float(np.rad2deg(self.rotation)), 3),
+            "planned_rotation_deg": round(float(np.rad2deg(self.planned_rotation)), 3),
+            "event": self.event,
+            "epsilon": None if not np.isfinite(self.epsilon) else round(self.epsilon, 5),
+            "nlp_time_ms": round(1e3 * self.nlp_time_s, 3),
+        }  # fmt: skip
+
+
+@dataclass(frozen=True)
+class DetectedFeature:
+    """A feature found in the exploring pad's trace.
+
+    Attributes:
+        angle: polar angle on the object (object frame) [rad].
+        kind: ``"convex"`` or ``"concave"``.
+        truth_angle: angle of the nearest true feature [rad] (NaN if none).
+        error: wrapped ``angle - truth_angle`` [rad].
+    """
+
+    angle: float
+    kind: str
+    truth_angle: float = float("nan")
+    error: float = float("nan")
+
+
+@dataclass(frozen=True)
+class ExplorationResult:
+    """Result of :func:`planner.exploration.explore_object`.
+
+    Attributes:
+        status: ``"ok"`` or ``"failed"``; reason: why it ended (always set).
+        phases: the executed :class:`PhaseRecord` in order.
+        rotation: total true object rotation [rad] (negative: clockwise).
+        coverage: fraction of the outline (1-degree cells of polar angle) touched by a
+            fingertip, 0-1.
+        min_epsilon: smallest sensed epsilon of any phase-1 grasp.
+        features: :class:`DetectedFeature` found by the exploring pad.
+        log: the :class:`planner.sim.SimLog` of the whole run.
+        trace: dict of the controller's sensed time series (see ``explore_object``).
+        prior: the map-space gait of ``plan_gait`` on the nominal shape (or None).
+        timings: wall times ``{"nlp_build_s", "nlp_solve_ms": [...], "control_step_us":
+            [...], "wall_s"}``.
+        events: the gait's own events (deviations from the prior, transitions, end).
+    """
+
+    status: str
+    reason: str
+    phases: tuple[PhaseRecord, ...]
+    rotation: float
+    coverage: float
+    min_epsilon: float
+    features: tuple[DetectedFeature, ...]
+    log: object
+    trace: dict = field(default_factory=dict, repr=False)
+    prior: object = field(default=None, repr=False)
+    timings: dict = field(default_factory=dict)
+    events: tuple[dict, ...] = ()
+
+    @property
+    def transitions4(self) -> int:
+        """How many phases were entered through transition 4."""
+        return sum(1 for p in self.phases if p.skip)
+
+
+__all__ = ["PHASE_KINDS", "DetectedFeature", "ExplorationResult", "PhaseRecord"]

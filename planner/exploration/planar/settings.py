@@ -1,0 +1,92 @@
+"""Settings of the ch. 2 gait executor (one frozen, self-validating object)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from planner import checks
+from planner.control.internal_force import InternalForceGains
+
+
+@dataclass(frozen=True)
+class GaitSettings:
+    """Everything :func:`explore_object` can tune.
+
+    Attributes:
+        mu: friction coefficient the planner assumes [-] (the world uses the true one).
+        friction_margin: fraction of ``mu`` kept in reserve in the controllers' cones [-].
+        internal_force: commanded internal (squeeze) force of grasping/holding [N].
+        explore_force: normal force of the exploring finger (0.3 N, §2.3.2) [N].
+        object_mass: the planner's guess of the object mass [kg].
+        object_kp, object_kv: object impedance gains (eq. 2.7).
+        rolling_gains: (kp, kv, max_moment) of the rolling PD (eq. 2.8).
+        hold_kp, hold_kv: orientation stiffness [N m/rad] and damping [N m s/rad] of the
+            grasping/holding fingertips about their planned orientation.
+        internal_gains: the internal-force PI gains.
+        tip_kp, tip_kv, phi_kp, phi_kv: fingertip impedance of the explorer.
+        hold_stiffness, hold_damping: 2-D impedance of the holding fingertip about its
+            anchor in phases 2/3 [N/m, N s/m] (it must out-hold the explorer's friction).
+        min_force: minimum normal force of every touching finger in the QP [N].
+        torque_limit: joint torque limit used by the QP [N m].
+        rotation_speed: object rotation speed of phase 1 [rad/s].
+        explore_speed: contact speed of the exploring finger [m/s].
+        startup_time: duration of the startup segments (splines, ramps) [s].
+        joint_margin: a finger within this of a joint limit is at its workspace limit [rad].
+        min_epsilon: phase-1 grasps with a sensed epsilon below this are unstable [-].
+        lost_force: a touching finger below this normal force [N] for ``lost_time`` [s] has
+            lost its contact.
+        dt: simulator step [s]; control_rate: controller rate [Hz].
+        nlp_knots: intervals of the phase-1 NLP; nlp_margin: its stability margin [rad].
+        max_phases: phases before the executor stops (safety bound).
+    """
+
+    mu: float = 1.0
+    friction_margin: float = 0.2
+    internal_force: float = 1.0
+    explore_force: float = 0.3
+    object_mass: float = 0.05
+    object_kp: tuple[float, float, float] = (80.0, 80.0, 0.8)
+    object_kv: tuple[float, float, float] = (3.0, 3.0, 0.02)
+    rolling_gains: tuple[float, float, float] = (1.0, 0.05, 0.04)
+    internal_gains: InternalForceGains = InternalForceGains()
+    hold_kp: float = 0.3
+    hold_kv: float = 0.004
+    tip_kp: float = 60.0
+    tip_kv: float = 2.0
+    phi_kp: float = 0.15
+    phi_kv: float = 0.004
+    hold_stiffness: float = 300.0
+    hold_damping: float = 3.0
+    min_force: float = 0.05
+    torque_limit: float = 2.0
+    rotation_speed: float = 0.4
+    explore_speed: float = 0.03
+    startup_time: float = 0.08
+    joint_margin: float = 0.03
+    min_epsilon: float = 0.01
+    lost_force: float = 0.03
+    lost_time: float = 0.04
+    dt: float = 2e-3
+    control_rate: float = 500.0
+    nlp_knots: int = 6
+    nlp_margin: float = 0.15
+    max_phases: int = 200
+
+    def __post_init__(self) -> None:
+        checks.positive("mu", self.mu)
+        checks.in_range("friction_margin", self.friction_margin, 0.0, 0.9)
+        for name in ("internal_force", "explore_force", "object_mass", "tip_kp", "phi_kp",
+                     "rotation_speed", "explore_speed", "startup_time", "dt", "control_rate",
+                     "lost_time", "torque_limit", "hold_stiffness"):  # fmt: skip
+            checks.positive(name, getattr(self, name))
+        for name in ("tip_kv", "phi_kv", "min_force", "joint_margin", "min_epsilon",
+                     "lost_force", "nlp_margin", "hold_damping"):  # fmt: skip
+            checks.nonnegative(name, getattr(self, name))
+        checks.vector("object_kp", self.object_kp, 3)
+        checks.vector("object_kv", self.object_kv, 3)
+        checks.vector("rolling_gains", self.rolling_gains, 3)
+        checks.integer("nlp_knots", self.nlp_knots, 2)
+        checks.integer("max_phases", self.max_phases, 1)
+
+
+__all__ = ["GaitSettings"]

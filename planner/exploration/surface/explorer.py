@@ -1,0 +1,204 @@
+"""``explore_surface``: feature-guided exploration of a fixed plate with the 3GM (thesis ch. 4).
+
+The plate (:class:`planner.sim.spatial.Plate`) is placed under the finger
+(:mod:`~planner.exploration.surface.placement`), the world is built with the finger resting
+0.5 mm above the first search point, and :class:`~planner.exploration.surface.runtime.
+ExplorerController` runs :func:`~planner.exploration.surface.program.exploration_program` at
+1 kHz under the hybrid law of §4.3. Afterwards every traced feature gets its skeleton and the
+features their global skeleton and region report (§4.4.3, §4.5.3).
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from planner import checks
+from planner.control.hybrid_law import HybridSettings, check_force_feasible
+from planner.errors import InvalidParameter
+from planner.exploration.surface.modelling import feature_model, global_model
+from planner.exploration.surface.placement import (
+    check_reachable,
+    plate_pose,
+    region_box,
+    to_world,
+)
+from planner.exploration.surface.plates import plate_height
+from planner.exploration.surface.program import ProgramState, exploration_program
+from planner.exploration.surface.result import (
+    ExplorationResult,
+    ExplorationSettings,
+    ExploredFeature,
+)
+from planner.exploration.surface.runtime import PHASES, ExplorerController
+from planner.exploration.surface.strategies import segments
+
+__all__ = ["explore_surface"]
+
+GAP = 5e-4  # [m] the fingertip starts this far above the plate
+
+
+def _corners(region: np.ndarray) -> np.ndarray:
+    (u0, u1), (v0, v1) = region
+    return np.array([[u0, v0], [u1, v0], [u1, v1], [u0, v1], [(u0 + u1) / 2, (v0 + v1) / 2]])
+
+
+def build_world(plate, cfg: ExplorationSettings, region, tilt: float, seed: int, sensors=None):
+    """World, finger and plate pose for an exploration; validates reach, goal and force."""
+    from planner.sim import SpatialWorld
+    from robots.three_gm import ThreeGM
+
+    gm = ThreeGM()
+    H = plate_height(plate)
+    r = cfg.tip_radius
+    mid = region.mean(axis=1)
+    T = plate_pose(gm, region, tilt, float(H(mid[0], mid[1])), r + GAP)
+    corners = _corners(region)
+    check_reachable(gm, T, corners, H(corners[:, 0], corners[:, 1]), r, "region")
+    if cfg.goal is not None:
+        g = np.array([cfg.goal])
+        check_reachable(gm, T, g, H(g[:, 0], g[:, 1]), r, "goal")
+    _, first = segments(cfg, region, np.random.default_rng(seed))
+    x0 = to_world(T, [first[0], first[1], float(H(first[0], first[1])) + r + GAP])
+    theta = gm.inverse_kinematics(x0)
+    for p in corners:
+        x = to_world(T, [p[0], p[1], float(H(p[0], p[1])) + r])
+        check_force_feasible(gm, gm.inverse_kinematics(x, theta), cfg.normal_force)
+    world = SpatialWorld(dt=1e-3, seed=seed, sensors=sensors)
+    world.add_surface(plate, friction=cfg.friction, name="plate", pose=T)
+    world.add_finger(gm, theta, tip_radius=r)
+    return world, gm, T
+
+
+def explore_surface(
+    surface,
+    *,
+    strategy: str = "raster",
+    region=None,
+    tip_radius: float = 0.008,
+    normal_force: float = 0.3,
+    speed: float = 0.02,
+    seed: int = 0,
+    duration: float | None = None,
+    tilt: float = 0.0,
+    goal=None,
+    sensors=None,
+    **options,
+) -> ExplorationResult:
+    """Explore ``surface`` with the 3GM: search, identify, trace, model (thesis ch. 4).
+
+    Args:
+        surface: a :class:`planner.sim.spatial.plate.Plate` (plate frame: ``z`` up).
+        strategy: ``"raster"``, ``"random_walk"`` or ``"bug2"`` (needs ``goal``).
+        region: ((u0, u1), (v0, v1)) explored box of the plate frame [m] (default 40 mm
+            square about the origin).
+        tip_radius: fingertip radius r_f [m].
+        normal_force: desired normal force [N] (eq. 4.12).
+        speed: search speed [m/s].
+        seed: seed of the simulator's sensor noise and of the random walk.
+        duration: longest simulated time [s] (default 120 s).
+        tilt: tilt of the plate about the WCS y axis [rad].
+        goal: (2,) bug-2 goal in the plate frame [m].
+        sensors: :class:`planner.sim.SensorSettings` (default: the world's).
+        **options: further :class:`ExplorationSettings` fields (``trace_speed``,
+            ``line_spacing``, ``boundary_rise``, ``friction``, ``kp``, ``kv``, ...).
+
+    Returns:
+        :class:`ExplorationResult` (status "failed" with a reason when the run could not go on).
+
+    Raises:
+        InvalidParameter: bad arguments, a region or goal out of reach, a force beyond the
+            torque limits.
+    """
+    cfg = ExplorationSettings(
+        strategy=strategy,
+        tip_radius=tip_radius,
+        normal_force=normal_force,
+        speed=speed,
+        goal=None if goal is None else tuple(goal),
+        **options,
+    )
+    reg = region_box(((-0.02, 0.02), (-0.02, 0.02)) if region is None else region)
+    dur = 120.0 if duration is None else checks.positive("duration", duration, "s")
+    if not hasattr(surface, "features"):
+        raise InvalidParameter(
+            f"surface: expected a planner.sim.spatial.Plate, got {type(surface).__name__}"
+        )
+    world, gm, T = build_world(surface, cfg, reg, tilt, seed, sensors)
+    hs = HybridSettings(kp=cfg.kp, kv=cfg.kv, normal_force=cfg.normal_force, tip_radius=tip_radius)
+    ex = ExplorerController(gm, hs, T, int(dur * 1000) + 2)
+    state = ProgramState()
+    ex.program = exploration_program(ex, cfg, reg, np.random.default_rng(seed), state)
+    t0 = time.perf_counter()
+    log = world.run(dur, controller=ex, stop=ex.stop)
+    wall = time.perf_counter() - t0
+    return _result(ex, state, log, cfg, T, wall)
+
+
+def _refine(dec, boundary: np.ndarray, closed: bool, elongation: float = 2.0):
+    """After tracing, compare the outline's shape with the kind (§4.4.1: the pattern of the
+    traced curvature region): a closed outline much longer than wide is a ridge or ravine, not
+    a bump or pit (the along crossing can run past a short ridge's end caps)."""
+    from dataclasses import replace
+
+    if not closed or len(boundary) < 10 or dec.kind not in ("bump", "pit"):
+        return dec
+    ev = np.sqrt(np.maximum(np.linalg.eigvalsh(np.cov(boundary.T)), 0.0))
+    ratio = float(ev[-1] / max(ev[0], 1e-12))
+    if ratio <= elongation:
+        return dec
+    kind = "ridge" if dec.kind == "bump" else "ravine"
+    scores = dict(dec.scores)
+    scores[kind], scores[dec.kind] = scores[dec.kind], scores[kind]
+    note = f"traced outline {ratio:.1f} times longer than wide: {dec.kind} -> {kind}"
+    return replace(dec, kind=kind, scores=scores, path=(*dec.path, note))
+
+
+def _result(ex, state, log, cfg, T, wall) -> ExplorationResult:
+    rec = ex.rec
+    n = rec.n
+    feats = []
+    for f in state.features:
+        sides = [rec.centre[s, :2] for s in f.sides if len(s)]
+        boundary = np.vstack(sides) if sides else np.zeros((0, 2))
+        dec = _refine(f.decision, boundary, f.closed)
+        feats.append(
+            ExploredFeature(
+                kind=dec.kind,
+                confidence=dec.confidence,
+                scores=dict(dec.scores),
+                boundary=boundary,
+                closed=bool(f.closed),
+                ends_reached=int(f.ends),
+                skeleton=feature_model(dec.kind, sides, f.closed),
+                centre=np.asarray(f.centre, float),
+                detected_at=float(f.detected_at),
+                latency=float(f.latency),
+                evidence=tuple(dec.path) + tuple(f.reasons),
+                rise=float(f.rise),
+            )
+        )
+    gs, regions = global_model([f.boundary for f in feats], cfg.tip_radius)
+    status = "failed" if ex.failed else log.status
+    reason = ex.failed or log.reason or ex.finished or "duration reached"
+    events = tuple(sorted([*log.events, *ex.events], key=lambda e: e.t))
+    return ExplorationResult(
+        status=status,
+        reason=reason,
+        features=tuple(feats),
+        global_skeleton=gs,
+        regions=regions,
+        path=rec.centre[:n].copy(),
+        contacts=rec.contact[:n].copy(),
+        normals=rec.normal[:n].copy(),
+        t=rec.t[:n].copy(),
+        phase=rec.phase[:n].copy(),
+        phases=PHASES,
+        events=events,
+        log=log,
+        decision=rec.decision[:n].copy(),
+        wall_time=wall,
+        settings=cfg,
+        pose=T,
+    )

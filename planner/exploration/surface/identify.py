@@ -1,0 +1,315 @@
+"""Feature type identification by crossing motions (thesis §4.4.1, Fig. 4.7 extended).
+
+Fig. 4.7 tells a cusp, a step and a ridge apart by the curvature features met on one crossing
+(one convex feature: cusp; a concave then a convex one: step; concave-convex-concave: ridge).
+One crossing cannot tell the six macro types of Table 3.1 apart: a ridge and a bump both read
+``-+-`` across, a ravine and a pit ``+-+``. The extension adds the motions that disambiguate:
+
+1. **across**: after the search has met a feature, cross it again at right angles to its axis
+   (estimated from the contact normals of the search crossing: on a ridge's flanks the
+   normal's horizontal tilt points across it whatever the crossing direction; on a bump it is
+   radial and averages to the chord direction, so the perpendicular through the chord's
+   middle runs through the top), centred on the feature;
+2. **along**: cross it along its axis through its middle.
+
+Cues read from each crossing (fingertip centres in the plate frame):
+
+* ``relief``: rise of the centre above the line joining the crossing's end levels minus its
+  dip below it - raised (ridge, bump, cusp), sunken (ravine, pit) or flat;
+* ``level_change``: end level minus start level - only a step changes level (and more than
+  it rises or dips in between: the tails of a wide pit cut short change level too);
+* ``feet``: the curvature pattern has concave features on both sides of a convex one
+  (``-+-``, Fig. 4.7's ridge) - a cusp has none (it is a crease between two planes);
+* ``crease``: the plate falls away on both sides at the ends of the crossing (a cusp's flanks
+  are planes tilted by its half-angle; the plate around a ridge is level);
+* ``width`` (along): a raised or sunken part much longer along than across is elongated, flat
+  along like a ridge (a finite ridge drops at its end caps when the along crossing is longer
+  than the ridge; a bump is as wide along as across).
+
+Across the kinds predict (relief, step, feet, crease) and along the relief:
+
+======  ======  =====  ====  ======  =====
+kind    relief  step   feet  crease  along
+======  ======  =====  ====  ======  =====
+bump    up      no     any   no      up
+pit     down    no     any   no      down
+ridge   up      no     yes   no      flat
+ravine  down    no     any   no      flat
+step    flat    yes    any   no      flat
+cusp    up      no     no    yes     flat
+======  ======  =====  ====  ======  =====
+
+Confidence: every cue agrees with a kind's prediction with probability :data:`P_CUE` (the
+feet cue, which noise and shallow feet make less reliable, :data:`P_FEET`); with a uniform
+prior the posterior over the six kinds is the confidence reported per kind.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = [
+    "KINDS",
+    "PREDICTIONS",
+    "Crossing",
+    "TypeDecision",
+    "crossing_axis",
+    "evidence",
+    "feature_width",
+    "flow_chart_next",
+    "identify",
+    "level_change",
+    "relief",
+]
+
+KINDS = ("bump", "pit", "ridge", "ravine", "step", "cusp")
+#: kind -> (relief across, step, feet, crease, relief along); None = either
+PREDICTIONS = {
+    "bump": ("up", False, None, False, "up"),
+    "pit": ("down", False, None, False, "down"),
+    "ridge": ("up", False, True, False, "flat"),
+    "ravine": ("down", False, None, False, "flat"),
+    "step": ("flat", True, None, False, "flat"),
+    "cusp": ("up", False, False, True, "flat"),
+}
+P_CUE, P_FEET = 0.9, 0.75
+
+
+@dataclass(frozen=True)
+class Crossing:
+    """Evidence from one crossing of a feature.
+
+    Attributes:
+        pattern: collapsed sign pattern of its curvature features (``"-+-"`` ...).
+        role: ``"search"`` (the crossing that met the feature), ``"across"`` or ``"along"``.
+        level_change: end level minus start level of the fingertip centre [m].
+        relief: rise above minus dip below the line through the end levels [m].
+        end_slopes: (2,) slope of the centre path at the start (going backwards) and at the
+            end (going forwards): both negative when the plate falls away on both sides.
+        width: horizontal length over which the centre departs from the line through the end
+            levels by more than half the relief (the feature's width on this crossing) [m].
+    """
+
+    pattern: str
+    role: str = "across"
+    level_change: float = 0.0
+    relief: float = 0.0
+    end_slopes: tuple[float, float] = (0.0, 0.0)
+    width: float = 0.0
+
+
+@dataclass(frozen=True)
+class TypeDecision:
+    """Result of type identification.
+
+    Attributes:
+        kind: the most probable of :data:`KINDS`, or ``"unknown"`` (nothing was seen).
+        confidence: its posterior probability in [0, 1].
+        scores: posterior probability of every kind.
+        path: the cues read, in order (the branches of the flow chart).
+    """
+
+    kind: str
+    confidence: float
+    scores: dict[str, float] = field(default_factory=dict)
+    path: tuple[str, ...] = ()
+
+
+def flow_chart_next(crossings: list[Crossing]) -> str | None:
+    """The motion the extended flow chart asks for next: ``"across"``, ``"along"`` or None.
+
+    One centred crossing decides Fig. 4.7's cusp, step and ridge; the along crossing is what
+    tells a bump from a ridge and a pit from a ravine, so it is always asked for.
+    """
+    roles = {c.role for c in crossings}
+    if "across" not in roles:
+        return "across"
+    if "along" not in roles:
+        return "along"
+    return None
+
+
+def _rel(value: float, thr: float) -> str:
+    return "up" if value > thr else ("down" if value < -thr else "flat")
+
+
+def _lik(observed, predicted, p: float) -> float:
+    if predicted is None:
+        return 0.5
+    return p if observed == predicted else 1.0 - p
+
+
+def identify(
+    crossings: list[Crossing],
+    level_threshold: float = 5e-4,
+    relief_threshold: float = 3e-4,
+    crease_slope: float = 0.12,
+    elongation: float = 1.8,
+) -> TypeDecision:
+    """Posterior over the six kinds from the crossings (the extended Fig. 4.7).
+
+    Args:
+        crossings: the evidence; ``"across"`` crossings (or the ``"search"`` one when there is
+            no across crossing) give the across cues, ``"along"`` crossings the along cue.
+        level_threshold: a level change beyond this is a step [m].
+        relief_threshold: a relief beyond this is raised/sunken [m].
+        crease_slope: both end slopes below minus this make a crease [-].
+        elongation: an along crossing whose raised (sunken) part is longer than this times the
+            across crossing's is elongated - flat along, as on a ridge (finite ridges drop at
+            their end caps when the along crossing is longer than they are).
+
+    Returns:
+        :class:`TypeDecision`; ``"unknown"`` with confidence 0 when no crossing saw anything.
+    """
+    across = [c for c in crossings if c.role == "across"] or [
+        c for c in crossings if c.role == "search"
+    ]
+    along = [c for c in crossings if c.role == "along"]
+    seen = [c for c in across if c.pattern or abs(c.relief) > relief_threshold]
+    if not seen:
+        return TypeDecision("unknown", 0.0, dict.fromkeys(KINDS, 0.0), ("nothing seen",))
+    logp = dict.fromkeys(KINDS, 0.0)
+    path = []
+    for c in across:
+        rel = _rel(c.relief, relief_threshold)
+        step = abs(c.level_change) > max(level_threshold, abs(c.relief))
+        feet = "-+-" in c.pattern
+        crease = max(c.end_slopes) < -crease_slope
+        path.append(
+            f"{c.role}: pattern {c.pattern or '(none)'}, relief {rel}, "
+            f"{'level change' if step else 'level'}, {'feet' if feet else 'no feet'}, "
+            f"{'crease' if crease else 'no crease'}"
+        )
+        for k in KINDS:
+            pr, ps, pf, pc, _ = PREDICTIONS[k]
+            rel_k = rel if not step else "flat"  # a step's relief is not informative
+            logp[k] += np.log(_lik(rel_k if k == "step" else rel, pr, P_CUE))
+            logp[k] += np.log(_lik(step, ps, P_CUE))
+            logp[k] += np.log(_lik(feet, pf, P_FEET))
+            logp[k] += np.log(_lik(crease, pc, P_CUE))
+    w_across = max([c.width for c in across] + [1e-9])
+    for c in along:
+        rel = _rel(c.relief, relief_threshold)
+        if rel != "flat" and c.width > elongation * w_across:
+            rel = "flat"  # a finite ridge or ravine: long along, its ends drop within the crossing
+        path.append(
+            f"along: pattern {c.pattern or '(none)'}, relief {rel}, width "
+            f"{c.width * 1e3:.1f} mm vs {w_across * 1e3:.1f} mm across"
+        )
+        for k in KINDS:
+            logp[k] += np.log(_lik(rel, PREDICTIONS[k][4], P_CUE))
+    vals = np.array([logp[k] for k in KINDS])
+    post = np.exp(vals - vals.max())
+    post /= post.sum()
+    scores = {k: float(p) for k, p in zip(KINDS, post, strict=True)}
+    best = KINDS[int(np.argmax(post))]
+    return TypeDecision(best, scores[best], scores, tuple(path))
+
+
+def crossing_axis(normals_uvw: np.ndarray, direction, min_tilt: float = 0.05) -> np.ndarray:
+    """Estimated across-direction (2,) of a feature from a crossing's contact normals.
+
+    Args:
+        normals_uvw: (N, 3) outward surface normals along the crossing, plate frame [-].
+        direction: (2,) direction of travel of the crossing.
+        min_tilt: samples with a smaller horizontal tilt (sine) are ignored.
+
+    Returns:
+        (2,) unit vector across the feature (the crossing direction when nothing is tilted).
+    """
+    d = np.asarray(direction, float)
+    d = d / np.linalg.norm(d)
+    g = np.asarray(normals_uvw, float)[:, :2]
+    t = np.linalg.norm(g, axis=1)
+    g = g[t > min_tilt]
+    if len(g) == 0:
+        return d
+    g = g * np.where(g @ d >= 0, 1.0, -1.0)[:, None]
+    m = g.sum(axis=0)
+    n = np.linalg.norm(m)
+    return d if n < 1e-12 else m / n
+
+
+def _ends(s: np.ndarray, w: np.ndarray, fraction: float):
+    k = max(2, int(len(w) * fraction))
+    return k, (np.mean(s[:k]), np.mean(w[:k])), (np.mean(s[-k:]), np.mean(w[-k:]))
+
+
+def level_change(w: np.ndarray, fraction: float = 0.15) -> float:
+    """Mean height of the last ``fraction`` of a crossing minus that of the first [m]."""
+    w = np.asarray(w, float)
+    k = max(1, int(len(w) * fraction))
+    return float(np.mean(w[-k:]) - np.mean(w[:k]))
+
+
+def relief(s: np.ndarray, w: np.ndarray, fraction: float = 0.15) -> float:
+    """Rise above minus dip below the line through the crossing's end levels [m].
+
+    Args:
+        s: (N,) horizontal arclength [m]; w: (N,) fingertip-centre heights [m].
+        fraction: share of samples at each end that fixes the end levels.
+    """
+    s, w = np.asarray(s, float), np.asarray(w, float)
+    _, (s0, w0), (s1, w1) = _ends(s, w, fraction)
+    base = w0 + (w1 - w0) * (s - s0) / max(s1 - s0, 1e-12)
+    d = w - base
+    return float(d.max() + d.min())
+
+
+def feature_width(s: np.ndarray, w: np.ndarray, fraction: float = 0.15) -> float:
+    """Length [m] of the part of a crossing departing from the end-level line by more than
+    half of its largest departure (the full width at half maximum of the relief)."""
+    s, w = np.asarray(s, float), np.asarray(w, float)
+    _, (s0, w0), (s1, w1) = _ends(s, w, fraction)
+    d = np.abs(w - (w0 + (w1 - w0) * (s - s0) / max(s1 - s0, 1e-12)))
+    if d.max() <= 0:
+        return 0.0
+    on = np.flatnonzero(d > 0.5 * d.max())
+    return float(s[on[-1]] - s[on[0]])
+
+
+def end_slopes(s: np.ndarray, w: np.ndarray, fraction: float = 0.15) -> tuple[float, float]:
+    """Slopes of the centre path over the first and last ``fraction`` of the crossing, each
+    taken going away from the middle (negative: the plate falls away) [-]."""
+    s, w = np.asarray(s, float), np.asarray(w, float)
+    k = max(3, int(len(w) * fraction))
+    if len(w) < 2 * k:
+        return (0.0, 0.0)
+    a = np.polyfit(s[:k], w[:k], 1)[0]
+    b = np.polyfit(s[-k:], w[-k:], 1)[0]
+    return (float(-a), float(b))
+
+
+def evidence(centers_uvw, normals_uvw, tip_radius: float, role: str = "across"):
+    """Evidence of one crossing from its fingertip centres and contact normals (plate frame).
+
+    Args:
+        centers_uvw: (N, 3) fingertip centres [m].
+        normals_uvw: (N, 3) outward surface normals at the contacts [-] (for the axis).
+        tip_radius: r_f [m].
+        role: ``"search"``, ``"across"`` or ``"along"``.
+
+    Returns:
+        ``(crossing, analysis, across_direction)``: the :class:`Crossing`, the
+        :class:`~planner.exploration.surface.detection_adapter.PathAnalysis` and the (2,)
+        estimated direction across the feature.
+    """
+    from planner.exploration.surface.detection_adapter import analyse_path
+
+    P = np.asarray(centers_uvw, float)
+    a = analyse_path(P, tip_radius)
+    if len(a.s) >= 6:
+        c = Crossing(
+            a.pattern,
+            role,
+            level_change(a.w),
+            relief(a.s, a.w),
+            end_slopes(a.s, a.w),
+            feature_width(a.s, a.w),
+        )
+    else:
+        c = Crossing(a.pattern, role)
+    d = P[-1, :2] - P[0, :2]
+    return c, a, crossing_axis(normals_uvw, d if np.linalg.norm(d) > 0 else (1.0, 0.0))

@@ -1,0 +1,130 @@
+"""Scores of an exploration against the plate's ground truth (issue 12's metrics).
+
+Found features are matched to true ones by the distance from the found centre to the true
+skeleton (within ``2 r_f``). Boundary deviation is the distance of every traced boundary
+sample to the true outline (:func:`planner.exploration.surface.plates.truth_features`);
+the skeleton error is the Hausdorff distance between the found skeleton and the true one
+(the true one clipped to the traced extent for open features, which are traced only inside
+the region).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["exploration_metrics", "match_features"]
+
+
+def _skel_geom(points: np.ndarray):
+    import shapely
+
+    P = np.asarray(points, float)
+    if len(P) == 1:
+        return shapely.Point(P[0])
+    return shapely.LineString(P)
+
+
+def match_features(result, truth, tip_radius: float) -> list[int | None]:
+    """Index of the true feature each found feature belongs to (None: a false detection)."""
+    import shapely
+
+    out = []
+    geoms = [_skel_geom(t.skeleton) for t in truth]
+    for f in result.features:
+        p = shapely.Point(*f.centre)
+        d = [g.distance(p) for g in geoms]
+        j = int(np.argmin(d)) if d else -1
+        out.append(j if d and d[j] < 2.5 * tip_radius else None)
+    return out
+
+
+def _found_skeleton(f):
+    sk = f.skeleton
+    if sk is None or len(sk.points) == 0:
+        return None
+    return np.asarray(sk.points, float)
+
+
+def _hausdorff(found: np.ndarray, true_skel: np.ndarray, closed: bool) -> float:
+    import shapely
+
+    t = np.asarray(true_skel, float)
+    if len(t) >= 2 and not closed:  # clip the infinite axis to the traced extent
+        d = t[1] - t[0]
+        d = d / np.linalg.norm(d)
+        s = (found - t[0]) @ d
+        t = np.array([t[0] + s.min() * d, t[0] + s.max() * d])
+    return float(shapely.hausdorff_distance(shapely.MultiPoint(found), _skel_geom(t)))
+
+
+def exploration_metrics(result, plate, region, tip_radius: float, normal_force: float) -> dict:
+    """All scalar metrics of one exploration (JSON-serialisable dict)."""
+    import shapely
+
+    from planner.exploration.surface.plates import truth_features
+
+    truth = truth_features(plate, region, tip_radius, result.settings.boundary_rise)
+    match = match_features(result, truth, tip_radius)
+    found_true = {j for j in match if j is not None}
+    correct, devs, dmax, closures, haus = 0, [], 0.0, [], []
+    for f, j in zip(result.features, match, strict=True):
+        if j is None:
+            continue
+        t = truth_features(plate, region, tip_radius, _rises(plate, j, f.rise))[j]
+        correct += f.kind == t.kind
+        if len(f.boundary) and t.outline:
+            outline = shapely.MultiLineString([ln for ln in t.outline if len(ln) >= 2])
+            d = shapely.distance(shapely.points(f.boundary), outline)
+            devs.append(d)
+            dmax = max(dmax, float(d.max()))
+        if t.closed:
+            closures.append(bool(f.closed))
+        sk = _found_skeleton(f)
+        if sk is not None:
+            haus.append(_hausdorff(sk, t.skeleton, t.closed))
+    dev = np.concatenate(devs) if devs else np.zeros(0)
+    log = result.log
+    fn = _normal_force_error(result, log, normal_force)
+    path = result.path
+    length = float(np.sum(np.hypot(*np.diff(path[:, :2], axis=0).T))) if len(path) > 1 else 0.0
+    lat = [f.latency for f in result.features if math.isfinite(f.latency)]
+    return {
+        "features_present": len(truth),
+        "features_found": len(found_true),
+        "false_detections": sum(j is None for j in match),
+        "type_accuracy": correct / len(found_true) if found_true else float("nan"),
+        "boundary_deviation_mean_mm": float(dev.mean() * 1e3) if dev.size else float("nan"),
+        "boundary_deviation_max_mm": dmax * 1e3 if dev.size else float("nan"),
+        "closure": float(np.mean(closures)) if closures else float("nan"),
+        "skeleton_hausdorff_mm": float(np.max(haus) * 1e3) if haus else float("nan"),
+        "exploration_time_s": result.sim_time,
+        "path_length_m": length,
+        "normal_force_rms_error_N": fn,
+        "real_time_factor": result.real_time_factor,
+        "detection_latency_mean_s": float(np.mean(lat)) if lat else float("nan"),
+        "saturation_events": sum(e.kind == "torque_saturated" for e in result.events),
+    }
+
+
+def _rises(plate, j: int, rise: float) -> np.ndarray:
+    out = np.full(len(plate.features), 2.5e-4)
+    out[j] = rise
+    return out
+
+
+def _normal_force_error(result, log, normal_force: float) -> float:
+    """RMS of (true contact force - f_des) over the steps in contact after the approach [N]."""
+    if log is None or log.normal_force.size == 0:
+        return float("nan")
+    fn = log.normal_force.sum(axis=1)
+    on = fn > 0
+    if len(result.phase):
+        settled = np.zeros(len(fn), bool)
+        k = min(len(fn) - 1, len(result.phase))
+        settled[1 : k + 1] = result.phase[:k] != 0  # not during the approach
+        on &= settled
+    if not on.any():
+        return float("nan")
+    return float(np.sqrt(np.mean((fn[on] - normal_force) ** 2)))

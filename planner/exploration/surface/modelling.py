@@ -1,0 +1,68 @@
+"""Feature and global skeletons of the traced features (thesis §4.4.3, §4.5.3).
+
+* Closed outlines (bumps, pits, closed ridges): the pruned DVMA of the boundary samples
+  (:func:`planner.skeleton.feature_skeleton`).
+* Open features traced on both sides (ridges, ravines reaching the region's edges): the
+  medial axis between the two sides - the DVMA of both sides' samples, pruned to its
+  largest connected part (Fig. 4.13); if the skeleton library cannot build it (the samples
+  enclose no area), the midpoints between each sample and the nearest one of the other side.
+* Features traced *along* (steps, cusps): the pseudo-skeleton, the traced path itself.
+* The global skeleton of all features (Fig. 4.15) and the §4.5.3 region report
+  (:func:`planner.skeleton.global_skeleton`, :func:`planner.skeleton.region_report`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from planner.errors import HapexError
+
+__all__ = ["feature_model", "global_model"]
+
+
+def _midline(a: np.ndarray, b: np.ndarray):
+    from scipy.spatial import cKDTree
+
+    from planner.skeleton import pseudo_skeleton
+
+    _, j = cKDTree(b).query(a)
+    mid = 0.5 * (a + b[j])
+    d = np.diff(a, axis=0)
+    main = d.sum(axis=0)
+    order = np.argsort(mid @ (main / max(np.linalg.norm(main), 1e-12)))
+    return pseudo_skeleton(mid[order])
+
+
+def feature_model(kind: str, sides: list[np.ndarray], closed: bool):
+    """The skeleton of one feature from its traced sides ((N_i, 2) samples [m]); None when
+    fewer than 4 samples were traced."""
+    from planner.skeleton import feature_skeleton, pseudo_skeleton
+
+    sides = [np.asarray(s, float) for s in sides if len(s) >= 2]
+    if not sides or sum(len(s) for s in sides) < 4:
+        return None
+    try:
+        if closed:
+            return feature_skeleton(np.vstack(sides))
+        if kind in ("step", "cusp") or len(sides) == 1:
+            return pseudo_skeleton(sides[0])
+        if len(sides) >= 2:
+            return _midline(sides[0], sides[1])
+    except HapexError:
+        return pseudo_skeleton(sides[0]) if len(sides[0]) >= 2 else None
+    return None
+
+
+def global_model(boundaries: list[np.ndarray], tip_radius: float):
+    """``(global_skeleton, region_report)`` of the features' boundary samples; ``(None, ())``
+    with fewer than two traced features."""
+    from planner.skeleton import global_skeleton, region_report
+
+    bnd = [np.asarray(b, float) for b in boundaries if len(b) >= 4]
+    if len(bnd) < 2:
+        return None, ()
+    try:
+        gs = global_skeleton(bnd)
+        return gs, tuple(region_report(gs, tip_radius))
+    except HapexError:
+        return None, ()

@@ -1,0 +1,106 @@
+"""Online feature detection: algorithm 3 over a sliding window of the streamed path (§4.2).
+
+While the finger searches, :class:`OnlineDetector` re-runs the detector of
+:mod:`planner.exploration.surface.detection_adapter` on the last ``window`` metres of the
+fingertip-centre path (subsampled to about ``r_f/100``). A macro feature (curvature features
+within ``r_f`` of each other, Definition 2) is reported once the finger is more than
+``1.25 r_f`` past its last curvature feature, i.e. when the whole pattern has been crossed;
+the **latency** is the time from crossing the peak of that last feature to the report.
+Features inside the known area of already explored features are ignored.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from planner.exploration.surface.detection_adapter import analyse_path, collapse_pattern
+
+__all__ = ["Detection", "OnlineDetector"]
+
+
+@dataclass(frozen=True)
+class Detection:
+    """A macro feature met by the search.
+
+    Attributes:
+        points: (K, 2) its curvature-feature points in the plate frame [m].
+        signs: (K,) their signs; pattern: collapsed sign pattern.
+        k_first, k_last: recorder indices of its first and last curvature-feature peaks.
+        k_start, k_end: recorder range of the analysed window.
+        t: time of the report [s]; latency: report time minus last peak time [s].
+    """
+
+    points: np.ndarray
+    signs: np.ndarray
+    pattern: str
+    k_first: int
+    k_last: int
+    k_start: int
+    k_end: int
+    t: float
+    latency: float
+
+    @property
+    def centre(self) -> np.ndarray:
+        """(2,) middle of its curvature features [m]."""
+        return 0.5 * (self.points.min(axis=0) + self.points.max(axis=0))
+
+
+class OnlineDetector:
+    """Sliding-window detection over the explorer's recorder (see the module doc).
+
+    Args:
+        ex: the :class:`~planner.exploration.surface.runtime.ExplorerController`.
+        tip_radius: r_f [m]; window: window length along the path [m].
+        known: callable ``known(point (2,)) -> bool`` (already explored area).
+    """
+
+    def __init__(self, ex, tip_radius: float, window: float, known) -> None:
+        self.ex, self.r, self.window, self.known = ex, tip_radius, window, known
+        self.latencies: list[float] = []
+        self.calls = 0
+
+    def __call__(self, k0: int, k1: int, flush: bool = False) -> Detection | None:
+        """Detection in the recorder range ``k0:k1`` (``flush``: the sweep ended, report
+        features the finger has not yet left by ``1.25 r_f``)."""
+        rec = self.ex.rec
+        if k1 - k0 < 30:
+            return None
+        self.calls += 1
+        C = rec.centre[k0:k1]
+        step = np.hypot(*np.diff(C[-60:, :2], axis=0).T)
+        ds = max(float(np.median(step)), 1e-7)
+        n_win = min(k1 - k0, int(self.window / ds))
+        stride = max(1, int(round(self.r / 100 / ds)))
+        i0 = k1 - n_win
+        idx = np.arange(i0, k1, stride)
+        a = analyse_path(rec.centre[idx], self.r)
+        if not a.features:
+            return None
+        s_now = a.s[-1]
+        groups, cur = [], [a.features[0]]
+        for f in a.features[1:]:
+            if f.start - cur[-1].end <= self.r:
+                cur.append(f)
+            else:
+                groups.append(cur)
+                cur = [f]
+        groups.append(cur)
+        for g in groups:
+            if g[-1].end > s_now - (0.0 if flush else 1.25 * self.r):
+                continue  # the finger is still on it
+            pts = np.array([f.point for f in g])
+            mid = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
+            if self.known(mid):
+                continue
+            first = int(idx[int(round(g[0].index))])
+            last = int(idx[int(round(g[-1].index))])
+            lat = float(rec.t[k1 - 1] - rec.t[last])
+            self.latencies.append(lat)
+            signs = np.array([f.sign for f in g])
+            return Detection(
+                pts, signs, collapse_pattern(signs), first, last, i0, k1, rec.t[k1 - 1], lat
+            )
+        return None

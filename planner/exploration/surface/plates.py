@@ -1,0 +1,227 @@
+"""Plates for the explorer: fast heights, the true outlines and skeletons, random plates.
+
+The plate itself is the simulator's :class:`planner.sim.spatial.plate.Plate` (macro features
+with closed-form cross-sections ``Z(s)``). This module adds what the explorer and its metrics
+need: a vectorized height function, the **true outline** of each feature - the level line
+of the traced surface (fingertip centre) a little above the plate level, which the boundary
+tracer of Fig. 4.8 servoes on - and the **true skeleton** (the crest/axis line, a point for
+a bump or pit), plus seeded random plates for the benchmark.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from planner import checks
+
+__all__ = [
+    "CLOSED_KINDS",
+    "TruthFeature",
+    "feature_height",
+    "plate_height",
+    "random_plate",
+    "truth_features",
+]
+
+#: kinds whose outline is a closed curve on an unbounded plate
+CLOSED_KINDS = ("bump", "pit")
+#: the explorer's name for each simulator kind (a wire lying on a plate is a ridge, §3.4.2)
+KIND_OF = {
+    "ridge": "ridge",
+    "ravine": "ravine",
+    "step": "step",
+    "bump": "bump",
+    "pit": "pit",
+    "wire": "ridge",
+    "cusp": "cusp",
+}
+
+
+def _profile(f, s: np.ndarray) -> np.ndarray:
+    """Vectorized ``Z(s)`` of a :class:`~planner.sim.spatial.plate.PlateFeature` [m]."""
+    h, w, k = f.height, f.width, f.kind
+    if k in ("ridge", "ravine"):
+        return (1.0 if k == "ridge" else -1.0) * h * np.exp(-(s**2) / (2 * w * w))
+    if k == "step":
+        return h * (1 + np.tanh(s / w)) / 2
+    if k in ("bump", "pit"):
+        return (1.0 if k == "bump" else -1.0) * h / (1.0 + s**2 / (w * w))
+    if k == "cusp":
+        rho = f.rounding
+        return -(h / w) * (np.sqrt(s**2 + rho**2) - rho)
+    R, rho = h / 2, f.rounding  # wire with fillets
+    xc = 2 * math.sqrt(R * rho)
+    xt = R * xc / (R + rho)
+    a = np.abs(s)
+    top = R + np.sqrt(np.maximum(R * R - s**2, 0.0))
+    fil = rho - np.sqrt(np.maximum(rho * rho - (a - xc) ** 2, 0.0))
+    return np.where(a <= xt, top, np.where(a < xc, fil, 0.0))
+
+
+def _polyline_distance(path, u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Distance [m] from ``(u, v)`` to the polyline ``path`` ((K, 2) [m])."""
+    P = np.asarray(path, float)
+    if len(P) == 1:
+        return np.hypot(u - P[0, 0], v - P[0, 1])
+    best = np.full(np.shape(u), np.inf)
+    for a, b in zip(P[:-1], P[1:], strict=True):
+        e = b - a
+        t = np.clip(((u - a[0]) * e[0] + (v - a[1]) * e[1]) / float(e @ e), 0.0, 1.0)
+        best = np.minimum(best, np.hypot(u - a[0] - t * e[0], v - a[1] - t * e[1]))
+    return best
+
+
+def _across(f, u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    if getattr(f, "path", None) is not None:
+        return _polyline_distance(f.path, u, v)
+    du, dv = u - f.position[0], v - f.position[1]
+    if f.kind in ("bump", "pit"):
+        return np.hypot(du, dv)
+    return du * math.cos(f.across) + dv * math.sin(f.across)
+
+
+def feature_height(f, u, v) -> np.ndarray:
+    """Height contributed by one feature at ``(u, v)`` (plate frame) [m]."""
+    u, v = np.broadcast_arrays(np.asarray(u, float), np.asarray(v, float))
+    return _profile(f, _across(f, u, v))
+
+
+def plate_height(plate):
+    """Vectorized ``h(u, v)`` [m] of a simulator plate (plate frame)."""
+    feats = tuple(plate.features)
+    base = float(plate.base)
+
+    def h(u, v):
+        u, v = np.broadcast_arrays(np.asarray(u, float), np.asarray(v, float))
+        out = np.full(u.shape, base)
+        for f in feats:
+            out = out + _profile(f, _across(f, u, v))
+        return out
+
+    return h
+
+
+@dataclass(frozen=True)
+class TruthFeature:
+    """Ground truth of one feature inside a region.
+
+    Attributes:
+        kind: explorer kind (a wire is a ``"ridge"``).
+        outline: tuple of (K, 2) polylines of the true outline in the plate frame [m].
+        closed: whether the outline is a closed curve inside the region.
+        skeleton: (M, 2) polyline of the true skeleton (1 row for a bump or pit) [m].
+        centre: (2,) a reference point (crest point / centre) [m].
+    """
+
+    kind: str
+    outline: tuple[np.ndarray, ...]
+    closed: bool
+    skeleton: np.ndarray
+    centre: np.ndarray
+
+
+def _clip_line(p: np.ndarray, d: np.ndarray, region: np.ndarray) -> np.ndarray:
+    """The segment of the line ``p + t d`` inside the box ``region`` ((2, 2) [m])."""
+    lo, hi = -1e9, 1e9
+    for i in range(2):
+        if abs(d[i]) < 1e-15:
+            continue
+        a, b = (region[i, 0] - p[i]) / d[i], (region[i, 1] - p[i]) / d[i]
+        lo, hi = max(lo, min(a, b)), min(hi, max(a, b))
+    if hi <= lo:
+        return np.array([p, p])
+    return np.array([p + lo * d, p + hi * d])
+
+
+def truth_features(
+    plate, region, tip_radius: float = 0.008, rise=2.5e-4, grid: float = 3e-4
+) -> list[TruthFeature]:
+    """True outline and skeleton of each feature (each feature alone on the plate).
+
+    The outline is the level line of the traced surface (the fingertip centre resting on the
+    feature, grey dilation of its heights by the ball, :func:`planner.geometry.surfaces.
+    offset_surfaces`) ``rise`` above the plate level (below it for pits and ravines): the
+    line :mod:`~planner.exploration.surface.tracing` servoes on.
+
+    Args:
+        plate: a :class:`~planner.sim.spatial.plate.Plate`.
+        region: ((u0, u1), (v0, v1)) box in the plate frame [m].
+        tip_radius: r_f [m].
+        rise: the outline level above/below the plate [m], one for all or one per feature.
+        grid: sampling of the traced surface [m].
+    """
+    import contourpy
+
+    from planner.geometry.surfaces import offset_surfaces
+
+    reg = np.asarray(region, float)
+    pad = tip_radius + 2 * grid
+    u = np.arange(reg[0, 0] - pad, reg[0, 1] + pad + grid / 2, grid)
+    v = np.arange(reg[1, 0] - pad, reg[1, 1] + pad + grid / 2, grid)
+    U, V = np.meshgrid(u, v, indexing="ij")
+    inside = (U >= reg[0, 0]) & (U <= reg[0, 1]) & (V >= reg[1, 0]) & (V <= reg[1, 1])
+    out = []
+    rises = np.broadcast_to(np.asarray(rise, float), (len(plate.features),))
+    for f, rise in zip(plate.features, rises, strict=True):
+        H = feature_height(f, U, V)
+        traced = offset_surfaces(u, v, H, tip_radius).traced - tip_radius
+        sunken = f.kind in ("pit", "ravine")
+        level = -rise if sunken else rise
+        if f.kind == "cusp":  # the plate falls away from the crest: no plate level
+            level = float(traced[inside].max()) - rise
+        field = np.where(inside, traced, np.nan)
+        gen = contourpy.contour_generator(V, U, field)  # x = v, y = u: returns (v, u) pairs
+        lines = [ln[:, ::-1] for ln in gen.lines(level) if len(ln) > 2]
+        centre = np.array(f.position, float)
+        path = getattr(f, "path", None)
+        if f.kind in CLOSED_KINDS or path is not None:
+            skel = centre[None].copy() if path is None else np.array(path, float)
+            if path is not None:
+                centre = skel.mean(axis=0)
+            closed = bool(lines) and all(np.allclose(ln[0], ln[-1], atol=2 * grid) for ln in lines)
+            if lines:  # the outer contour: the longest
+                lines = [max(lines, key=lambda ln: float(np.sum(np.hypot(*np.diff(ln, axis=0).T))))]
+        else:
+            a = f.across
+            axis = np.array([-math.sin(a), math.cos(a)])
+            skel = _clip_line(centre, axis, reg)
+            closed = False
+            if len(lines) > 2:
+                lines = sorted(lines, key=lambda ln: -len(ln))[:2]
+        out.append(TruthFeature(KIND_OF[f.kind], tuple(lines), closed, skel, centre))
+    return out
+
+
+def random_plate(
+    rng: np.random.Generator, kind: str, size: float, angle: float, position=(0.0, 0.0)
+):
+    """A plate with one feature of ``kind`` and characteristic ``size`` [m] (height ~ size).
+
+    Widths are chosen so that every feature is sharper than the fingertip (curvature above
+    1/r_f for r_f = 8 mm) - features in the thesis' sense (Definition 1).
+
+    Args:
+        rng: generator (varies the width within its band).
+        kind: explorer kind (``bump``, ``pit``, ``ridge``, ``ravine``, ``step``, ``cusp``).
+        size: feature height [m], 1-5 mm in the benchmark.
+        angle: direction ``across`` of the profile [rad].
+        position: (2,) centre [m].
+    """
+    from planner.sim.spatial.plate import Plate, PlateFeature
+
+    checks.choice("kind", kind, ("bump", "pit", "ridge", "ravine", "step", "cusp"))
+    h = checks.positive("size", size, "m")
+    jitter = float(rng.uniform(0.8, 1.2))
+    if kind in ("bump", "pit"):
+        w = (h + 1e-3) * jitter
+    elif kind in ("ridge", "ravine"):
+        w = 0.9 * h * jitter + 0.6e-3
+    elif kind == "step":
+        w = 0.5 * h * jitter
+    else:
+        w = 3.0 * h * jitter  # cusp: flank slope h/w = 1/3
+    feat = PlateFeature(kind, h, w, tuple(float(x) for x in position), float(angle))
+    return Plate((feat,), name=f"{kind}_{h * 1e3:.1f}mm")

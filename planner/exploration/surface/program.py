@@ -1,0 +1,185 @@
+"""The exploration procedure of Fig. 4.1 as one motion program (search -> local -> global).
+
+Search along the strategy's segments with online detection (§4.2); on a detection, identify
+the feature's type with the crossings of the extended Fig. 4.7 (§4.4.1), trace its outline
+(§4.4.2, both sides of an open ridge or ravine), remember its area and resume the search
+past it. With ``identify="raster"`` the whole raster is scanned first and the curvature
+regions are pattern-matched (§4.4.1's alternative), then each feature is traced.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from planner.exploration.surface.identify import Crossing, evidence, identify
+from planner.exploration.surface.motions import approach, sweep
+from planner.exploration.surface.online import OnlineDetector
+from planner.exploration.surface.runtime import PHASE
+from planner.exploration.surface.strategies import segments
+from planner.exploration.surface.tracing import find_outline, trace_boundary
+
+__all__ = ["FeatureRecord", "ProgramState", "exploration_program"]
+
+
+@dataclass
+class FeatureRecord:
+    """What the program learnt about one feature (turned into an ExploredFeature later)."""
+
+    decision: object
+    centre: np.ndarray
+    across: np.ndarray
+    sides: list = field(default_factory=list)  # recorder index arrays, one per traced side
+    closed: bool = False
+    ends: int = 0
+    detected_at: float = 0.0
+    latency: float = float("nan")
+    rise: float = 2.5e-4
+    reasons: list = field(default_factory=list)
+
+
+@dataclass
+class ProgramState:
+    """Shared between the program and :func:`explore_surface`."""
+
+    features: list = field(default_factory=list)
+    known: list = field(default_factory=list)  # shapely geometries of explored areas
+    detector: object = None
+
+    def is_known(self, p) -> bool:
+        import shapely
+
+        return any(g.contains(shapely.Point(float(p[0]), float(p[1]))) for g in self.known)
+
+
+def _axis_from_search(ex, det, r: float) -> np.ndarray:
+    from planner.exploration.surface.identify import crossing_axis
+
+    rec = ex.rec
+    k0, k1 = max(det.k_start, det.k_first - 400), min(det.k_end, det.k_last + 400)
+    d = rec.centre[k1 - 1, :2] - rec.centre[k0, :2]
+    return crossing_axis(rec.normal[k0:k1], d if np.linalg.norm(d) > 1e-9 else (1.0, 0.0))
+
+
+def _crossing(ex, cfg, c, v, half, role):
+    """Sweep ``c - half v -> c + half v``; returns the evidence, the analysis and the
+    recorder range."""
+    k0, k1, _ = yield from sweep(ex, c - half * v, c + half * v, cfg.speed, role)
+    rec = ex.rec
+    if k1 - k0 < 20:
+        return Crossing("", role), None, (k0, k1)
+    ev, a, _ = evidence(rec.centre[k0:k1], rec.normal[k0:k1], cfg.tip_radius, role)
+    return ev, a, (k0, k1)
+
+
+def _peak(ex, k0: int, k1: int) -> np.ndarray:
+    """(2,) where the centre path of a crossing departs most from the line through its ends."""
+    P = ex.rec.centre[k0:k1]
+    n = max(2, len(P) // 7)
+    w0, w1 = P[:n, 2].mean(), P[-n:, 2].mean()
+    base = np.linspace(w0, w1, len(P))
+    return P[int(np.argmax(np.abs(P[:, 2] - base))), :2].copy()
+
+
+def _extent(ex, k0: int, k1: int, c, across, r: float) -> float:
+    """Half-width [m] of the part of a crossing that is tilted (the feature), about ``c``."""
+    N = ex.rec.normal[k0:k1]
+    P = ex.rec.centre[k0:k1, :2]
+    tilted = np.hypot(N[:, 0], N[:, 1]) > 0.5 * np.sin(np.radians(5.0))
+    if not tilted.any():
+        return r
+    return float(np.max(np.abs((P[tilted] - c) @ across)))
+
+
+def identify_feature(ex, cfg, det, search_ev):
+    """Across and along crossings of a detection; returns the decision, centre, across, the
+    half-width of the feature along ``across`` [m] and the across crossing's relief [m]."""
+    r = cfg.tip_radius
+    across = _axis_from_search(ex, det, r)
+    c = det.centre
+    half = max(float(np.ptp(det.points, axis=0).max()) / 2, 0.5 * r) + 1.5 * r
+    ev1, a1, (k0, k1) = yield from _crossing(ex, cfg, c, across, half, "across")
+    if k1 - k0 > 20:
+        c = _peak(ex, k0, k1)
+    width = _extent(ex, k0, k1, c, across, r) if k1 - k0 > 20 else half
+    axis = np.array([-across[1], across[0]])
+    ev2, _, _ = yield from _crossing(ex, cfg, c, axis, half, "along")
+    return identify([search_ev, ev1, ev2]), c, across, min(width, half), abs(ev1.relief)
+
+
+def trace_feature(ex, cfg, rec_f: FeatureRecord, region, half: float):
+    """Trace one side (closed or open), then the other side of an open ridge or ravine."""
+    sides_todo = [1.0]
+    kind = rec_f.decision.kind
+    if kind in ("ridge", "ravine"):
+        sides_todo.append(-1.0)
+    for side in sides_todo:
+        start = rec_f.centre + side * (half + 0.25 * cfg.tip_radius) * rec_f.across
+        inward = -side * rec_f.across
+        limit = 2 * half + cfg.tip_radius
+        outline = yield from find_outline(ex, cfg, start, inward, limit, rec_f.rise)
+        if outline is None:
+            rec_f.reasons.append("outline not found")
+            continue
+        res = yield from trace_boundary(ex, cfg, region, outline)
+        rec_f.sides.append(res.samples)
+        rec_f.closed = rec_f.closed or res.closed
+        rec_f.ends += res.ends
+        rec_f.reasons.append(res.reason)
+        if res.closed:
+            break
+
+
+def _remember(ex, state: ProgramState, rec_f: FeatureRecord, r: float) -> None:
+    import shapely
+
+    pts = [ex.rec.centre[s, :2] for s in rec_f.sides if len(s)]
+    geo = shapely.MultiPoint(np.vstack(pts)) if pts else shapely.Point(*rec_f.centre)
+    area = geo.convex_hull.buffer(1.5 * r)
+    state.known.append(area)
+
+
+def exploration_program(ex, cfg, region: np.ndarray, rng, state: ProgramState):
+    """The generator driving :class:`ExplorerController` (see the module doc)."""
+    r = cfg.tip_radius
+    yield from approach(ex)
+    detector = OnlineDetector(ex, r, cfg.window, state.is_known)
+    state.detector = detector
+    gen, _ = segments(cfg, region, rng)
+    for a, b in gen:
+        while True:
+            k0, k1, det = yield from sweep(ex, a, b, cfg.speed, "search", detector)
+            if det is None:
+                break
+            ex.feature = len(state.features)
+            ex.event("feature_detected", f"pattern {det.pattern}", latency=det.latency)
+            search_ev, _, _ = evidence(
+                ex.rec.centre[det.k_start : det.k_end],
+                ex.rec.normal[det.k_start : det.k_end],
+                r,
+                "search",
+            )
+            dec, c, across, half, relief = yield from identify_feature(ex, cfg, det, search_ev)
+            rec_f = FeatureRecord(dec, c, across, detected_at=det.t, latency=det.latency)
+            rec_f.rise = max(cfg.boundary_rise, 0.3 * relief)
+            ex.event("feature_identified", f"{dec.kind} ({dec.confidence:.2f})", kind=dec.kind)
+            if dec.kind != "unknown":
+                yield from trace_feature(ex, cfg, rec_f, region, half)
+            state.features.append(rec_f)
+            _remember(ex, state, rec_f, r)
+            ex.feature = -1
+            d = (b - a) / max(float(np.linalg.norm(b - a)), 1e-12)
+            resume = a + max(float((ex.rec.centre[k1 - 1, :2] - a) @ d), 0.0) * d
+            a = _past_known(state, resume, d, b)
+            if float((b - a) @ d) <= 0:
+                break
+    ex.phase = PHASE["idle"]
+
+
+def _past_known(state: ProgramState, p, d, b, step: float = 5e-4):
+    """First point from ``p`` along ``d`` outside every known area (not beyond ``b``)."""
+    q = np.asarray(p, float).copy()
+    while state.is_known(q) and float((b - q) @ d) > 0:
+        q = q + step * d
+    return q

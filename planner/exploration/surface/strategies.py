@@ -1,0 +1,62 @@
+"""Feature search strategies (thesis §4.2, §4.5.1): raster, random walk, Lumelsky Bug-2.
+
+Each strategy yields the straight segments ``(a, b)`` (plate frame, (2,) each [m]) the finger
+slides along while the online detector listens. When a feature interrupts a segment the
+explorer identifies and traces it and then resumes the same segment past the feature's known
+area - for Bug-2 that is the leave point on the m-line beyond the traced obstacle.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["bug2", "raster", "random_walk", "segments"]
+
+
+def raster(region: np.ndarray, spacing: float, margin: float):
+    """Boustrophedon lines along ``u``, ``spacing`` [m] apart, ``margin`` [m] inside."""
+    (u0, u1), (v0, v1) = region
+    u0, u1, v0, v1 = u0 + margin, u1 - margin, v0 + margin, v1 - margin
+    n = max(1, int(math.floor((v1 - v0) / spacing)) + 1)
+    vs = np.linspace(v0, v1, n) if n > 1 else [0.5 * (v0 + v1)]
+    for i, v in enumerate(vs):
+        a, b = np.array([u0, v]), np.array([u1, v])
+        yield (a, b) if i % 2 == 0 else (b, a)
+
+
+def random_walk(region: np.ndarray, start, rng: np.random.Generator, step: float, margin: float):
+    """Straight legs of random heading and length U(1, 2) ``step`` [m], kept in the region."""
+    lo, hi = region[:, 0] + margin, region[:, 1] - margin
+    p = np.clip(np.asarray(start, float), lo, hi)
+    while True:
+        for _ in range(20):
+            phi = rng.uniform(0.0, 2 * math.pi)
+            q = p + rng.uniform(1.0, 2.0) * step * np.array([math.cos(phi), math.sin(phi)])
+            if np.all(q >= lo) and np.all(q <= hi):
+                break
+        else:
+            q = 0.5 * (lo + hi)
+        yield p, q
+        p = q
+
+
+def bug2(start, goal):
+    """The m-line of Bug-2 from ``start`` to ``goal`` (one segment)."""
+    yield np.asarray(start, float), np.asarray(goal, float)
+
+
+def segments(settings, region: np.ndarray, rng: np.random.Generator):
+    """The segment generator of ``settings.strategy`` and its first point (2,) [m]."""
+    r = settings.tip_radius
+    margin = 0.5 * r
+    if settings.strategy == "raster":
+        gen = raster(region, settings.line_spacing, margin)
+        first = next(raster(region, settings.line_spacing, margin))[0]
+        return gen, first
+    if settings.strategy == "random_walk":
+        start = region.mean(axis=1)
+        return random_walk(region, start, rng, 4.0 * r, margin), start
+    start = np.array([region[0, 0] + margin, region[1].mean()])
+    return bug2(start, settings.goal), start

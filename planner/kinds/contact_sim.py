@@ -1,0 +1,232 @@
+"""Scenario kind ``contact_sim``: a verification scene of the contact simulator (issue 15).
+
+Either a custom planar world (fixed outlines + free bodies, no controller) or a named scene
+with its controller preset. Keys (SI units, angles in degrees where the key says so)::
+
+    dt: 0.001                    # time step [s]
+    duration: 2.0                # simulated time [s] (scenes: default = their own)
+    gravity: [0.0, -9.81]        # planar gravity [m/s^2]
+    fixed:                       # fixed outlines (any catalogue profile)
+      - name: incline
+        profile: {type: plane, angle_deg: 20, length: 2.0}
+        pose: [0.0, 0.0, 0.0]    # x [m], y [m], angle [deg]
+        friction: 0.5
+    bodies:                      # free rigid bodies (closed profiles)
+      - name: box
+        profile: {type: rounded_rectangle, width: 0.02, height: 0.01}
+        pose: [0.0, 0.005, 0.0]  # x [m], y [m], angle [deg]
+        mass: 0.1                # [kg]
+        inertia: null            # [kg m^2] (default: uniform density)
+        velocity: [0, 0, 0]      # vx, vy [m/s], omega [rad/s]
+        friction: 0.5
+    scene:                       # instead of fixed/bodies: a scene with its controller
+      preset: pinch              # pinch | palm_roll | hold_slide | ridge_3gm
+      params: {squeeze: 1.96}    # keyword arguments of the scene builder
+
+Metrics: per body its displacement, mean acceleration and final velocity; the largest
+penetration; the integrated slip of every contact pair; the events; for ``ridge_3gm`` the
+centre-path error against the exact offset surface. Plots: trajectories, contact forces, slip.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Any, Literal
+
+import numpy as np
+from pydantic import Field, field_validator, model_validator
+
+from planner.kinds._profiles import ProfileSpec, build_profile
+from planner.results import Event, RunResult
+from planner.scenario import ScenarioBase, StrictModel
+
+Real = Annotated[float, Field(allow_inf_nan=False)]
+
+SCENES = ("pinch", "palm_roll", "hold_slide", "ridge_3gm")
+
+
+class FixedSpec(StrictModel):
+    """A fixed outline."""
+
+    name: str = Field(..., pattern=r"^[A-Za-z0-9_.-]+$")
+    profile: ProfileSpec
+    pose: tuple[Real, Real, Real] = Field((0.0, 0.0, 0.0), description="x, y [m], angle [deg]")
+    friction: float = Field(0.5, ge=0, allow_inf_nan=False, description="Coulomb mu [-]")
+
+
+class BodySpec(StrictModel):
+    """A free rigid body."""
+
+    name: str = Field(..., pattern=r"^[A-Za-z0-9_.-]+$")
+    profile: ProfileSpec
+    pose: tuple[Real, Real, Real] = Field(..., description="x, y [m], angle [deg]")
+    mass: float = Field(..., gt=0, allow_inf_nan=False, description="[kg]")
+    inertia: float | None = Field(None, gt=0, allow_inf_nan=False, description="[kg m^2]")
+    velocity: tuple[Real, Real, Real] = Field((0.0, 0.0, 0.0), description="[m/s, rad/s]")
+    friction: float = Field(0.5, ge=0, allow_inf_nan=False, description="Coulomb mu [-]")
+
+
+class SceneSpec(StrictModel):
+    """A named verification scene of :mod:`planner.sim` with its controller preset."""
+
+    preset: Literal["pinch", "palm_roll", "hold_slide", "ridge_3gm"]
+    params: dict[str, float] = Field(default_factory=dict)
+
+    @model_validator(mode="after")
+    def _params(self):
+        import inspect
+
+        fn = _builder(self.preset)
+        names = set(inspect.signature(fn).parameters) - {"dt", "seed", "sensors"}
+        bad = sorted(set(self.params) - names)
+        if bad:
+            raise ValueError(f"unknown params {bad} for {self.preset}; valid: {sorted(names)}")
+        for k, v in self.params.items():
+            if not np.isfinite(v) or (v < 0 if k == "friction" else v <= 0):
+                raise ValueError(f"params.{k} must be {'>= 0' if k == 'friction' else '> 0'}")
+        return self
+
+
+def _builder(preset: str):
+    if preset == "ridge_3gm":
+        from planner.sim.spatial.scenes import ridge_slide_scene
+
+        return ridge_slide_scene
+    from planner.sim.planar import scenes
+
+    return {
+        "pinch": scenes.pinch_scene,
+        "palm_roll": scenes.palm_roll_scene,
+        "hold_slide": scenes.palm_hold_slide_scene,
+    }[preset]
+
+
+class Config(ScenarioBase):
+    """A contact-simulator scene: a custom planar world or a named scene."""
+
+    kind: Literal["contact_sim"]
+    dt: float = Field(1e-3, gt=0, le=0.1, allow_inf_nan=False, description="time step [s]")
+    duration: float | None = Field(None, gt=0, allow_inf_nan=False, description="[s]")
+    gravity: tuple[Real, Real] = (0.0, -9.81)
+    fixed: list[FixedSpec] = Field(default_factory=list)
+    bodies: list[BodySpec] = Field(default_factory=list)
+    scene: SceneSpec | None = None
+
+    @field_validator("bodies")
+    @classmethod
+    def _no_initial_penetration(cls, bodies, info):
+        fixed = info.data.get("fixed")
+        if fixed is None or not bodies:
+            return bodies
+        from planner.errors import HapexError
+
+        try:
+            world = _custom_world(fixed, bodies, info.data.get("dt") or 1e-3, (0.0, -9.81), 0)
+        except HapexError as exc:
+            raise ValueError(str(exc)) from None
+        over = world.penetrations(1e-9)
+        if over:
+            a, b, gap = over[0]
+            raise ValueError(
+                f"{len(over)} pair(s) start in penetration, e.g. {a!r} and {b!r} overlap by "
+                f"{-gap:.3g} m; move the bodies apart"
+            )
+        return bodies
+
+    @model_validator(mode="after")
+    def _one_world(self):
+        if self.scene is not None and (self.fixed or self.bodies):
+            raise ValueError("give either scene or fixed/bodies, not both")
+        if self.scene is None and not self.bodies:
+            raise ValueError("give a scene, or at least one body")
+        if self.scene is None and self.duration is None:
+            raise ValueError("duration is required for a custom world")
+        return self
+
+
+def _custom_world(fixed, bodies, dt, gravity, seed):
+    from planner.sim import PlanarWorld
+
+    world = PlanarWorld(dt=dt, gravity=gravity, seed=seed)
+    for f in fixed:
+        x, y, a = f.pose
+        world.add_fixed(build_profile(f.profile), (x, y, np.deg2rad(a)), f.friction, f.name)
+    for b in bodies:
+        x, y, a = b.pose
+        world.add_body(
+            build_profile(b.profile),
+            (x, y, np.deg2rad(a)),
+            b.mass,
+            b.inertia,
+            b.velocity,
+            b.friction,
+            b.name,
+        )
+    return world
+
+
+def _build(cfg: Config, quick: bool):
+    """(world, controller, duration, extra) of the configured scene."""
+    if cfg.scene is None:
+        world = _custom_world(cfg.fixed, cfg.bodies, cfg.dt, cfg.gravity, cfg.seed)
+        return world, None, cfg.duration, None
+    params = dict(cfg.scene.params)
+    fn = _builder(cfg.scene.preset)
+    if cfg.scene.preset == "ridge_3gm":
+        if quick:
+            params["travel"] = min(params.get("travel", 0.03), 0.004)
+        sc = fn(dt=cfg.dt, seed=cfg.seed, **params)
+        return sc.world, sc.controller, cfg.duration or sc.duration, sc
+    world, ctrl, info = fn(dt=cfg.dt, seed=cfg.seed, **params)
+    T = cfg.duration or info.get("revolution_time", 2.0)
+    return world, ctrl, T, info
+
+
+def _metrics(world, log) -> dict[str, Any]:
+    T = float(log.t[-1]) if len(log.t) > 1 else 0.0
+    out: dict[str, Any] = {"duration_s": T, "steps": len(log.t) - 1}
+    for name, p in log.poses.items():
+        v = log.velocities[name]
+        out[f"{name}.displacement_m"] = (p[-1] - p[0]).tolist()
+        out[f"{name}.final_velocity"] = v[-1].tolist()
+        if T > 0:
+            out[f"{name}.mean_acceleration"] = ((v[-1] - v[0]) / T).tolist()
+    gaps = log.gap[np.isfinite(log.gap)]
+    out["max_penetration_m"] = max(0.0, -float(gaps.min())) if gaps.size else 0.0
+    slips = {}
+    for k, pair in enumerate(log.pairs):
+        s = log.slip_velocity[log.contact_pair == k]
+        speed = np.abs(s) if s.ndim == 1 else np.linalg.norm(s, axis=-1)
+        slips[pair] = float(speed.sum() * world.dt)
+    out["integrated_slip_m"] = slips
+    out["max_normal_force_n"] = float(log.normal_force.max()) if log.normal_force.size else 0.0
+    return out
+
+
+def run(cfg: Config, ctx) -> RunResult:
+    with ctx.timer("build"):
+        world, ctrl, T, extra = _build(cfg, ctx.quick)
+    if ctx.quick:
+        T = min(T, 0.25 if cfg.scene is None or cfg.scene.preset != "ridge_3gm" else T)
+    with ctx.timer("simulate"):
+        log = world.run(T, ctrl)
+    metrics = _metrics(world, log)
+    if cfg.scene is not None and cfg.scene.preset == "ridge_3gm":
+        from planner.sim.spatial.scenes import centre_path_error
+
+        pe = centre_path_error(extra, log)
+        metrics.update(path_rms_m=pe.rms, path_max_m=pe.max, lost_contact_steps=pe.lost_steps)
+    events = [Event(e.kind, e.message, float(e.t), dict(e.data)) for e in log.events]
+    figures = {}
+    if ctx.plots:
+        from planner.kinds._contact_sim_plots import figures as make_figures
+
+        figures = make_figures(cfg.name, log)
+    arrays = {k.replace("/", "__"): v for k, v in log.arrays().items()}
+    return RunResult(
+        status="ok" if log.status == "ok" else "failed",
+        reason=log.reason if log.status != "ok" else "",
+        metrics=metrics,
+        arrays=arrays,
+        events=events,
+        figures=figures,
+    )

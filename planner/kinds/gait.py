@@ -1,0 +1,286 @@
+"""Scenario kind ``gait``: the ch. 2 grasp gait executed in the planar world (§2.2-2.3).
+
+Keys (SI units)::
+
+    task: explore                # explore (Fig. 2.3 phase machine) | explicit_rolling (Fig. 2.10)
+    object:                      # the TRUE object (closed, star-shaped about its origin)
+      shape: circle_with_ridge   # circle | circle_with_ridge | ellipse | rounded_rectangle |
+                               # polygon
+      radius: 0.05               # circle(_with_ridge) [m]
+      ridge_width: 0.004         # [m]
+      ridge_height: 0.003        # [m]
+      ridge_angle_deg: 170       # polar angle of the ridge on the object [deg]
+      a: 0.06, b: 0.04           # ellipse semi-axes [m]
+      width, height, corner_radius  # rounded_rectangle [m]
+      points: [[x, y], ...]      # polygon [m]
+    nominal: null                # the planner's model (same keys); default: feature-less circle
+    mu: 1.0                      # friction of fingers/palm/object [-]
+    explore_force: 0.3           # normal force of the exploring finger [N]
+    internal_force: 1.0          # squeeze of grasping/holding [N]
+    object_mass: 0.05            # [kg]
+    rotation_speed: 0.4          # phase-1 rotation speed [rad/s]
+    explore_speed: 0.03          # exploring contact speed [m/s]
+    duration: 40.0               # simulated time limit [s]
+    quick_duration: 0.6          # with --quick [s]
+    max_rotation_deg: 360        # stop after this rotation [deg]
+    dt: 0.002                    # simulator step [s]
+    control_rate: 500            # [Hz]
+    hand:                        # joint ranges of the RIGHT finger (the left one mirrors it)
+      joint_lower_deg: [-40, 0, -10]
+      joint_upper_deg: [70, 110, 100]
+    gains: {...}                 # see GainsConfig
+    rolling: {amplitude: 0.003, period: 1.0}   # explicit_rolling only
+    output: {animation: false}   # + the usual plots/formats/dpi
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Literal
+
+from pydantic import Field, model_validator
+
+from planner.scenario import OutputSettings, ScenarioBase, StrictModel
+
+
+class ObjectSpec(StrictModel):
+    """A closed planar object profile (object frame)."""
+
+    shape: Literal["circle", "circle_with_ridge", "ellipse", "rounded_rectangle", "polygon"]
+    radius: float | None = Field(None, gt=0, le=0.2, description="circle radius [m]")
+    ridge_width: float = Field(0.004, gt=0, le=0.02, description="ridge width [m]")
+    ridge_height: float = Field(0.003, gt=0, le=0.02, description="ridge height [m]")
+    ridge_angle_deg: float = Field(170.0, ge=-360, le=360, description="ridge position [deg]")
+    a: float | None = Field(None, gt=0, le=0.3, description="ellipse semi-axis x [m]")
+    b: float | None = Field(None, gt=0, le=0.3, description="ellipse semi-axis y [m]")
+    width: float | None = Field(None, gt=0, le=0.3, description="rectangle width [m]")
+    height: float | None = Field(None, gt=0, le=0.3, description="rectangle height [m]")
+    corner_radius: float = Field(0.0, ge=0, description="rectangle corner radius [m]")
+    points: list[tuple[float, float]] | None = Field(None, min_length=3, description="[m]")
+
+    @model_validator(mode="after")
+    def _needs(self):
+        need = {
+            "circle": ("radius",), "circle_with_ridge": ("radius",), "ellipse": ("a", "b"),
+            "rounded_rectangle": ("width", "height"), "polygon": ("points",),
+        }[self.shape]  # fmt: skip
+        missing = [k for k in need if getattr(self, k) is None]
+        if missing:
+            raise ValueError(f"shape {self.shape!r} needs key(s) {missing}")
+        from planner.errors import HapexError
+
+        try:
+            self.profile().point_at_polar_angle([0.0, 2.0, 4.0])
+        except HapexError as exc:
+            raise ValueError(str(exc)) from None
+        return self
+
+    def profile(self):
+        """The :class:`planner.geometry.profiles.Profile`."""
+        from planner.exploration.planar import circle_with_ridge
+        from planner.geometry import shapes
+
+        if self.shape == "circle":
+            return shapes.circle(self.radius)
+        if self.shape == "circle_with_ridge":
+            return circle_with_ridge(self.radius, self.ridge_width, self.ridge_height,
+                                     math.radians(self.ridge_angle_deg))  # fmt: skip
+        if self.shape == "ellipse":
+            return shapes.ellipse(self.a, self.b)
+        if self.shape == "rounded_rectangle":
+            return shapes.rounded_rectangle(self.width, self.height, self.corner_radius)
+        return shapes.polygon([list(p) for p in self.points])
+
+
+class GainsConfig(StrictModel):
+    """Controller gains (defaults of :class:`planner.exploration.planar.GaitSettings`)."""
+
+    object_kp: tuple[float, float, float] = Field((80.0, 80.0, 0.8), description="eq. 2.7")
+    object_kv: tuple[float, float, float] = Field((3.0, 3.0, 0.02), description="eq. 2.7")
+    rolling: tuple[float, float, float] = Field((1.0, 0.05, 0.04), description="eq. 2.8")
+    hold_kp: float = Field(0.3, ge=0, le=5, description="[N m/rad]")
+    hold_kv: float = Field(0.004, ge=0, le=0.1, description="[N m s/rad]")
+    tip_kp: float = Field(60.0, gt=0, le=1000, description="[N/m]")
+    tip_kv: float = Field(2.0, ge=0, le=50, description="[N s/m]")
+
+    @model_validator(mode="after")
+    def _ranges(self):
+        for name in ("object_kp", "object_kv", "rolling"):
+            v = getattr(self, name)
+            if any(not (0 <= x <= 1e4) for x in v):
+                raise ValueError(f"{name}: every gain must be in [0, 1e4], got {list(v)}")
+        return self
+
+
+class HandConfig(StrictModel):
+    """Joint ranges of the two-finger hand (right finger; the left finger mirrors them).
+
+    The default ranges (110 deg per joint) suit 2-8 cm objects; on a 10 cm ball the right
+    finger starts within a few degrees of its joint-2 stop and its joint 1 runs into -40 deg,
+    so every phase ends at the workspace limit after a few degrees of rotation.
+    """
+
+    joint_lower_deg: tuple[float, float, float] = Field((-40.0, 0.0, -10.0))
+    joint_upper_deg: tuple[float, float, float] = Field((70.0, 110.0, 100.0))
+
+    @model_validator(mode="after")
+    def _ranges(self):
+        for lo, hi in zip(self.joint_lower_deg, self.joint_upper_deg, strict=True):
+            if not (-180.0 <= lo < hi <= 180.0):
+                raise ValueError(
+                    f"joint ranges must satisfy -180 <= lower < upper <= 180 deg, got "
+                    f"{list(self.joint_lower_deg)} / {list(self.joint_upper_deg)}"
+                )
+        return self
+
+    def hand(self, mu: float):
+        """The ``robots.planar_hand.PlanarHand`` with these ranges."""
+        import dataclasses
+
+        from robots.planar_hand import PlanarHand
+        from robots.planar_hand.params import HandParams, default_finger
+
+        lo = tuple(math.radians(v) for v in self.joint_lower_deg)
+        hi = tuple(math.radians(v) for v in self.joint_upper_deg)
+        right = dataclasses.replace(default_finger("right"), lower=lo, upper=hi)
+        left = dataclasses.replace(
+            default_finger("left"), lower=tuple(-v for v in hi), upper=tuple(-v for v in lo)
+        )
+        return PlanarHand(HandParams(left=left, right=right, friction=float(mu)))
+
+
+class RollingConfig(StrictModel):
+    """The explicit-rolling task (Figs. 2.9/2.10)."""
+
+    amplitude: float = Field(0.003, gt=0, le=0.008, description="contact amplitude [m]")
+    period: float = Field(1.0, gt=0, le=20, description="[s]")
+
+
+class GaitOutput(OutputSettings):
+    """Output settings plus the animation switch."""
+
+    animation: bool = Field(False, description="write plots/animation.gif")
+
+
+class Config(ScenarioBase):
+    """The executed grasp gait (or explicit rolling) on one object."""
+
+    kind: Literal["gait"]
+    task: Literal["explore", "explicit_rolling"] = "explore"
+    object: ObjectSpec
+    nominal: ObjectSpec | None = None
+    mu: float = Field(1.0, gt=0, le=10, description="friction coefficient [-]")
+    explore_force: float = Field(0.3, gt=0, le=5, description="[N]")
+    internal_force: float = Field(1.0, gt=0, le=20, description="[N]")
+    object_mass: float = Field(0.05, gt=0, le=2, description="[kg]")
+    rotation_speed: float = Field(0.4, gt=0, le=3, description="[rad/s]")
+    explore_speed: float = Field(0.03, gt=0, le=0.5, description="[m/s]")
+    duration: float = Field(40.0, gt=0, le=3600, description="simulated time limit [s]")
+    quick_duration: float = Field(0.6, gt=0, le=60, description="--quick time limit [s]")
+    max_rotation_deg: float = Field(360.0, gt=0, le=3600, description="[deg]")
+    dt: float = Field(0.002, gt=0, le=0.01, description="simulator step [s]")
+    control_rate: float = Field(500.0, ge=50, le=5000, description="[Hz]")
+    hand: HandConfig = Field(default_factory=HandConfig)
+    gains: GainsConfig = Field(default_factory=GainsConfig)
+    rolling: RollingConfig = Field(default_factory=RollingConfig)
+    output: GaitOutput = Field(default_factory=GaitOutput)
+
+    @model_validator(mode="after")
+    def _fits(self):
+        from planner.exploration.planar.setup import check_fits
+
+        why = check_fits(self.object.profile(), self.mu, hand=self.hand.hand(self.mu))
+        if why:
+            raise ValueError(f"object: {why}")
+        return self
+
+    def settings(self):
+        from planner.exploration.planar import GaitSettings
+
+        g = self.gains
+        return GaitSettings(
+            mu=self.mu, internal_force=self.internal_force, explore_force=self.explore_force,
+            object_mass=self.object_mass, object_kp=g.object_kp, object_kv=g.object_kv,
+            rolling_gains=g.rolling, hold_kp=g.hold_kp, hold_kv=g.hold_kv, tip_kp=g.tip_kp,
+            tip_kv=g.tip_kv, rotation_speed=self.rotation_speed,
+            explore_speed=self.explore_speed, dt=self.dt, control_rate=self.control_rate,
+        )  # fmt: skip
+
+
+def run(config: Config, ctx):
+    """Execute the gait (or explicit rolling); metrics, arrays, events and figures."""
+    from planner.exploration.planar import explore_object
+    from planner.exploration.planar.rolling_demo import explicit_rolling
+
+    profile = config.object.profile()
+    nominal = config.nominal.profile() if config.nominal is not None else None
+    duration = config.quick_duration if ctx.quick else config.duration
+    s = config.settings()
+    seed = int(ctx.rng.integers(2**31))
+    with ctx.timer("simulation"):
+        if config.task == "explicit_rolling":
+            res = explicit_rolling(profile, mu=config.mu, amplitude=config.rolling.amplitude,
+                                   period=config.rolling.period, duration=duration, seed=seed,
+                                   settings=s)  # fmt: skip
+        else:
+            res = explore_object(profile, hand=_hand(config), mu=config.mu, nominal=nominal,
+                                 seed=seed,
+                                 duration=duration, settings=s,
+                                 max_rotation=math.radians(config.max_rotation_deg))  # fmt: skip
+    return _report(config, ctx, res, profile, duration)
+
+
+def _report(config: Config, ctx, res, profile, duration: float):
+    import json
+
+    import numpy as np
+
+    from planner.exploration.planar.metrics import summary_metrics
+    from planner.results import Event, RunResult
+
+    ridge = (math.radians(config.object.ridge_angle_deg)
+             if config.object.shape == "circle_with_ridge" else None)  # fmt: skip
+    metrics = summary_metrics(res, ridge, config.explore_force, config.internal_force)
+    metrics["simulated_s"] = float(res.log.t[-1]) if len(res.log.t) else 0.0
+    metrics["duration_limit_s"] = duration
+    events = [Event(e.kind, e.message, t=e.t, data=dict(e.data)) for e in res.log.events]
+    for e in res.events:
+        data = {k: v for k, v in e.items() if k not in ("kind", "message", "t")}
+        events.append(Event(str(e["kind"]), str(e.get("message", "")), t=float(e["t"]),
+                            data=data))  # fmt: skip
+    for k, ph in enumerate(res.phases):
+        events.append(Event("phase", f"phase {ph.kind}: {ph.event}", t=ph.end,
+                            data={"index": k, **ph.to_json()}))  # fmt: skip
+    events.sort(key=lambda e: e.t if e.t is not None else 0.0)
+    arrays = {f"log/{k}": v for k, v in res.log.arrays().items() if k != "pairs"}
+    arrays.update({f"trace/{k}": np.asarray(v) for k, v in res.trace.items()})
+    figures = {}
+    hand = _hand(config)
+    if ctx.plots:
+        from planner.exploration.planar import plots
+
+        with ctx.timer("plots"):
+            figures["timeline"] = plots.plot_timeline(res)
+            figures["contacts"] = plots.plot_contacts(res)
+            figures["forces"] = plots.plot_forces(res, ridge)
+            figures["snapshots"] = plots.plot_snapshots(res, profile, hand)
+    files = {"phases.json": json.dumps([p.to_json() for p in res.phases], indent=2)}
+    if config.output.animation:
+        if "bytes" in str(RunResult.__dataclass_fields__["files"].type):
+            from planner.exploration.planar.plots import animation_gif
+
+            with ctx.timer("animation"):
+                files["plots/animation.gif"] = animation_gif(res, profile, hand)
+        else:  # the run-directory writer takes text files only (see the README)
+            events.append(Event("animation", "skipped: RunResult.files takes text only"))
+    reason = res.reason
+    if res.status == "failed":
+        last = res.phases[-1].kind if res.phases else 0
+        reason = f"{res.reason} (last phase {last})"
+    return RunResult(status=res.status, reason=reason if res.status == "failed" else "",
+                     metrics=metrics, arrays=arrays, events=events, figures=figures,
+                     files=files)  # fmt: skip
+
+
+def _hand(config: Config):
+    return config.hand.hand(config.mu)

@@ -1,0 +1,185 @@
+"""The run loop shared by the planar and the spatial world (issue 15, items 4-6).
+
+:func:`run` advances a world for ``duration`` seconds, calls the controller at its own rate
+with a zero-order hold of its torques, saturates the torques at the world's limits, records
+every step in a preallocated :class:`SimLog`, and turns faults into :class:`SimEvent` records:
+
+* ``contact_made`` / ``contact_lost``: a body pair starts / stops carrying force;
+* ``torque_saturated``: the command exceeded a joint's torque limit (once per onset);
+* world-specific events (``joint_limit``, ``object_dropped``, ``singular``) drained from the
+  world after each step;
+* ``blow_up``: non-finite or runaway state (``|v| > max_speed``) -> status ``"failed"``;
+* ``stopped``: the controller raised a :class:`planner.errors.HapexError` or returned a bad
+  command, or the world failed a step (status ``"failed"``), or the user's ``stop``
+  callback returned a reason (status ``"ok"``).
+
+The run always returns its log; nothing escapes but programming errors.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from planner import checks
+from planner.errors import HapexError
+from planner.sim.events import SimEvent
+from planner.sim.log import SimLog
+
+__all__ = ["run"]
+
+MAX_SPEED = 1.0e3  # [m/s] or [rad/s]: beyond this the state is considered blown up
+
+
+def _stop(log: SimLog, t: float, kind: str, reason: str, failed: bool, **data: Any) -> None:
+    log.events.append(SimEvent(t, kind, reason, dict(data)))
+    if kind != "stopped":
+        log.events.append(SimEvent(t, "stopped", reason, {}))
+    log.status = "failed" if failed else "ok"
+    log.reason = reason
+
+
+def _command(world, controller, t: float, oracle: bool, n: int) -> tuple[np.ndarray | None, str]:
+    """The controller's torque (n,) or None with the reason it failed."""
+    try:
+        tau = controller(t, world.observe(oracle=oracle))
+    except (HapexError, ArithmeticError, np.linalg.LinAlgError) as exc:
+        return None, f"controller failed at t={t:.6g} s: {type(exc).__name__}: {exc}"
+    tau = np.asarray(tau if tau is not None else np.zeros(n), float)
+    if tau.shape != (n,):
+        return None, f"controller returned torques of shape {tau.shape}, expected ({n},)"
+    if not np.all(np.isfinite(tau)):
+        return None, f"controller returned non-finite torques {tau.tolist()} at t={t:.6g} s"
+    return tau, ""
+
+
+def _saturate(world, tau: np.ndarray, log: SimLog, t: float, was: bool) -> tuple[np.ndarray, bool]:
+    lim = world.torque_limits
+    if lim is None or len(tau) == 0:
+        return tau, False
+    sat = np.abs(tau) > lim
+    if sat.any():
+        if not was:
+            idx = np.flatnonzero(sat).tolist()
+            log.events.append(
+                SimEvent(
+                    t,
+                    "torque_saturated",
+                    f"joint torque(s) {idx} saturated at {lim[sat].tolist()} N m",
+                    {"joints": idx, "command": tau[sat].tolist()},
+                )
+            )
+        return np.clip(tau, -lim, lim), True
+    return tau, False
+
+
+def _contact_events(world, log: SimLog, active: set, t: float) -> set:
+    now = {c.bodies for c in world.contacts() if c.normal_force > 0.0}
+    for pair in sorted(now - active):
+        log.events.append(SimEvent(t, "contact_made", f"{pair[0]} touches {pair[1]}", {}))
+    for pair in sorted(active - now):
+        log.events.append(SimEvent(t, "contact_lost", f"{pair[0]} left {pair[1]}", {}))
+    return now
+
+
+def _health(world) -> str:
+    x = world.state_vector()
+    if not np.all(np.isfinite(x)):
+        return "non-finite state (NaN/inf)"
+    v = world.velocity_vector()
+    if v.size and np.max(np.abs(v)) > MAX_SPEED:
+        return f"runaway velocity {np.max(np.abs(v)):.3g} > {MAX_SPEED:g}"
+    return ""
+
+
+def run(
+    world,
+    duration: float,
+    controller: Callable | None = None,
+    control_rate: float = 1000.0,
+    progress: bool = False,
+    oracle: bool = False,
+    stop: Callable | None = None,
+    max_contacts: int = 8,
+) -> SimLog:
+    """Simulate ``world`` for ``duration`` [s] and return the log.
+
+    Args:
+        world: a planar or spatial world (see :class:`planner.sim.world.WorldBase`).
+        duration: simulated time [s] (rounded to whole steps of ``world.dt``).
+        controller: ``controller(t, observation) -> tau`` or None (zero torques).
+        control_rate: controller calls per second [Hz]; torques are held in between
+            (zero-order hold); a rate above ``1/dt`` calls it every step.
+        progress: show a tqdm progress bar.
+        oracle: pass the true state in ``observation.truth`` (debugging only).
+        stop: ``stop(t, world) -> str | None``; a reason string ends the run (status "ok").
+        max_contacts: contact slots per logged row.
+
+    Returns:
+        the :class:`SimLog` (``status`` "failed" with a ``reason`` when a fault ended it).
+    """
+    checks.nonnegative("duration", duration, "s")
+    checks.positive("control_rate", control_rate, "Hz")
+    checks.integer("max_contacts", max_contacts, 1)
+    dt = world.dt
+    n_steps = int(round(duration / dt))
+    n = world.n_joints
+    log = SimLog.allocate(
+        n_steps + 1,
+        world.body_names,
+        world.pose_size,
+        world.velocity_size,
+        n,
+        max_contacts,
+        world.contact_dim,
+    )
+    tau = np.zeros(n)
+    period, next_call = 1.0 / control_rate, world.time
+    saturated, active = False, {c.bodies for c in world.contacts() if c.normal_force > 0.0}
+    world.record(log, 0, tau)
+    bar = None
+    if progress:
+        from tqdm.auto import tqdm
+
+        bar = tqdm(total=n_steps, unit="step", desc="sim")
+    k, rows = 0, 1
+    while k < n_steps:
+        t = world.time
+        if controller is not None and t >= next_call - 1e-9 * dt:
+            cmd, why = _command(world, controller, t, oracle, n)
+            if cmd is None:
+                _stop(log, t, "stopped", why, failed=True)
+                break
+            tau, saturated = _saturate(world, cmd, log, t, saturated)
+            next_call += period * max(1, int(np.ceil((t - next_call) / period + 1e-9)))
+        try:
+            world.step(tau)
+        except HapexError as exc:
+            kind = "singular" if type(exc).__name__ == "SingularConfiguration" else "stopped"
+            _stop(log, t, kind, f"step failed at t={t:.6g} s: {exc}", failed=True)
+            break
+        k += 1
+        log.events.extend(world.drain_events())
+        why = _health(world)
+        if why:
+            _stop(log, world.time, "blow_up", why, failed=True)
+            break
+        active = _contact_events(world, log, active, world.time)
+        world.record(log, k, tau)
+        rows = k + 1
+        if bar is not None and k % 100 == 0:
+            bar.update(100)
+        if stop is not None:
+            reason = stop(world.time, world)
+            if reason:
+                _stop(log, world.time, "stopped", str(reason), failed=False)
+                break
+    if bar is not None:
+        bar.close()
+    # rows were written after each step with the torque of that step: shift so that tau[k] is
+    # the torque held over [t_k, t_k+1] (the last row repeats the last command)
+    log.tau[: rows - 1] = log.tau[1:rows].copy()
+    log.trim(rows)
+    return log

@@ -1,0 +1,306 @@
+"""One time step of the planar world: Stewart-Trinkle velocity-level time stepping.
+
+With generalized velocity ``nu`` (free bodies' ``(vx, vy, omega)`` then the hand's ``qd``),
+inertia ``M`` (bodies: ``diag(m, m, I)``; hand: Pinocchio's ``M(q)``) and forces ``f``
+(gravity, joint torques minus ``C qd + g``), one step of length ``h`` is
+
+.. math::
+
+    M (\\nu^+ - \\nu) = h f + N^T p_n + T^T (\\beta^+ - \\beta^-), \\qquad
+    q^+ = q + h \\nu^+
+
+with, for every contact i (gap ``phi_i``, normal row ``N_i``, tangent row ``T_i``, friction
+``mu_i``) and the two edges ``+-t`` of the planar friction cone (exact in the plane),
+
+.. math::
+
+    0 \\le p_{n,i} \\perp N_i \\nu^+ + \\phi_i / h \\ge 0, \\quad
+    0 \\le \\beta^\\pm_i \\perp \\lambda_i \\pm T_i \\nu^+ \\ge 0, \\quad
+    0 \\le \\lambda_i \\perp \\mu_i p_{n,i} - \\beta^+_i - \\beta^-_i \\ge 0
+
+(Stewart & Trinkle 1996, with the gap term of their eq. 17). Eliminating ``nu+`` gives an LCP
+in ``(p_n, beta, lambda)`` of size ``4 n_c`` plus one row per active joint limit
+(``q - q_lo >= 0``, ``q_hi - q >= 0``: frictionless unilateral constraints), solved exactly by
+Lemke's method (:mod:`planner.sim.lcp`). Its solution is exact Coulomb friction: a sticking
+contact has ``T nu+ = 0`` exactly (no creep), a sliding one carries ``mu p_n`` opposite to the
+slip (``lambda`` = slip speed), and the normal velocity closes the gap exactly at the end of
+the step, so a sliding contact neither hovers nor sinks (no Anitescu relaxation).
+
+**Penetration.** The gap term drives ``phi`` to zero to first order every step; the
+second-order residue (curvature x (h v)^2) and any initial overlap are removed by a position
+projection (post-stabilization, Cline & Pai 2003) when a gap is below
+``-projection_tolerance``: the minimum-kinetic-metric displacement ``dq = M^-1 N^T z`` with
+``0 <= z perp phi + N M^-1 N^T z >= 0``, velocities untouched.
+
+**Limits.** Restitution is zero (inelastic impacts). Contact forces are impulses / h (step
+averages). Contact sets are re-detected every step within ``margin`` plus twice the distance
+each body's points can travel in the step (no tunnelling at the scene's speeds). Rolling
+resistance and compliance are not modelled.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from planner.errors import InfeasibleProblem
+from planner.sim.lcp import solve_lcp
+from planner.sim.planar.bodies import FIXED, FREE, TIP
+from planner.sim.planar.contacts import Pose, candidates
+
+__all__ = ["StepResult", "find_contacts", "point_velocity", "step"]
+
+
+@dataclass(frozen=True)
+class StepResult:
+    """What a step leaves behind for contact records and events (n contacts).
+
+    Attributes:
+        body_a, body_b: (n,) body indices; gap: (n,) [m] at the step's start;
+        point_a, point_b: (n, 2) touching points [m]; normal: (n, 2) from b toward a;
+        curvature: (n,) of the touching feature [1/m]; mu: (n,);
+        p_n, p_t: (n,) normal / tangential impulses on a over the step [N s];
+        slip: (n,) tangential velocity of a relative to b after the step [m/s];
+        limit_joints, limit_impulses: joint-limit rows (joint index, impulse [N m s]).
+    """
+
+    body_a: np.ndarray
+    body_b: np.ndarray
+    gap: np.ndarray
+    point_a: np.ndarray
+    point_b: np.ndarray
+    normal: np.ndarray
+    curvature: np.ndarray
+    mu: np.ndarray
+    p_n: np.ndarray
+    p_t: np.ndarray
+    slip: np.ndarray
+    limit_joints: np.ndarray
+    limit_impulses: np.ndarray
+
+
+def _placements(world):
+    frames = world.hand.frames(world.q) if world.hand is not None else None
+    out = []
+    for b in world.bodies:
+        if b.kind == FIXED:
+            out.append(Pose(*b.pose))
+        elif b.kind == FREE:
+            out.append(Pose(*world._x[b.index].tolist()))
+        else:
+            out.append(Pose(*frames[1][b.index]))
+    return out, frames
+
+
+def find_contacts(world, margin: float, placements=None) -> list[tuple]:
+    """Candidates ``(i, j, gap, pax, pay, pbx, pby, nx, ny, curvature)`` of every pair."""
+    P = placements if placements is not None else _placements(world)[0]
+    bodies = world.bodies
+    reach = _reach(world) if margin > 0 else [0.0] * len(bodies)
+    out = []
+    for i in range(len(bodies)):
+        for j in range(i + 1, len(bodies)):
+            a, b = bodies[i], bodies[j]
+            if a.kind == FIXED and b.kind == FIXED:
+                continue
+            m = margin + reach[i] + reach[j]
+            for c in candidates(a.outline, P[i], b.outline, P[j], m):
+                out.append((i, j, *c))
+    return out
+
+
+def _reach(world) -> list[float]:
+    """How far any point of each body can move in the coming step, twice over [m]."""
+    h = world.dt
+    out = []
+    tip_speed = 0.0
+    if world.hand is not None:
+        tip_speed = float(np.abs(world.qd).max()) * 0.25  # links + tip radius < 0.25 m
+    for b in world.bodies:
+        if b.kind == FREE:
+            vx, vy, w = world._v[b.index]
+            out.append(2.0 * h * (math.hypot(vx, vy) + abs(w) * b.outline.bound))
+        elif b.kind == TIP:
+            out.append(2.0 * h * tip_speed)
+        else:
+            out.append(0.0)
+    return out
+
+
+def _jac_into(world, frames, body, px, py, dx, dy, row, sign):
+    """Add ``sign * d . (velocity of body's material point p)`` coefficients to ``row``."""
+    if body.kind == FREE:
+        k = 3 * body.index
+        cx, cy = world._x[body.index, 0], world._x[body.index, 1]
+        row[k] += sign * dx
+        row[k + 1] += sign * dy
+        row[k + 2] += sign * (-dx * (py - cy) + dy * (px - cx))
+    elif body.kind == TIP:
+        off = 3 * len(world._x) + 3 * body.index
+        for k, (jx, jy) in enumerate(frames[0][body.index]):
+            row[off + k] += sign * (-dx * (py - jy) + dy * (px - jx))
+
+
+def point_velocity(world, body, px: float, py: float) -> tuple[float, float]:
+    """World velocity (2,) [m/s] of ``body``'s material point at (px, py)."""
+    frames = world.hand.frames(world.q) if world.hand is not None else None
+    nu = np.concatenate([world._v.ravel(), world.qd])
+    rx, ry = np.zeros(len(nu)), np.zeros(len(nu))
+    _jac_into(world, frames, body, px, py, 1.0, 0.0, rx, 1.0)
+    _jac_into(world, frames, body, px, py, 0.0, 1.0, ry, 1.0)
+    return float(rx @ nu), float(ry @ nu)
+
+
+def _dynamics(world, tau):
+    """Inverse inertia (nv, nv) and generalized force (nv,)."""
+    nb = len(world._x)
+    nv = 3 * nb + (6 if world.hand is not None else 0)
+    Minv = np.zeros((nv, nv))
+    f = np.zeros(nv)
+    gx, gy = world.gravity
+    for b in world.bodies:
+        if b.kind == FREE:
+            k = 3 * b.index
+            Minv[k, k] = Minv[k + 1, k + 1] = 1.0 / b.mass
+            Minv[k + 2, k + 2] = 1.0 / b.inertia
+            f[k], f[k + 1] = b.mass * gx, b.mass * gy
+    if world.hand is not None:
+        M, h = world.hand.mass_bias(world.q, world.qd)
+        o = 3 * nb
+        for s in (slice(o, o + 3), slice(o + 3, o + 6)):
+            Minv[s, s] = np.linalg.inv(M[s.start - o : s.stop - o, s.start - o : s.stop - o])
+        f[o:] = tau - h
+    return Minv, f
+
+
+def _rows(world, frames, cands, nv):
+    """Normal rows N (n, nv), tangent rows T (n, nv), gaps and friction of the candidates."""
+    n = len(cands)
+    N, T = np.zeros((n, nv)), np.zeros((n, nv))
+    mu = np.zeros(n)
+    bodies = world.bodies
+    for r, (i, j, _gap, pax, pay, pbx, pby, nx, ny, _k) in enumerate(cands):
+        a, b = bodies[i], bodies[j]
+        _jac_into(world, frames, a, pax, pay, nx, ny, N[r], 1.0)
+        _jac_into(world, frames, b, pbx, pby, nx, ny, N[r], -1.0)
+        _jac_into(world, frames, a, pax, pay, -ny, nx, T[r], 1.0)
+        _jac_into(world, frames, b, pbx, pby, -ny, nx, T[r], -1.0)
+        mu[r] = max(a.friction, b.friction)
+    return N, T, mu
+
+
+def _limit_rows(world, nv, h):
+    if world.hand is None:
+        return np.zeros((0, nv)), np.zeros(0), np.zeros(0, int)
+    lim = world.hand.limits
+    o = nv - 6
+    rows, phi, idx = [], [], []
+    for k in range(6):
+        near = max(0.01, 2.0 * abs(world.qd[k]) * h)
+        for side, gap in ((1.0, world.q[k] - lim[k, 0]), (-1.0, lim[k, 1] - world.q[k])):
+            if gap < near:
+                r = np.zeros(nv)
+                r[o + k] = side
+                rows.append(r)
+                phi.append(gap)
+                idx.append(k)
+    if not rows:
+        return np.zeros((0, nv)), np.zeros(0), np.zeros(0, int)
+    return np.array(rows), np.array(phi), np.array(idx)
+
+
+def _solve(M, q, what):
+    z, status, _ = solve_lcp(M, q)
+    if status != 0:
+        raise InfeasibleProblem(
+            f"{what}: Lemke stopped on a {'ray' if status == 1 else 'pivot limit'}",
+            problem={"M": M, "q": q},
+            solver="lemke",
+        )
+    return z
+
+
+def _project(world, frames, cands, Minv):
+    """Post-stabilization: move positions out of penetration (velocities untouched)."""
+    nv = Minv.shape[0]
+    N, _, _ = _rows(world, frames, cands, nv)
+    phi = np.array([c[2] for c in cands])
+    L, lphi, _ = _limit_rows(world, nv, 0.0)
+    N, phi = np.vstack([N, L]), np.concatenate([phi, lphi])
+    z = _solve(N @ Minv @ N.T, phi, "position projection")
+    dq = Minv @ (N.T @ z)
+    nb = len(world._x)
+    world._x += dq[: 3 * nb].reshape(nb, 3)
+    if world.hand is not None:
+        world.q += dq[3 * nb :]
+
+
+def step(world, tau) -> StepResult:
+    """Advance ``world`` by one step (see the module docstring)."""
+    h = world.dt
+    P, frames = _placements(world)
+    cands = find_contacts(world, world.margin, P)
+    Minv, f = _dynamics(world, tau)
+    if cands and min(c[2] for c in cands) < -world.projection_tolerance:
+        _project(world, frames, cands, Minv)
+        P, frames = _placements(world)
+        cands = find_contacts(world, world.margin, P)
+        Minv, f = _dynamics(world, tau)
+    nv = Minv.shape[0]
+    nu = np.concatenate([world._v.ravel(), world.qd])
+    v_free = nu + h * (Minv @ f)
+    N, T, mu = _rows(world, frames, cands, nv)
+    gap = np.array([c[2] for c in cands])
+    L, lphi, lidx = _limit_rows(world, nv, h)
+    nc, nl = len(cands), len(L)
+    pn, pt, pl = np.zeros(nc), np.zeros(nc), np.zeros(nl)
+    if nc + nl:
+        fr = np.flatnonzero(mu > 0)
+        nf = len(fr)
+        Nall = np.vstack([N, L])
+        R = np.vstack([Nall, T[fr], -T[fr]])
+        G = R @ Minv @ R.T
+        nn = nc + nl
+        m = nn + 3 * nf
+        A = np.zeros((m, m))
+        A[: nn + 2 * nf, : nn + 2 * nf] = G
+        for k, c in enumerate(fr):
+            e = nn + 2 * nf + k
+            A[nn + k, e] = A[nn + nf + k, e] = 1.0
+            A[e, c] = mu[c]
+            A[e, nn + k] = A[e, nn + nf + k] = -1.0
+        b = np.concatenate([R @ v_free, np.zeros(nf)])
+        phi = np.concatenate([gap, lphi])
+        z, status, _ = solve_lcp(A, b + np.concatenate([phi / h, np.zeros(m - nn)]))
+        if status != 0:  # a jam with sub-tolerance penetration: close gaps only (see lcp.py)
+            b[:nn] += np.maximum(phi, 0.0) / h
+            z = _solve(A, b, "contact problem")
+        pn, pl = z[:nc], z[nc:nn]
+        pt[fr] = z[nn : nn + nf] - z[nn + nf : nn + 2 * nf]
+        nu_new = v_free + Minv @ (R.T @ z[: nn + 2 * nf])
+    else:
+        nu_new = v_free
+    nb = len(world._x)
+    world._v = nu_new[: 3 * nb].reshape(nb, 3).copy()
+    world._x += h * world._v
+    if world.hand is not None:
+        world.qd = nu_new[3 * nb :].copy()
+        world.q += h * world.qd
+    arr = np.array(cands, float).reshape(-1, 10)
+    return StepResult(
+        arr[:, 0].astype(int),
+        arr[:, 1].astype(int),
+        gap,
+        arr[:, 3:5],
+        arr[:, 5:7],
+        arr[:, 7:9],
+        arr[:, 9],
+        mu,
+        pn,
+        pt,
+        T @ nu_new,
+        lidx,
+        pl,
+    )

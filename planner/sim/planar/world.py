@@ -1,0 +1,318 @@
+"""The planar world (thesis ch. 2): fixed outlines, free rigid bodies and the planar hand.
+
+State: free bodies by their centre-of-mass pose ``(x, y, theta)`` and velocity
+``(vx, vy, omega)`` in the world frame; the hand by ``q, qd`` (6,). The generalized velocity
+is ``nu = (v_body_1, ..., v_body_n, qd)``. Every call of :meth:`PlanarWorld.step` runs one
+step of the Stewart-Trinkle scheme (:mod:`planner.sim.planar.stepper`): exact contact
+geometry (:mod:`planner.sim.planar.contacts`), a position projection when a contact
+penetrates by more than ``projection_tolerance``, the per-step LCP with two friction cone
+edges per contact, solved exactly by Lemke's method, and the semi-implicit update.
+
+Friction of a pair is the larger of the two bodies' coefficients (MuJoCo's rule, so that
+:func:`planner.sim.to_mjcf` builds the same scene).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from planner import checks
+from planner.errors import InvalidParameter
+from planner.geometry.profiles import Profile
+from planner.sim.observation import Observation, SensorSettings
+from planner.sim.planar.bodies import FIXED, FREE, TIP, Body, area_properties
+from planner.sim.planar.contacts import Pose
+from planner.sim.planar.hand import HandModel, tip_profile
+from planner.sim.planar.outline import compile_outline
+from planner.sim.planar.records import contact_records
+from planner.sim.planar.stepper import StepResult, step
+from planner.sim.records import Contact
+from planner.sim.world import WorldBase
+
+__all__ = ["PlanarWorld"]
+
+FINGER_NAMES = ("left", "right")
+
+
+class PlanarWorld(WorldBase):
+    """A planar world with exact contacts and Coulomb friction.
+
+    Args:
+        dt: time step [s].
+        gravity: (2,) gravity in the plane [m/s^2].
+        seed: seed of the generator of every sensor noise.
+        sensors: sensor models (default :class:`SensorSettings`).
+        margin: contacts closer than this are in the step's contact problem [m].
+        projection_tolerance: penetration above which positions are projected out [m].
+        drop_time: a body touched by a fingertip and then by none for this long is reported
+            ``object_dropped`` [s].
+    """
+
+    pose_size, velocity_size, contact_dim = 3, 3, 2
+
+    def __init__(
+        self,
+        dt: float = 1e-3,
+        gravity=(0.0, -9.81),
+        seed: int = 0,
+        sensors: SensorSettings | None = None,
+        margin: float = 1e-3,
+        projection_tolerance: float = 1e-7,
+        drop_time: float = 0.1,
+    ) -> None:
+        self.dt = checks.positive("dt", dt, "s")
+        self.gravity = tuple(checks.vector("gravity", gravity, 2, "m/s^2"))
+        self.margin = checks.positive("margin", margin, "m")
+        self.projection_tolerance = checks.positive(
+            "projection_tolerance", projection_tolerance, "m"
+        )
+        self.drop_time = checks.positive("drop_time", drop_time, "s")
+        self.sensors = sensors if sensors is not None else SensorSettings()
+        self.rng = np.random.default_rng(seed)
+        self.time = 0.0
+        self.bodies: list[Body] = []
+        self._names: dict[str, Body] = {}
+        self._x = np.zeros((0, 3))
+        self._v = np.zeros((0, 3))
+        self.hand: HandModel | None = None
+        self.q = np.zeros(0)
+        self.qd = np.zeros(0)
+        self._events = []
+        self._last: StepResult | None = None
+        self._records: tuple[Contact, ...] | None = None
+        self._touch: dict[str, float] = {}
+        self._dropped: set[str] = set()
+        self._limits_on: set[int] = set()
+
+    # ------------------------------------------------------------------ building
+    def _name(self, name: str | None, stem: str) -> str:
+        if name is None:
+            k = sum(1 for b in self.bodies if b.name.startswith(stem))
+            name = f"{stem}{k}"
+        if name in self._names:
+            raise InvalidParameter(f"name: {name!r} is already used by another body")
+        return str(name)
+
+    def _add(self, body: Body) -> str:
+        self.bodies.append(body)
+        self._names[body.name] = body
+        self._last, self._records = None, None
+        return body.name
+
+    def add_fixed(self, profile: Profile, pose=(0.0, 0.0, 0.0), friction: float = 0.5, name=None):
+        """Add a fixed outline (palm, incline, table...) at ``pose`` (x, y, angle) [m, rad]."""
+        p = checks.vector("pose", pose, 3, "m, m, rad")
+        mu = checks.nonnegative("friction", friction)
+        b = Body(self._name(name, "fixed"), FIXED, compile_outline(profile), mu, pose=tuple(p))
+        return self._add(b)
+
+    def add_body(
+        self,
+        profile: Profile,
+        pose,
+        mass: float,
+        inertia: float | None = None,
+        velocity=(0.0, 0.0, 0.0),
+        friction: float = 0.5,
+        name: str | None = None,
+    ) -> str:
+        """Add a free rigid body bounded by the closed ``profile``.
+
+        Args:
+            profile: closed outline in the body's own frame.
+            pose: (x, y, angle) of the profile's frame [m, rad].
+            mass: [kg] > 0.
+            inertia: about the centre of mass [kg m^2]; default: uniform density.
+            velocity: (vx, vy, omega) of the profile frame's origin [m/s, rad/s].
+            friction: Coulomb coefficient [-].
+            name: handle (default ``body0``, ``body1``...).
+        """
+        m = checks.positive("mass", mass, "kg")
+        p = checks.vector("pose", pose, 3, "m, m, rad")
+        v = checks.vector("velocity", velocity, 3, "m/s, m/s, rad/s")
+        mu = checks.nonnegative("friction", friction)
+        area, com, J = area_properties(profile)
+        arcs = profile.pieces
+        if len(arcs) == 1 and getattr(arcs[0], "radius", None) is not None:
+            J = area * arcs[0].radius ** 2 / 2.0  # a disc: exact
+        I = checks.positive("inertia", inertia, "kg m^2") if inertia is not None else m * J / area
+        local = profile.transformed(0.0, -com)
+        ol = compile_outline(local)
+        c, s = math.cos(p[2]), math.sin(p[2])
+        cw = p[:2] + np.array([c * com[0] - s * com[1], s * com[0] + c * com[1]])
+        # velocity of the centre of mass from that of the frame origin
+        rx, ry = cw[0] - p[0], cw[1] - p[1]
+        vc = np.array([v[0] - v[2] * ry, v[1] + v[2] * rx, v[2]])
+        body = Body(self._name(name, "body"), FREE, ol, mu, index=len(self._x), mass=m, inertia=I)
+        body.com = (float(com[0]), float(com[1]))
+        self._x = np.vstack([self._x, [cw[0], cw[1], p[2]]])
+        self._v = np.vstack([self._v, vc])
+        return self._add(body)
+
+    def add_hand(self, hand, q, qd=None, name: str = "hand", palm: bool = True) -> str:
+        """Add the planar two-finger hand with joint angles ``q`` (6,) [rad].
+
+        Its fingertips become bodies ``<name>.left`` and ``<name>.right``; with ``palm`` the
+        palm segment becomes the fixed outline ``<name>.palm`` (y = 0, facing +y).
+        """
+        if self.hand is not None:
+            raise InvalidParameter("add_hand: this world already has a hand")
+        from planner.geometry import shapes
+
+        q = checks.vector("q", q, 6, "rad")
+        qd = np.zeros(6) if qd is None else checks.vector("qd", qd, 6, "rad/s")
+        self.hand = HandModel(hand, self.gravity)
+        self.q, self.qd = q.copy(), qd.copy()
+        self.hand_name = str(name)
+        mu = float(hand.params.friction)
+        for k, f in enumerate(FINGER_NAMES):
+            ol = compile_outline(tip_profile(hand, f))
+            self._add(Body(self._name(f"{name}.{f}", ""), TIP, ol, mu, index=k))
+        if palm:
+            w = hand.params.palm_half_width
+            self.add_fixed(shapes.plane(0.0, 2 * w), (0.0, 0.0, 0.0), mu, f"{name}.palm")
+        return self.hand_name
+
+    # ------------------------------------------------------------------ state access
+    @property
+    def body_names(self) -> tuple[str, ...]:
+        """Handles of the free bodies (logged)."""
+        return tuple(b.name for b in self.bodies if b.kind == FREE)
+
+    @property
+    def n_joints(self) -> int:
+        return 0 if self.hand is None else 6
+
+    @property
+    def torque_limits(self):
+        return None if self.hand is None else self.hand.torque_limits
+
+    def _body(self, handle: str) -> Body:
+        try:
+            return self._names[handle]
+        except KeyError:
+            raise InvalidParameter(
+                f"unknown body {handle!r}; bodies: {sorted(self._names)}"
+            ) from None
+
+    def placement(self, body: Body) -> Pose:
+        """World placement of a body's outline frame."""
+        if body.kind == FIXED:
+            return Pose(*body.pose)
+        if body.kind == FREE:
+            return Pose(*self._x[body.index])
+        _, tips = self.hand.frames(self.q)
+        return Pose(*tips[body.index])
+
+    def pose(self, handle: str) -> np.ndarray:
+        """(x, y, angle) of the body's frame (free: the profile's frame) [m, rad]."""
+        b = self._body(handle)
+        if b.kind == FREE:
+            x, y, a = self._x[b.index]
+            c, s = math.cos(a), math.sin(a)
+            return np.array([x - c * b.com[0] + s * b.com[1], y - s * b.com[0] - c * b.com[1], a])
+        P = self.placement(b)
+        return np.array([P.x, P.y, math.atan2(P.s, P.c)])
+
+    def velocity(self, handle: str) -> np.ndarray:
+        """(vx, vy, omega) of the body's frame origin [m/s, rad/s] (fixed: zeros)."""
+        b = self._body(handle)
+        if b.kind == FIXED:
+            return np.zeros(3)
+        if b.kind == FREE:
+            vx, vy, w = self._v[b.index]
+            px, py, _ = self.pose(handle)
+            rx, ry = px - self._x[b.index, 0], py - self._x[b.index, 1]
+            return np.array([vx - w * ry, vy + w * rx, w])
+        from planner.sim.planar.stepper import point_velocity
+
+        P = self.placement(b)
+        vx, vy = point_velocity(self, b, P.x, P.y)
+        sl = slice(3 * b.index, 3 * b.index + 3)
+        return np.array([vx, vy, float(self.qd[sl].sum())])
+
+    def joint_state(self) -> tuple[np.ndarray, np.ndarray]:
+        return self.q.copy(), self.qd.copy()
+
+    def state_vector(self) -> np.ndarray:
+        return np.concatenate([self._x.ravel(), self._v.ravel(), self.q, self.qd])
+
+    def velocity_vector(self) -> np.ndarray:
+        return np.concatenate([self._v.ravel(), self.qd])
+
+    def set_state(self, handle: str, pose=None, velocity=None) -> None:
+        """Reset a free body's centre-of-mass pose/velocity (x, y, angle) / (vx, vy, omega)."""
+        b = self._body(handle)
+        if b.kind != FREE:
+            raise InvalidParameter(f"{handle!r} is not a free body")
+        if pose is not None:
+            self._x[b.index] = checks.vector("pose", pose, 3)
+        if velocity is not None:
+            self._v[b.index] = checks.vector("velocity", velocity, 3)
+        self._last, self._records = None, None
+
+    # ------------------------------------------------------------------ stepping
+    def step(self, tau=None) -> None:
+        """Advance one step ``dt`` with joint torques ``tau`` (6,) [N m] (None: zeros)."""
+        if self.hand is not None:
+            tau = np.zeros(6) if tau is None else np.asarray(tau, float)
+        res = step(self, tau)
+        self._last, self._records = res, None
+        self.time += self.dt
+        self._watch(res)
+
+    def _watch(self, res: StepResult) -> None:
+        """World events: joint limits reached, objects dropped by the fingers."""
+        on = {int(k) for k, p in zip(res.limit_joints, res.limit_impulses, strict=True) if p > 0}
+        for k in sorted(on - self._limits_on):
+            self._events.append(
+                _event(self.time, "joint_limit", f"joint {k} reached its limit", joint=k)
+            )
+        self._limits_on = on
+        for i, j, pn in zip(res.body_a, res.body_b, res.p_n, strict=True):
+            a, b = self.bodies[i], self.bodies[j]
+            if pn > 0 and (a.kind == TIP or b.kind == TIP):
+                other = b if a.kind == TIP else a
+                if other.kind == FREE:
+                    self._touch[other.name] = self.time
+                    self._dropped.discard(other.name)
+        for name, t in self._touch.items():
+            if name not in self._dropped and self.time - t >= self.drop_time - 1e-12:
+                self._dropped.add(name)
+                self._events.append(
+                    _event(self.time, "object_dropped", f"{name} left the fingers", body=name)
+                )
+
+    def contacts(self) -> tuple[Contact, ...]:
+        """Contacts of the last step: geometry at its start, forces over it, slip after it."""
+        if self._last is None:
+            return ()
+        if self._records is None:
+            self._records = contact_records(self, self._last)
+        return self._records
+
+    def penetrations(self, tolerance: float = 1e-9) -> list[tuple[str, str, float]]:
+        """Pairs overlapping by more than ``tolerance`` [m] now: (a, b, gap)."""
+        from planner.sim.planar.stepper import find_contacts
+
+        found = find_contacts(self, 0.0)
+        return [
+            (self.bodies[c[0]].name, self.bodies[c[1]].name, c[2])
+            for c in found
+            if c[2] < -tolerance
+        ]
+
+    # ------------------------------------------------------------------ sensing
+    def observe(self, oracle: bool = False) -> Observation:
+        """Sensor readings now (encoders, fingertip gauges, tactile images of flat pads)."""
+        from planner.sim.planar.sensing import observe
+
+        return observe(self, oracle)
+
+
+def _event(t, kind, message, **data):
+    from planner.sim.events import SimEvent
+
+    return SimEvent(t, kind, message, data)

@@ -1,0 +1,208 @@
+"""Mutable state of the spatial world's moving bodies: free spheres and the 3GM finger.
+
+Each body exposes what the contact step needs: its sphere centre, the free (contact-less)
+velocity update, the contact-point Jacobian and inverse mass, and how to apply an impulse,
+integrate positions and project the centre back onto a contact's offset surface.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from planner.errors import SingularConfiguration
+from planner.sim.spatial.finger import tcs_rotation
+from planner.sim.spatial.finger_codegen import reduced_dynamics_function
+
+__all__ = ["FingerBody", "SphereBody", "quat_from_matrix", "quat_mul_exp", "skew"]
+
+
+def skew(a: np.ndarray) -> np.ndarray:
+    """``[a]×`` (3, 3): ``skew(a) @ b == cross(a, b)``."""
+    return np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
+
+
+def quat_mul_exp(q: np.ndarray, w: np.ndarray, h: float) -> np.ndarray:
+    """``exp(w h) ⊗ q``: rotate the unit quaternion ``q`` (wxyz) by the world-frame rotation
+    vector ``w h`` (exact exponential map) and renormalize."""
+    ang = float(np.linalg.norm(w)) * h
+    if ang < 1e-300:
+        return q
+    a = w * (h * math.sin(ang / 2) / ang)
+    c = math.cos(ang / 2)
+    w0, x0, y0, z0 = q
+    out = np.array(
+        [
+            c * w0 - a[0] * x0 - a[1] * y0 - a[2] * z0,
+            c * x0 + a[0] * w0 + a[1] * z0 - a[2] * y0,
+            c * y0 - a[0] * z0 + a[1] * w0 + a[2] * x0,
+            c * z0 + a[0] * y0 - a[1] * x0 + a[2] * w0,
+        ]
+    )
+    return out / np.linalg.norm(out)
+
+
+def quat_from_matrix(R: np.ndarray) -> np.ndarray:
+    """Unit quaternion (wxyz) of the rotation matrix ``R`` (Shepperd's method)."""
+    tr = R[0, 0] + R[1, 1] + R[2, 2]
+    if tr > 0:
+        s = 2.0 * math.sqrt(1.0 + tr)
+        q = [0.25 * s, (R[2, 1] - R[1, 2]) / s, (R[0, 2] - R[2, 0]) / s, (R[1, 0] - R[0, 1]) / s]
+    else:
+        i = int(np.argmax(np.diag(R)))
+        j, k = (i + 1) % 3, (i + 2) % 3
+        s = 2.0 * math.sqrt(1.0 + R[i, i] - R[j, j] - R[k, k])
+        q = [0.0, 0.0, 0.0, 0.0]
+        q[0] = (R[k, j] - R[j, k]) / s
+        q[1 + i] = 0.25 * s
+        q[1 + j] = (R[j, i] + R[i, j]) / s
+        q[1 + k] = (R[k, i] + R[i, k]) / s
+    out = np.array(q)
+    return out / np.linalg.norm(out) * (1.0 if out[0] >= 0 else -1.0)
+
+
+class SphereBody:
+    """A free solid ball: position, orientation (wxyz), linear and angular velocity (WCS).
+
+    Inverse mass ``M⁻¹ = diag(1/m I3, 1/I I3)``, ``I = 2/5 m r²`` [kg m²].
+    """
+
+    def __init__(self, name, radius, mass, position, velocity, angular_velocity, friction):
+        self.name, self.radius, self.mass = name, radius, mass
+        self.inertia = 0.4 * mass * radius * radius
+        self.p = np.array(position, float)
+        self.quat = np.array([1.0, 0.0, 0.0, 0.0])
+        self.v = np.array(velocity, float)
+        self.w = np.array(angular_velocity, float)
+        self.friction = friction
+        self.minv = np.array([1 / mass] * 3 + [1 / self.inertia] * 3)
+
+    @property
+    def center(self) -> np.ndarray:
+        return self.p
+
+    def free_velocity(self, h: float, gravity: np.ndarray, tau) -> np.ndarray:
+        """(6,) ``(v, ω)`` after a contact-free step [m/s, rad/s]."""
+        return np.concatenate([self.v + h * gravity, self.w])
+
+    def point_jacobian(self, n: np.ndarray) -> np.ndarray:
+        """(3, 6) velocity of the material point at ``c - r n``: ``v + r n × ω``."""
+        return np.hstack([np.eye(3), self.radius * skew(n)])
+
+    def centre_jacobian(self) -> np.ndarray:
+        return np.hstack([np.eye(3), np.zeros((3, 3))])
+
+    def apply(self, nu: np.ndarray) -> None:
+        self.v, self.w = nu[:3].copy(), nu[3:].copy()
+
+    def integrate(self, h: float) -> None:
+        self.p = self.p + h * self.v
+        self.quat = quat_mul_exp(self.quat, self.w, h)
+
+    def project(self, dc: np.ndarray, minv_jt: np.ndarray | None = None) -> None:
+        """Move the centre by ``dc`` (3,) [m] (a translation keeps the orientation)."""
+        self.p = self.p + dc
+
+    def pose(self) -> np.ndarray:
+        return np.concatenate([self.p, self.quat])
+
+    def velocity(self) -> np.ndarray:
+        return np.concatenate([self.v, self.w])
+
+
+class FingerBody:
+    """The 3GM: motor angles ``θ`` and rates ``θ̇`` (3,); reduced dynamics per step from the
+    generated function of :mod:`planner.sim.spatial.finger_codegen` (equal to the Pinocchio
+    path of :class:`~planner.sim.spatial.finger.FingerDynamics`, tested)."""
+
+    #: |sin(γ2 - γ1)| below which the 3GM is reported singular (links l3, l4 aligned).
+    SINGULAR_SIN = 1e-6
+
+    def __init__(self, name, gm, theta, theta_dot, tip_radius, friction, gravity):
+        self.name, self.gm, self.radius, self.friction = name, gm, tip_radius, friction
+        self.fn = reduced_dynamics_function(gm, gravity)
+        self.th = np.array(theta, float)
+        self.thd = np.array(theta_dot, float)
+        self.minv = None
+        self._zero = np.zeros(3)
+        self.J = self.Jw = None
+        self.gamma1 = 0.0
+        self._center = np.zeros(3)
+        self._eval(np.zeros(3), 0.0)
+
+    def _eval(self, tau, h: float) -> np.ndarray:
+        c, J, Jw, Minv, thd_f, g1, _, _, sin_c = self.fn(self.th, self.thd, tau, h)
+        if (
+            not (np.isfinite(c[0]) and np.isfinite(thd_f).all())
+            or abs(sin_c[0]) < self.SINGULAR_SIN
+        ):
+            raise SingularConfiguration(
+                f"3GM singular at theta = {np.round(self.th, 6).tolist()} rad: the five-bar loop "
+                f"cannot close or links l3 and l4 align (sin(gamma2 - gamma1) = {sin_c[0]:.3g})",
+                value=float(sin_c[0]),
+            )
+        self._center = c.copy()
+        self._quat = None
+        self.J, self.Jw, self.minv = J.copy(), Jw.copy(), Minv.copy()
+        self.gamma1 = float(g1[0])
+        return thd_f.copy()
+
+    @property
+    def center(self) -> np.ndarray:
+        return self._center
+
+    def free_velocity(self, h: float, gravity: np.ndarray, tau) -> np.ndarray:
+        return self._eval(tau, h)
+
+    def point_jacobian(self, n: np.ndarray) -> np.ndarray:
+        """(3, 3) velocity of the tip's material point at ``c - r n``: ``J + r [n]× J_ω``."""
+        return self.J + self.radius * (skew(n) @ self.Jw)
+
+    def centre_jacobian(self) -> np.ndarray:
+        return self.J
+
+    def apply(self, nu: np.ndarray) -> None:
+        self.thd = nu.copy()
+
+    def integrate(self, h: float) -> None:
+        self.th = self.th + h * self.thd
+        self._refresh_center()
+
+    def project(self, dc: np.ndarray, dq: np.ndarray | None = None) -> None:
+        """Move the joints by ``dq`` (3,) [rad] (the caller's mass-weighted correction).
+
+        The projection's corrections are tiny (|dq| ~ 1e-9 rad): the centre is moved by
+        ``J dq``, exact to O(|dq|²) ~ 1e-18 m; the next step re-evaluates everything."""
+        self.th = self.th + dq
+        self.shift_center(self.J @ dq)
+
+    def _refresh_center(self) -> None:
+        """Kinematics at the new angles (centre, J, J_ω, γ1; M_r⁻¹ is left for the step)."""
+        c, J, Jw, _, _, g1, _, _, sin_c = self.fn(self.th, self.thd, self._zero, 0.0)
+        if not np.isfinite(c[0]) or abs(sin_c[0]) < self.SINGULAR_SIN:
+            raise SingularConfiguration(
+                f"3GM singular at theta = {np.round(self.th, 6).tolist()} rad "
+                f"(sin(gamma2 - gamma1) = {sin_c[0]:.3g})",
+                value=float(sin_c[0]),
+            )
+        self._center = c.copy()
+        self.J, self.Jw, self.gamma1 = J.copy(), Jw.copy(), float(g1[0])
+        self._quat = None
+
+    def shift_center(self, dc: np.ndarray) -> None:
+        """Move the cached centre by ``dc`` [m] (first-order update after a tiny projection)."""
+        self._center = self._center + dc
+
+    def tcs(self) -> np.ndarray:
+        return tcs_rotation(self.gamma1, float(self.th[2]))
+
+    def pose(self) -> np.ndarray:
+        if self._quat is None:  # R_z(θ3) R_y(π/2 - γ1) as a quaternion (wxyz)
+            a, b = 0.5 * float(self.th[2]), 0.5 * (math.pi / 2 - self.gamma1)
+            ca, sa, cb, sb = math.cos(a), math.sin(a), math.cos(b), math.sin(b)
+            self._quat = np.array([ca * cb, -sa * sb, ca * sb, sa * cb])
+        return np.concatenate([self._center, self._quat])
+
+    def velocity(self) -> np.ndarray:
+        return np.concatenate([self.J @ self.thd, self.Jw @ self.thd])

@@ -1,0 +1,140 @@
+"""One time step of the spatial world (the scheme is documented in :mod:`.world`)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from planner.sim.records import Contact
+from planner.sim.spatial.friction_cone import solve_contacts
+
+__all__ = ["step_body"]
+
+_PROJ_TOL = 1e-12  # [m]
+_MARGIN = 1e-5  # [m] candidate margin beyond the distance travelled in a step
+
+
+@dataclass
+class _Candidate:
+    surface: str
+    placed: object
+    mu: float
+    foot: object
+    gap: float
+    C: np.ndarray  # (3, 3) rows n, t1, t2
+
+
+def _frame(n: np.ndarray) -> np.ndarray:
+    """(3, 3) rows ``(n, t1, t2)``: a right-handed orthonormal contact frame."""
+    x, y, z = n.tolist()
+    if abs(x) < 0.9:  # t1 = normalize(e_x - x n)
+        a, b, c = 1.0 - x * x, -x * y, -x * z
+    else:  # t1 = normalize(e_y - y n)
+        a, b, c = -y * x, 1.0 - y * y, -y * z
+    k = 1.0 / math.sqrt(a * a + b * b + c * c)
+    a, b, c = a * k, b * k, c * k
+    return np.array([[x, y, z], [a, b, c], [y * c - z * b, z * a - x * c, x * b - y * a]])
+
+
+def _candidates(world, body, nu_free) -> list[_Candidate]:
+    reach = 2.0 * world.dt * float(np.max(np.abs(nu_free))) * max(body.radius, 0.2) + _MARGIN
+    out = []
+    for sname, (placed, mu_s) in world.surfaces.items():
+        key = (body.name, sname)
+        foot = placed.foot(body.center, world._hints.get(key))
+        if foot is None:
+            world._hints.pop(key, None)
+            continue
+        world._hints[key] = foot.hint
+        gap = foot.distance - body.radius
+        if gap > reach:
+            continue
+        mu = mu_s if body.friction is None else min(mu_s, body.friction)
+        out.append(_Candidate(sname, placed, mu, foot, gap, _frame(foot.normal)))
+    return out
+
+
+def _project(world, body, active: list[_Candidate]) -> list[float]:
+    """Project the centre onto the offset surfaces of the active contacts; final gaps."""
+    gaps = [c.gap for c in active]
+    for _ in range(20):
+        worst = 0.0
+        for i, c in enumerate(active):
+            key = (body.name, c.surface)
+            foot = c.placed.foot(body.center, world._hints.get(key))
+            if foot is None:
+                continue
+            world._hints[key] = foot.hint
+            c.foot = foot
+            g = foot.distance - body.radius
+            gaps[i] = g
+            if abs(g) <= _PROJ_TOL:
+                continue
+            worst = max(worst, abs(g))
+            n = foot.normal
+            if body.minv is None or np.ndim(body.minv) == 1:  # sphere: translate along n
+                body.project(-g * n)
+            else:  # finger: mass-weighted Gauss-Newton step on the motor angles
+                jn = n @ body.centre_jacobian()
+                mj = body.minv @ jn
+                body.project(None, -g * mj / (jn @ mj))
+        if worst <= _PROJ_TOL:
+            break
+    return gaps
+
+
+def _unpenetrate(world, body, idle: list[_Candidate]) -> None:
+    """Project candidates that did not carry force but end the step penetrating."""
+    for c in idle:
+        foot = c.placed.foot(body.center, world._hints.get((body.name, c.surface)))
+        if foot is not None and foot.distance - body.radius < -_PROJ_TOL:
+            c.gap = foot.distance - body.radius
+            _project(world, body, [c])
+
+
+def step_body(world, body, tau) -> list[Contact]:
+    """Advance one body by ``world.dt``; returns its contact records."""
+    h = world.dt
+    nu_f = body.free_velocity(h, world.gravity, tau)
+    cands = _candidates(world, body, nu_f)
+    lam = np.zeros(0)
+    if cands:
+        minv = body.minv if np.ndim(body.minv) == 2 else np.diag(body.minv)
+        Js = [c.C @ body.point_jacobian(c.foot.normal) for c in cands]
+        J = np.vstack(Js)
+        MJt = minv @ J.T
+        W = J @ MJt
+        W = 0.5 * (W + W.T)
+        u_free = J @ nu_f
+        gap_rates = np.array([c.gap / h for c in cands])
+        mus = np.array([c.mu for c in cands])
+        lam, _ = solve_contacts(W, u_free, gap_rates, mus)
+        nu = nu_f + MJt @ lam
+        u_after = J @ nu
+    else:
+        nu = nu_f
+    body.apply(nu)
+    body.integrate(h)
+    active = [c for i, c in enumerate(cands) if lam[3 * i] > 0.0]
+    idx = [i for i, c in enumerate(cands) if lam[3 * i] > 0.0]
+    gaps = _project(world, body, active) if active else []
+    _unpenetrate(world, body, [c for i, c in enumerate(cands) if not lam[3 * i] > 0.0])
+    out = []
+    for c, i, g in zip(active, idx, gaps, strict=True):
+        lam_i = lam[3 * i : 3 * i + 3]
+        u_i = u_after[3 * i : 3 * i + 3]
+        C = c.C
+        out.append(
+            Contact(
+                (body.name, c.surface),
+                c.foot.point.copy(),
+                c.foot.normal.copy(),
+                float(lam_i[0] / h),
+                C[1:].T @ lam_i[1:] / h,
+                C[1:].T @ u_i[1:],
+                float(g),
+            )
+        )
+    return out

@@ -1,0 +1,375 @@
+"""The spatial world (ch. 4): spheres and the 3GM fingertip on exact surfaces.
+
+Frames and units: everything is in the WCS of §4.3.2 — the 3GM's base frame, ``z`` vertical
+(up, against gravity), SI units (m, kg, s, rad, N). Surfaces are placed by a 4x4 ``pose``
+``T_WS`` (surface frame -> WCS).
+
+Time stepping (semi-implicit, velocity level, the same scheme as the planar world), per step
+of length ``h``:
+
+1. free velocities ``ν_f = ν + h M⁻¹ (τ - b)`` (spheres: ``v + h g``; the 3GM: reduced
+   dynamics of :mod:`planner.sim.spatial.finger`, torques clipped by the run loop);
+2. contact candidates: for each sphere (and the fingertip sphere) and each surface, the exact
+   foot point, normal and gap at the current positions (:mod:`planner.sim.spatial.closest`);
+   a candidate enters the contact problem when its gap is below ``2 h |ν| + 10 µm``;
+3. the contact problem with the EXACT circular Coulomb cone
+   (:mod:`planner.sim.spatial.friction_cone`), ``W = J M⁻¹ Jᵀ`` from the contact-point
+   Jacobian ``J`` in the contact frame ``(n, t1, t2)``; ``ν⁺ = ν_f + M⁻¹ Jᵀ λ``;
+4. positions ``x⁺ = x + h ν⁺`` (quaternions by the exact exponential map; the 3GM's motor
+   angles, the loop closed in closed form);
+5. projection (post-stabilization): every contact that carried force (``λ_n > 0``) is
+   projected onto its offset surface, ``g = 0``, and every candidate that ends the step
+   penetrating (a curvature effect of the linearized gap, ``O(h² |v|² κ)``) back onto it, by
+   a mass-weighted Gauss-Newton step along the centre Jacobian (spheres: a translation along
+   ``n``), until ``|g| <= 1e-12 m``. So a sliding or sticking sphere centre stays on the
+   exact offset surface to round-off (no penetration, no hovering), without any stiffness or
+   Baumgarte gain.
+
+One finger over one :class:`Plate`/:class:`Plane` runs through the scalar kernels of
+:mod:`planner.sim.spatial.fast_step` (numba-compiled when numba is installed); everything
+else through :mod:`planner.sim.spatial.stepping`; both give the same trajectories (tested).
+
+Contact records (``contacts()``): the contacts of the last step that carried force
+(``λ_n > 0``); forces are impulses / h; ``tangential_force`` and ``slip_velocity`` are
+(3,) WCS vectors in the tangent plane, the slip of the sphere's material point relative to
+the surface after the step. Friction of a contact: ``min`` of the coefficients given to the
+surface and to the body (a body's ``None`` leaves the surface's value).
+
+Limits: one contact per sphere and surface (a sphere wider than a concave groove touches
+it at two points: only the nearest foot is modelled); spheres do not collide with each other
+or with the finger; the finger's joint limits are reported (``joint_limit`` events), not
+enforced.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from planner import checks
+from planner.errors import InvalidParameter
+from planner.sim.events import SimEvent
+from planner.sim.observation import Observation, SensorSettings, read_forces, read_joints
+from planner.sim.records import Contact
+from planner.sim.spatial.bodies import FingerBody, SphereBody
+from planner.sim.spatial.closest import PlacedSurface
+from planner.sim.spatial.fast_step import fast_plate, step_finger
+from planner.sim.spatial.sensing import FULL_INTENSITY_FORCE, OWTSRecorder
+from planner.sim.spatial.stepping import step_body
+from planner.sim.world import WorldBase
+
+__all__ = ["SpatialWorld"]
+
+
+class SpatialWorld(WorldBase):
+    """Spheres and the 3GM fingertip in contact with fixed surfaces (see the module doc).
+
+    Args:
+        dt: time step [s].
+        gravity: (3,) gravity in the WCS [m/s²].
+        seed: seed of the world's generator (the only source of sensor noise).
+        sensors: sensor models (None: defaults; the 3GM's encoder resolution of App. C.2.1
+            and an ideal-geometry :class:`~robots.sensors.OWTS` of the tip's radius).
+    """
+
+    pose_size = 7
+    velocity_size = 6
+    contact_dim = 3
+
+    def __init__(self, dt=1e-3, gravity=(0.0, 0.0, -9.81), seed=0, sensors=None) -> None:
+        self.dt = checks.positive("dt", dt, "s")
+        self.gravity = checks.vector("gravity", gravity, 3, "m/s^2")
+        self.seed = checks.integer("seed", seed, 0)
+        self.rng = np.random.default_rng(self.seed)
+        self._user_sensors = sensors
+        self.sensors = sensors if sensors is not None else SensorSettings()
+        self.time = 0.0
+        self.surfaces: dict[str, tuple[PlacedSurface, float]] = {}
+        self.spheres: dict[str, SphereBody] = {}
+        self.finger: FingerBody | None = None
+        self._hints: dict[tuple[str, str], object] = {}
+        self._contacts: tuple[Contact, ...] = ()
+        self._events: list[SimEvent] = []
+        self._owts: OWTSRecorder | None = None
+        self._at_limit = False
+        self.steps = 0
+        self._fast = False  # packed plate of the kernel path (False: not built yet)
+        #: use the scalar kernels for one finger over one Plate/Plane (same results)
+        self.use_kernels = True
+
+    # ------------------------------------------------------------------ building
+    def _name(self, name, prefix: str) -> str:
+        taken = (
+            set(self.surfaces) | set(self.spheres) | ({self.finger.name} if self.finger else set())
+        )
+        if name is None:
+            k = 0
+            while f"{prefix}{k}" in taken:
+                k += 1
+            return f"{prefix}{k}"
+        name = str(name)
+        if name in taken or "|" in name or not name:
+            raise InvalidParameter(f"name: {name!r} is empty, contains '|' or is already used")
+        return name
+
+    def add_surface(self, surface, friction: float = 0.5, name=None, pose=None) -> str:
+        """Add a fixed surface; returns its handle.
+
+        Args:
+            surface: a :class:`~planner.sim.spatial.Plane` (any tilt), a
+                :class:`~planner.sim.spatial.Plate` of catalogue features, a
+                :class:`~planner.geometry.surfaces.HeightField` or any
+                :class:`~planner.geometry.surfaces.ParametricSurface` of the catalogue.
+            friction: Coulomb coefficient μ [-] (>= 0).
+            name: handle (default ``surface<k>``).
+            pose: 4x4 ``T_WS`` placing the surface frame in the WCS (default identity).
+        """
+        mu = checks.nonnegative("friction", friction)
+        placed = PlacedSurface(surface, pose)
+        name = self._name(name, "surface")
+        for b in self._bodies():
+            self._check_clear(b, placed, name)
+        self.surfaces[name] = (placed, mu)
+        self._fast = False
+        return name
+
+    def add_sphere(
+        self,
+        radius: float,
+        mass: float,
+        position,
+        velocity=(0.0, 0.0, 0.0),
+        friction: float | None = None,
+        name=None,
+        angular_velocity=(0.0, 0.0, 0.0),
+    ) -> str:
+        """Add a free solid ball (uniform density) centred at ``position`` (3,) [m].
+
+        Args:
+            radius: [m]; mass: [kg]; velocity, angular_velocity: (3,) WCS [m/s, rad/s].
+            friction: μ of the ball (None: the surfaces' values).
+        """
+        r = checks.positive("radius", radius, "m")
+        m = checks.positive("mass", mass, "kg")
+        p = checks.vector("position", position, 3, "m")
+        v = checks.vector("velocity", velocity, 3, "m/s")
+        w = checks.vector("angular_velocity", angular_velocity, 3, "rad/s")
+        mu = None if friction is None else checks.nonnegative("friction", friction)
+        body = SphereBody(self._name(name, "sphere"), r, m, p, v, w, mu)
+        for sname, (surf, _) in self.surfaces.items():
+            self._check_clear(body, surf, sname)
+        self.spheres[body.name] = body
+        self._fast = False
+        return body.name
+
+    def add_finger(
+        self,
+        three_gm,
+        theta,
+        tip_radius: float = 0.008,
+        name: str = "finger",
+        theta_dot=(0.0, 0.0, 0.0),
+        friction: float | None = None,
+    ) -> str:
+        """Add the 3GM finger at motor angles ``theta`` = (θ1, θ2, θ3) [rad].
+
+        The fingertip is a sphere of ``tip_radius`` [m] centred at the 3GM endpoint, rigid
+        with the distal link. Inputs of ``step`` are the motor torques (3,) [N m] (limits:
+        ``three_gm.torque_limits``, App. C.2.1).
+
+        Raises:
+            InvalidParameter: a second finger, or a start in penetration.
+            SingularConfiguration: the loop cannot close at ``theta``.
+        """
+        from robots.three_gm import ThreeGM
+
+        if self.finger is not None:
+            raise InvalidParameter("add_finger: the spatial world holds one 3GM finger")
+        if not isinstance(three_gm, ThreeGM):
+            raise InvalidParameter(f"three_gm: expected a ThreeGM, got {type(three_gm).__name__}")
+        th = checks.vector("theta", theta, 3, "rad")
+        thd = checks.vector("theta_dot", theta_dot, 3, "rad/s")
+        r = checks.positive("tip_radius", tip_radius, "m")
+        mu = None if friction is None else checks.nonnegative("friction", friction)
+        body = FingerBody(self._name(name, "finger"), three_gm, th, thd, r, mu, self.gravity)
+        for sname, (surf, _) in self.surfaces.items():
+            self._check_clear(body, surf, sname)
+        self.finger = body
+        self._fast = False
+        self._tau_max = three_gm.torque_limits
+        from robots.sensors import OWTS, Encoder
+
+        if self._user_sensors is None:
+            self.sensors = SensorSettings(
+                encoder=Encoder(three_gm.encoder_resolution), tactile=None, owts=OWTS(radius=r)
+            )
+        self._owts = OWTSRecorder(self.sensors.owts or OWTS(radius=r), self.rng)
+        return body.name
+
+    def _check_clear(self, body, surf: PlacedSurface, sname: str) -> None:
+        foot = surf.foot(body.center)
+        if foot is not None and foot.distance - body.radius < -1e-9:
+            raise InvalidParameter(
+                f"{body.name}: starts in penetration with {sname} "
+                f"(gap {foot.distance - body.radius:.3g} m < 0)"
+            )
+
+    def _bodies(self) -> list:
+        return [*self.spheres.values(), *([self.finger] if self.finger else [])]
+
+    # ------------------------------------------------------------------ protocol
+    @property
+    def body_names(self) -> tuple[str, ...]:
+        """Logged bodies: the spheres, then the finger (its pose: tip centre + TCS)."""
+        return tuple(b.name for b in self._bodies())
+
+    @property
+    def n_joints(self) -> int:
+        return 3 if self.finger else 0
+
+    @property
+    def torque_limits(self) -> np.ndarray | None:
+        return self._tau_max.copy() if self.finger else None
+
+    def _body(self, handle: str):
+        if handle in self.spheres:
+            return self.spheres[handle]
+        if self.finger is not None and handle == self.finger.name:
+            return self.finger
+        raise InvalidParameter(f"handle: unknown body {handle!r}; bodies: {list(self.body_names)}")
+
+    def pose(self, handle: str) -> np.ndarray:
+        """(7,) centre [m] and orientation quaternion (wxyz) in the WCS (finger: tip centre
+        and the TCS)."""
+        return self._body(handle).pose()
+
+    def velocity(self, handle: str) -> np.ndarray:
+        """(6,) linear velocity of the centre [m/s] and angular velocity [rad/s], WCS."""
+        return self._body(handle).velocity()
+
+    def joint_state(self) -> tuple[np.ndarray, np.ndarray]:
+        """The 3GM's true motor angles (θ1, θ2, θ3) [rad] and rates [rad/s]."""
+        if self.finger is None:
+            return np.zeros(0), np.zeros(0)
+        return self.finger.th.copy(), self.finger.thd.copy()
+
+    def contacts(self) -> tuple[Contact, ...]:
+        return self._contacts
+
+    def state_vector(self) -> np.ndarray:
+        parts = [np.concatenate([b.pose(), b.velocity()]) for b in self.spheres.values()]
+        if self.finger:
+            parts.append(np.concatenate([self.finger.th, self.finger.thd]))
+        return np.concatenate(parts) if parts else np.zeros(0)
+
+    def velocity_vector(self) -> np.ndarray:
+        parts = [b.velocity() for b in self.spheres.values()]
+        if self.finger:
+            parts.append(self.finger.thd)
+        return np.concatenate(parts) if parts else np.zeros(0)
+
+    def record(self, log, k: int, tau: np.ndarray) -> None:
+        """Write the current state into row ``k`` of ``log`` (a leaner
+        :meth:`WorldBase.record`: same rows)."""
+        log.t[k] = self.time
+        for b in self._bodies():
+            log.poses[b.name][k] = b.pose()
+            log.velocities[b.name][k] = b.velocity()
+        if self.finger is not None:
+            log.q[k], log.qd[k], log.tau[k] = self.finger.th, self.finger.thd, tau
+        contacts = self._contacts
+        log.contact_count[k] = len(contacts)
+        for i, c in enumerate(contacts[: log.max_contacts]):
+            log.contact_pair[k, i] = log.pair_index(*c.bodies)
+            log.contact_point[k, i] = c.point
+            log.contact_normal[k, i] = c.normal
+            log.normal_force[k, i] = c.normal_force
+            log.tangential_force[k, i] = c.tangential_force
+            log.slip_velocity[k, i] = c.slip_velocity
+            log.gap[k, i] = c.gap
+
+    # ------------------------------------------------------------------ stepping
+    def step(self, tau=None) -> None:
+        """Advance by ``dt``. ``tau``: (3,) motor torques of the 3GM [N m] (None: zeros);
+        clipped at the torque limits (the run loop reports the saturation).
+
+        Raises:
+            SingularConfiguration: the 3GM reached a configuration where its loop cannot
+                close or its passive links align (the run loop makes it a "singular" event).
+        """
+        contacts: list[Contact] = []
+        for body in self.spheres.values():
+            contacts += step_body(self, body, None)
+        if self.finger is not None:
+            t = np.zeros(3) if tau is None else np.asarray(tau, float)
+            if t.shape != (3,):
+                raise InvalidParameter(f"tau: expected 3 motor torques [N m], got shape {t.shape}")
+            t = np.clip(t, -self._tau_max, self._tau_max)
+            f = self.finger
+            if self._fast is False:
+                self._fast = fast_plate(self) if self.use_kernels else None
+            got = step_finger(self, f, t, self._fast) if self._fast is not None else None
+            contacts += got if got is not None else step_body(self, f, t)
+            self._limit_event(f)
+        self.time += self.dt
+        self.steps += 1
+        self._contacts = tuple(contacts)
+        if self.finger is not None:
+            self._record_owts(contacts)
+
+    def _limit_event(self, f) -> None:
+        lim = f.gm.joint_limits
+        th = f.th.tolist()
+        beyond = any(not lo <= a <= hi for a, (lo, hi) in zip(th, lim.tolist(), strict=True))
+        if beyond == self._at_limit:
+            return
+        out = (f.th < lim[:, 0]) | (f.th > lim[:, 1])
+        if out.any() and not self._at_limit:
+            self._events.append(
+                SimEvent(
+                    self.time + self.dt,
+                    "joint_limit",
+                    f"3GM joint(s) {np.flatnonzero(out).tolist()} beyond their limits",
+                    {"theta": f.th.tolist()},
+                )
+            )
+        self._at_limit = bool(out.any())
+
+    def _record_owts(self, contacts) -> None:
+        f = self.finger
+        mine = [c for c in contacts if c.bodies[0] == f.name]
+        if mine:
+            c = max(mine, key=lambda c: c.normal_force)
+            R = f.tcs()
+            n = c.normal.tolist()
+            ft = c.tangential_force.tolist()
+            n_t = [-(R[0, j] * n[0] + R[1, j] * n[1] + R[2, j] * n[2]) for j in range(3)]
+            f_t = [R[0, j] * ft[0] + R[1, j] * ft[1] + R[2, j] * ft[2] for j in range(3)]
+            inten = min(c.normal_force / FULL_INTENSITY_FORCE, 1.0)
+        else:
+            n_t, inten, f_t = (0.0, 0.0, 0.0), 0.0, (0.0, 0.0, 0.0)
+        self._owts.advance(self.time, n_t, inten, f_t)
+
+    # ------------------------------------------------------------------ sensing
+    def observe(self, oracle: bool = False) -> Observation:
+        """Sensor readings: 3GM encoders (θ1, θ2, θ3) [rad] and rates [rad/s], the fingertip
+        force sensor (``tip_forces`` (1, 3): force the tip applies on the surface, WCS [N]),
+        and ``owts``: the :class:`~planner.sim.spatial.OWTSReading` of the 5 kHz samples since
+        the previous call. ``truth`` (oracle only): poses, velocities, joints, contacts."""
+        truth = None
+        if oracle:
+            truth = {
+                "poses": {b: self.pose(b) for b in self.body_names},
+                "velocities": {b: self.velocity(b) for b in self.body_names},
+                "joints": self.joint_state(),
+                "contacts": self._contacts,
+            }
+        if self.finger is None:
+            return Observation(self.time, np.zeros(0), np.zeros(0), truth=truth)
+        f = self.finger
+        q, qd = read_joints(self.sensors, f.th, f.thd)
+        force = np.zeros(3)
+        for c in self._contacts:
+            if c.bodies[0] == f.name:
+                force -= c.normal_force * c.normal + c.tangential_force
+        tip = read_forces(self.sensors, force[None, :], self.rng)
+        return Observation(self.time, q, qd, (f.name,), tip, None, self._owts.read(), truth)

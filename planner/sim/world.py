@@ -1,0 +1,72 @@
+"""The base class both worlds share: logging, the run loop, events (issue 15, item 4).
+
+A world subclass provides the physics and these members:
+
+* ``dt`` [s], ``time`` [s]; ``body_names`` (logged free bodies); ``pose_size`` (3 planar,
+  7 spatial), ``velocity_size`` (3 / 6), ``contact_dim`` (2 / 3), ``n_joints``;
+* ``torque_limits``: (n_joints,) [N m] or None;
+* ``step(tau)``, ``observe(oracle=False)``, ``pose(h)``, ``velocity(h)``, ``contacts()``,
+  ``joint_state() -> (q, qd)``;
+* ``state_vector()`` (every position and velocity, for the NaN guard) and
+  ``velocity_vector()`` (for the runaway guard);
+* world events are appended to ``self._events`` during ``step`` (drained by the loop).
+
+It inherits :meth:`run` (:func:`planner.sim.loop.run`), :meth:`record` (one log row; a
+subclass may override it with a faster version) and :meth:`drain_events`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from planner.sim.events import SimEvent
+from planner.sim.log import SimLog
+from planner.sim.loop import run as _run
+
+__all__ = ["WorldBase"]
+
+
+class WorldBase:
+    """Shared machinery of :class:`PlanarWorld` and :class:`SpatialWorld`."""
+
+    _events: list[SimEvent]
+
+    def drain_events(self) -> list[SimEvent]:
+        """The world events since the last call (and forget them)."""
+        out, self._events = self._events, []
+        return out
+
+    def record(self, log: SimLog, k: int, tau: np.ndarray) -> None:
+        """Write the current state into row ``k`` of ``log``."""
+        log.t[k] = self.time
+        for name in log.poses:
+            log.poses[name][k] = self.pose(name)
+            log.velocities[name][k] = self.velocity(name)
+        if self.n_joints:
+            q, qd = self.joint_state()
+            log.q[k], log.qd[k], log.tau[k] = q, qd, tau
+        contacts = self.contacts()
+        log.contact_count[k] = len(contacts)
+        for i, c in enumerate(contacts[: log.max_contacts]):
+            log.contact_pair[k, i] = log.pair_index(*c.bodies)
+            log.contact_point[k, i] = c.point
+            log.contact_normal[k, i] = c.normal
+            log.normal_force[k, i] = c.normal_force
+            log.tangential_force[k, i] = c.tangential_force
+            log.slip_velocity[k, i] = c.slip_velocity
+            log.gap[k, i] = c.gap
+
+    def run(
+        self,
+        duration: float,
+        controller: Callable | None = None,
+        control_rate: float = 1000.0,
+        progress: bool = False,
+        oracle: bool = False,
+        stop: Callable | None = None,
+        max_contacts: int = 8,
+    ) -> SimLog:
+        """Simulate for ``duration`` [s]; see :func:`planner.sim.loop.run`."""
+        return _run(self, duration, controller, control_rate, progress, oracle, stop, max_contacts)

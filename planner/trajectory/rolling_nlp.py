@@ -1,0 +1,294 @@
+"""Phase-1 trajectory planning: a CasADi NLP over the rolling-contact trajectory (§2.2.2).
+
+The planner knows the object only through its *estimate*: a circle of radius ``R`` about a
+centre ``c`` (the nominal shape, refitted to what the fingers sensed). Phase 1 rotates the
+object clockwise with both fingers in pure rolling (eqs. 2.3-2.4, ``s = r theta``), as far as
+the fingers' workspaces and the grasp's stability allow.
+
+Decision variables at knots ``k = 0..N``: the object rotation ``theta_k`` [rad] (0 at the
+start) and centre ``c_k`` (2,) [m], the joint angles ``q_k`` (6,) [rad], the world polar
+angles ``beta_L,k``, ``beta_R,k`` of the two contacts about ``c_k`` [rad] and the contact
+position ``u_k`` across the flat left pad [m]. Constraints, at every knot:
+
+* finger kinematics (expressions walked from the Pinocchio model): the round right tip's
+  centre at ``c + (R + r) n(beta_R)``; the flat left pad facing the object
+  (``phi_L = beta_L + pi/2`` up to a whole turn) with its point ``u`` on ``c + R n(beta_L)``;
+* pure rolling, eq. (2.4) integrated: the contact travels equal arclengths on the object
+  (``R (beta - theta)``) and on the fingertip (round: ``r (beta + pi - phi)``; pad: ``-u``):
+  ``R d(beta - theta) + d s_f = 0``;
+* joint limits with a margin, the pad contact within the pad, the round contact within
+  ``max_tip_angle`` of the tip's axis;
+* stability (Yoshikawa-Nagai, eq. 2.9): the contact line within the friction cones with an
+  angular margin, ``(-n_i) . u_i >= cos(atan(mu) - margin)``;
+* the object above the palm (``c_y >= R``) and near its start; monotone clockwise rotation
+  with at most ``max_step`` per knot.
+
+Objective: maximize the rotation ``-theta_N`` plus a small smoothness term. The NLP is built
+once (:class:`RollingNLP`, parameters = the estimate and the start state) and solved with
+IPOPT, warm-started from the previous solution.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from planner import checks
+
+#: number of parameters: R, r, mu, margin, c0 (2), q0 (6), beta0 (2), u0, q_margin
+_NP = 17
+
+
+@dataclass(frozen=True)
+class RollingPlan:
+    """A phase-1 plan.
+
+    Attributes:
+        theta: (N+1,) object rotation at the knots [rad] (<= 0: clockwise).
+        centre: (N+1, 2) object centre [m].
+        q: (N+1, 6) joint angles [rad].
+        beta: (N+1, 2) world polar angles of the left and right contacts [rad].
+        u: (N+1,) contact position across the left pad [m].
+        rotation: total rotation ``theta[-1]`` [rad].
+        success: the solver converged; solve_time_s: wall time of the solve [s].
+        stop: which constraint ends the rotation (the largest multiplier group).
+    """
+
+    theta: np.ndarray
+    centre: np.ndarray
+    q: np.ndarray
+    beta: np.ndarray
+    u: np.ndarray
+    rotation: float
+    success: bool
+    solve_time_s: float
+    stop: str
+
+
+class RollingNLP:
+    """The phase-1 NLP of one hand, built once, solved many times.
+
+    Args:
+        hand: ``robots.planar_hand.PlanarHand`` with a flat left and a round right tip.
+        knots: number of intervals N (>= 2).
+        max_step: largest rotation per interval [rad].
+        max_tip_angle: largest angle of the round contact from the tip axis [rad].
+        travel: largest displacement of the object centre from its start [m].
+        pad_use: fraction of the pad's half-width the contact may use [-].
+    """
+
+    def __init__(
+        self,
+        hand,
+        knots: int = 8,
+        max_step: float = 0.08,
+        max_tip_angle: float = 1.2,
+        travel: float = 0.01,
+        pad_use: float = 0.6,
+        tol: float = 1e-5,
+    ) -> None:
+        import casadi as cs
+
+        from planner.control.grasp_kinematics import finger_terms_sx
+
+        t0 = time.perf_counter()
+        self.hand = hand
+        self.N = checks.integer("knots", knots, 2)
+        self.max_step = checks.positive("max_step", max_step, "rad")
+        self.max_tip_angle = checks.in_range("max_tip_angle", max_tip_angle, 0.0, math.pi, "rad")
+        self.travel = checks.positive("travel", travel, "m")
+        pad = hand.params.left.pad_half_width
+        N = self.N
+        nk = 12  # theta, cx, cy, q(6), betaL, betaR, u
+        X = cs.SX.sym("x", nk * (N + 1))
+        P = cs.SX.sym("p", _NP)
+        R, r, mu, margin = P[0], P[1], P[2], P[3]
+        c0, q0, beta0, u0, qm = P[4:6], P[6:12], P[12:14], P[14], P[15]
+        qk = cs.SX.sym("qk", 6)
+        T = finger_terms_sx(hand.model, qk, cs.SX.zeros(6), cs.SX.zeros(4), cs.SX.zeros(2))
+        fk = cs.Function(
+            "fk", [qk], [T["left"]["p"], T["left"]["phi"], T["right"]["p"], T["right"]["phi"]]
+        )
+        g, lbg, ubg = [], [], []
+
+        def add(expr, lo, hi):
+            g.append(expr)
+            lbg.append(lo)
+            ubg.append(hi)
+
+        lim = hand.joint_limits
+        cos_cone = cs.cos(cs.atan(mu) - margin)
+        obj = 0
+        phiL0 = None
+        for k in range(N + 1):
+            v = X[nk * k : nk * (k + 1)]
+            th, c, q, bL, bR, u = v[0], v[1:3], v[3:9], v[9], v[10], v[11]
+            pL, phL, pR, phR = fk(q)
+            nL = cs.vertcat(cs.cos(bL), cs.sin(bL))
+            nR = cs.vertcat(cs.cos(bR), cs.sin(bR))
+            # kinematics: right tip centre, left pad point and orientation
+            dR = pR - (c + (R + r) * nR)
+            add(dR[0], 0, 0)
+            add(dR[1], 0, 0)
+            padp = pL + u * cs.vertcat(cs.cos(phL), cs.sin(phL))
+            dL = padp - (c + R * nL)
+            add(dL[0], 0, 0)
+            add(dL[1], 0, 0)
+            if k == 0:
+                phiL0, bL0, bR0, u_0 = phL, bL, bR, u
+                for i in range(6):
+                    add(q[i] - q0[i], 0, 0)
+                add(th, 0, 0)
+                # the sensed estimate is a prior: the start must be kinematically consistent
+                obj += 1e3 * (cs.sumsqr(c - c0) + 1e-4 * cs.sumsqr(cs.vertcat(bL, bR) - beta0))
+                obj += 1e3 * (u - u0) ** 2
+            else:
+                # pad flat on the object: phi_L - beta_L constant
+                add((phL - bL) - (phiL0 - bL0), 0, 0)
+                # pure rolling, eq. (2.4): R d(beta - theta) + d s_f = 0
+                add(R * ((bL - th) - bL0) - (u - u_0), 0, 0)
+                phR0 = q0[3] + q0[4] + q0[5]
+                add(R * ((bR - th) - bR0) + r * ((bR - phR) - (bR0 - phR0)), 0, 0)
+                vp = X[nk * (k - 1) : nk * k]
+                add(vp[0] - th, 0, self.max_step)  # clockwise, bounded steps
+                obj += 1e-2 * cs.sumsqr(q - vp[3:9]) + 1e2 * cs.sumsqr(c - vp[1:3])
+            # joint limits with a margin (the start is what it is)
+            for i in range(6 if k > 0 else 0):
+                add(q[i] - lim[i, 0] - qm, 0, cs.inf)
+                add(q[i] - lim[i, 1] + qm, -cs.inf, 0)
+            add(u, -pad_use * pad, pad_use * pad)
+            # round contact near the tip axis: angle of (-n_R) in the tip frame vs +y
+            add(cs.cos((bR + math.pi - phR) - math.pi / 2), math.cos(self.max_tip_angle), 1.0)
+            # stability: contact line inside both cones with a margin
+            cL = c + R * nL
+            cR = c + (R + 0.0) * nR
+            d = cR - cL
+            ud = d / cs.sqrt(cs.sumsqr(d) + 1e-12)
+            lo_st = 0 if k > 0 else -cs.inf  # the start is what it is
+            add(cs.dot(-nL, ud) - cos_cone, lo_st, cs.inf)
+            add(cs.dot(nR, ud) - cos_cone, lo_st, cs.inf)
+            add(c[1] - R, 0, cs.inf)  # above the palm
+            add(cs.sumsqr(c - X[1:3]), 0, self.travel**2)
+        obj += X[nk * N]  # theta_N (negative): minimize = rotate as far as possible
+        self._nk = nk
+        self._ng = [int(e.shape[0]) for e in g]
+        G = cs.vertcat(*g)
+        sizes = [int(e.shape[0]) for e in g]
+        self._lbg = np.concatenate([np.full(n, lo) for n, lo in zip(sizes, lbg, strict=True)])
+        self._ubg = np.concatenate([np.full(n, hi) for n, hi in zip(sizes, ubg, strict=True)])
+        opts = {
+            "ipopt.print_level": 0,
+            "print_time": False,
+            "ipopt.sb": "yes",
+            "ipopt.max_iter": 200,
+            "ipopt.tol": tol,
+            "ipopt.mu_strategy": "adaptive",
+            "ipopt.warm_start_init_point": "yes",
+            "ipopt.mu_init": 1e-3,
+            "ipopt.warm_start_bound_push": 1e-9,
+            "ipopt.warm_start_bound_frac": 1e-9,
+            "ipopt.warm_start_slack_bound_frac": 1e-9,
+            "ipopt.warm_start_slack_bound_push": 1e-9,
+            "ipopt.warm_start_mult_bound_push": 1e-9,
+        }
+        problem = {"x": X, "p": P, "f": obj, "g": G}
+        self._solver = cs.nlpsol("rolling", "ipopt", problem, opts)
+        self._last = None
+        self.build_time_s = time.perf_counter() - t0
+
+    def initial_guess(self, q0, centre, beta0, u0) -> np.ndarray:
+        """A guess holding the start configuration at every knot."""
+        v = np.concatenate([[0.0], centre, q0, beta0, [u0]])
+        return np.tile(v, self.N + 1)
+
+    def solve(
+        self,
+        q0,
+        centre,
+        radius: float,
+        tip_radius: float,
+        mu: float,
+        beta0,
+        u0: float,
+        *,
+        margin: float = 0.1,
+        joint_margin: float = 0.05,
+        warm: bool = True,
+    ) -> RollingPlan:
+        """Plan phase 1 from the current configuration.
+
+        Args:
+            q0: (6,) current joint angles [rad].
+            centre: (2,) estimated object centre [m]; radius: estimated radius [m].
+            tip_radius: radius of the round right tip [m].
+            mu: friction coefficient [-]; margin: angular stability margin [rad].
+            beta0: (2,) world polar angles of the left/right contacts [rad].
+            u0: contact position across the left pad [m].
+            joint_margin: distance kept from every joint limit [rad].
+            warm: start from the previous solution (shifted to the new start).
+
+        Returns:
+            the :class:`RollingPlan`.
+
+        A failed solve returns a plan with ``success`` False, no rotation and ``stop``
+        "solver failed" (the executor turns that into an event).
+        """
+        q0 = checks.vector("q0", q0, 6, "rad")
+        centre = checks.vector("centre", centre, 2, "m")
+        beta0 = checks.vector("beta0", beta0, 2, "rad")
+        p = np.concatenate(
+            [[radius, tip_radius, mu, margin], centre, q0, beta0, [u0, joint_margin, 0.0]]
+        )
+        x0 = self.initial_guess(q0, centre, beta0, u0)
+        args = {"x0": x0, "p": p, "lbg": self._lbg, "ubg": self._ubg}
+        if warm and self._last is not None:
+            prev = self._last.reshape(self.N + 1, self._nk).copy()
+            shift = np.concatenate([[0.0], centre, q0, beta0, [u0]]) - prev[0]
+            prev += shift  # same shape of the trajectory, moved to the new start
+            args["x0"] = prev.ravel()
+            args["lam_g0"] = self._lam_g
+            args["lam_x0"] = self._lam_x
+        t0 = time.perf_counter()
+        sol = self._solver(**args)
+        ok = bool(self._solver.stats()["success"])
+        self.iterations = int(self._solver.stats()["iter_count"])
+        dt = time.perf_counter() - t0
+        x = np.asarray(sol["x"]).ravel()
+        if not ok:
+            x = x0
+        else:
+            self._last = x.copy()
+            self._lam_g = np.asarray(sol["lam_g"]).ravel()
+            self._lam_x = np.asarray(sol["lam_x"]).ravel()
+        V = x.reshape(self.N + 1, self._nk)
+        stop = self._binding(np.asarray(sol["lam_g"]).ravel()) if ok else "solver failed"
+        return RollingPlan(
+            theta=V[:, 0].copy(),
+            centre=V[:, 1:3].copy(),
+            q=V[:, 3:9].copy(),
+            beta=V[:, 9:11].copy(),
+            u=V[:, 11].copy(),
+            rotation=float(V[-1, 0]),
+            success=ok,
+            solve_time_s=dt,
+            stop=stop,
+        )
+
+    def _binding(self, lam: np.ndarray) -> str:
+        """Name of the constraint group with the largest multiplier at the last knot."""
+        names = (
+            ["kinematics"] * 4
+            + ["start"] * 0
+            + ["flat pad", "rolling", "rolling", "step"]
+            + ["joint limit"] * 12
+            + ["pad edge", "tip angle", "stability", "stability", "palm", "travel"]
+        )
+        last = lam[-len(names) :]
+        k = int(np.argmax(np.abs(last)))
+        return names[k] if abs(last[k]) > 1e-9 else "none"
+
+
+__all__ = ["RollingNLP", "RollingPlan"]

@@ -1,0 +1,67 @@
+"""Exact contact geometry of catalogue outlines (closest points, candidates)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from planner.geometry import shapes
+from planner.sim.planar.contacts import Pose, candidates
+from planner.sim.planar.outline import closest_point, compile_outline
+
+
+def _brute(profile, p, n=200001):
+    P, _, _ = profile.evaluate(np.linspace(0, profile.length, n))
+    return float(np.min(np.hypot(P[:, 0] - p[0], P[:, 1] - p[1])))
+
+
+@settings(max_examples=40, deadline=None)
+@given(x=st.floats(-0.08, 0.08), y=st.floats(-0.08, 0.08))
+def test_closest_point_on_ellipse_is_exact(x, y):
+    prof = shapes.ellipse(0.04, 0.02)
+    ol = compile_outline(prof)
+    d, qx, qy, nx, ny = closest_point(ol, x, y)
+    # q lies on the ellipse, p = q + d n, and no sampled point is closer
+    assert (qx / 0.04) ** 2 + (qy / 0.02) ** 2 == pytest.approx(1.0, abs=1e-12)
+    assert np.allclose([qx + d * nx, qy + d * ny], [x, y], atol=1e-12)
+    assert abs(d) <= _brute(prof, (x, y)) + 1e-12
+    inside = (x / 0.04) ** 2 + (y / 0.02) ** 2 < 1
+    assert (d < 0) == inside or abs(d) < 1e-12
+
+
+@settings(max_examples=40, deadline=None)
+@given(x=st.floats(-0.05, 0.05), y=st.floats(-0.03, 0.03))
+def test_closest_point_on_rounded_rectangle_is_exact(x, y):
+    prof = shapes.rounded_rectangle(0.04, 0.02, 0.005)
+    d, qx, qy, nx, ny = closest_point(compile_outline(prof), x, y)
+    assert np.allclose([qx + d * nx, qy + d * ny], [x, y], atol=1e-12)
+    assert abs(abs(d) - _brute(prof, (x, y))) <= 2e-9  # the brute force's own sampling error
+
+
+def test_candidates_closed_forms():
+    disc = compile_outline(shapes.circle(0.05))
+    a = 0.3
+    plane = compile_outline(shapes.plane(a, 0.5))
+    c = candidates(disc, Pose(0.0, 0.049, 0.0), plane, Pose(0.0, 0.0, 0.0), 0.01)
+    assert len(c) == 1
+    assert c[0][0] == pytest.approx(0.049 * math.cos(a) - 0.05, abs=1e-15)
+    assert np.allclose(c[0][5:7], [-math.sin(a), math.cos(a)])
+    box = compile_outline(shapes.rounded_rectangle(0.04, 0.02))
+    flat = compile_outline(shapes.plane(0.0, 0.5))
+    c = candidates(box, Pose(0.0, 0.0101, 0.0), flat, Pose(0.0, 0.0, 0.0), 0.01)
+    assert len(c) == 2 and all(abs(k[0] - 1e-4) < 1e-15 for k in c)  # the two corners
+    ell = compile_outline(shapes.ellipse(0.04, 0.02))
+    th = 0.3
+    c = candidates(ell, Pose(0.0, 0.0201, th), flat, Pose(0.0, 0.0, 0.0), 0.01)
+    support = math.sqrt((0.04 * math.sin(th)) ** 2 + (0.02 * math.cos(th)) ** 2)
+    assert len(c) == 1 and c[0][0] == pytest.approx(0.0201 - support, abs=1e-14)
+    # two ellipses stacked: gap between the tips of their minor axes
+    c = candidates(ell, Pose(0.0, 0.0401, 0.0), ell, Pose(0.0, 0.0, 0.0), 0.01)
+    assert len(c) == 1 and c[0][0] == pytest.approx(1e-4, abs=1e-14)
+    # disc in a concave arc fillet is found from the disc's side
+    far = candidates(disc, Pose(1.0, 1.0, 0.0), flat, Pose(0.0, 0.0, 0.0), 0.01)
+    assert far == []

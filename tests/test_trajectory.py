@@ -1,0 +1,109 @@
+"""Tests of planner.trajectory: the rolling NLP (eqs. 2.3-2.4) and the startup splines."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from planner.errors import InvalidParameter
+from planner.trajectory import ForceRamp, QuinticSpline, RollingNLP
+from robots.planar_hand import PlanarHand
+
+HAND = PlanarHand()
+R, r = 0.05, 0.025
+
+
+def _start(bl_deg=145.0, br_deg=15.0):
+    from planner.exploration.planar.heuristics import best_margin_ik, pad_angle
+
+    c = np.array([0.0, R])
+    bl, br = math.radians(bl_deg), math.radians(br_deg)
+    nL = np.array([math.cos(bl), math.sin(bl)])
+    nR = np.array([math.cos(br), math.sin(br)])
+    qL = HAND.inverse_kinematics("left", c + R * nL, angle=pad_angle(bl, -2.0))
+    qR = best_margin_ik(HAND, "right", c + (R + r) * nR, around=br + math.pi / 2)
+    return np.r_[qL, qR], c, np.array([bl, br])
+
+
+@pytest.fixture(scope="module")
+def nlp():
+    return RollingNLP(HAND, knots=6)
+
+
+def test_plan_rotates_clockwise_with_pure_rolling(nlp):
+    q0, c, beta = _start()
+    plan = nlp.solve(q0, c, R, r, 0.8, beta, 0.0, warm=False)
+    assert plan.success
+    assert plan.rotation < -math.radians(3)
+    # eq. (2.4): equal arclengths on the object and on each fingertip
+    obj_L = R * ((plan.beta[:, 0] - plan.theta) - plan.beta[0, 0])
+    np.testing.assert_allclose(obj_L, plan.u - plan.u[0], atol=1e-7)
+    phiR = plan.q[:, 3:6].sum(axis=1)
+    obj_R = R * ((plan.beta[:, 1] - plan.theta) - plan.beta[0, 1])
+    tip_R = r * ((plan.beta[:, 1] - phiR) - (plan.beta[0, 1] - phiR[0]))
+    np.testing.assert_allclose(obj_R + tip_R, 0.0, atol=1e-7)
+    # finger kinematics: the round tip's centre at distance R + r from the object centre
+    for k in range(len(plan.theta)):
+        tip = HAND.fingertip_pose(plan.q[k], "right").position
+        assert np.linalg.norm(tip - plan.centre[k]) == pytest.approx(R + r, abs=1e-6)  # IPOPT tol
+        assert HAND.within_limits(plan.q[k], tol=1e-6)
+    assert np.all(np.diff(plan.theta) <= 1e-9)  # monotone clockwise
+
+
+def test_warm_start_reproduces_the_plan(nlp):
+    q0, c, beta = _start()
+    cold = nlp.solve(q0, c, R, r, 0.8, beta, 0.0, warm=False)
+    warm = nlp.solve(q0, c, R, r, 0.8, beta, 0.0, warm=True)
+    assert warm.success
+    assert warm.rotation == pytest.approx(cold.rotation, abs=1e-4)
+
+
+def test_lower_friction_rotates_less(nlp):
+    q0, c, beta = _start()
+    hi = nlp.solve(q0, c, R, r, 1.0, beta, 0.0, warm=False)
+    lo = nlp.solve(q0, c, R, r, 0.45, beta, 0.0, warm=False)
+    assert hi.success
+    assert (not lo.success) or lo.rotation >= hi.rotation - 1e-6
+
+
+def test_bad_inputs():
+    with pytest.raises(InvalidParameter, match="knots"):
+        RollingNLP(HAND, knots=1)
+    with pytest.raises(InvalidParameter, match="duration"):
+        QuinticSpline.between([0.0], [1.0], 0.0)
+    with pytest.raises(InvalidParameter, match="duration"):
+        ForceRamp(0.0, 1.0, -1.0)
+
+
+@settings(max_examples=40, deadline=None, derandomize=True)
+@given(
+    st.floats(-1, 1), st.floats(-1, 1), st.floats(-2, 2), st.floats(-2, 2),
+    st.floats(-5, 5), st.floats(-5, 5), st.floats(0.05, 3.0),
+)  # fmt: skip
+def test_quintic_meets_its_boundary_conditions(x0, x1, v0, v1, a0, a1, T):
+    sp = QuinticSpline.between([x0], [x1], T, v0=[v0], v1=[v1], a0=[a0], a1=[a1])
+    p, v, a = sp(0.0)
+    assert (p[0], v[0], a[0]) == pytest.approx((x0, v0, a0), abs=1e-9)
+    p, v, a = sp(T)
+    assert (p[0], v[0], a[0]) == pytest.approx((x1, v1, a1), abs=1e-6 * (1 + abs(a1)))
+    # velocity is the derivative of position (finite differences at an interior time)
+    t, h = 0.37 * T, 1e-6
+    fd = (sp(t + h)[0][0] - sp(t - h)[0][0]) / (2 * h)
+    assert sp(t)[1][0] == pytest.approx(fd, rel=1e-5, abs=1e-6)
+
+
+def test_force_ramp_is_smooth_and_bounded():
+    ramp = ForceRamp(0.2, 1.0, 0.1)
+    ts = np.linspace(-0.05, 0.15, 401)
+    f = np.array([ramp(t) for t in ts])
+    assert f[0] == pytest.approx(0.2) and f[-1] == pytest.approx(1.0)
+    assert np.all(np.diff(f) >= -1e-12)  # monotone
+    assert ramp(0.05) == pytest.approx(0.6)  # symmetric quintic step
+    # zero slope at both ends (C1; the quintic step is C2)
+    h = 1e-6
+    assert (ramp(h) - ramp(0.0)) / h == pytest.approx(0.0, abs=1e-3)
+    assert (ramp(0.1) - ramp(0.1 - h)) / h == pytest.approx(0.0, abs=1e-3)

@@ -1,0 +1,138 @@
+"""Type identification (thesis §4.4.1, Fig. 4.7 extended) on traces without the simulator."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from planner.exploration.surface.detection_adapter import analyse_path, collapse_pattern
+from planner.exploration.surface.identify import (
+    KINDS,
+    Crossing,
+    crossing_axis,
+    evidence,
+    flow_chart_next,
+    identify,
+)
+from planner.exploration.surface.kinematic import ball_trace, line_points
+from planner.exploration.surface.plates import plate_height, random_plate
+from planner.exploration.surface.raster_match import raster_identify
+from planner.geometry import shapes
+from planner.geometry.measurement import simulate_trace
+
+R = 0.008
+
+
+def _strip(profile, sigma=0.0, seed=0):
+    """A 2-D cross-section trace embedded in the plate frame: (u, 0, w)."""
+    rng = np.random.default_rng(seed)
+    tr = simulate_trace(profile, R, spacing=1e-4, center_sigma=sigma, rng=rng)
+    c = tr.centers
+    centers = np.column_stack([c[:, 0], np.zeros(len(c)), c[:, 1]])
+    n = tr.true_normals
+    normals = np.column_stack([n[:, 0], np.zeros(len(n)), n[:, 1]])
+    return centers, normals
+
+
+ACROSS = {
+    "ridge": lambda h: shapes.ridge(2 * h, h, 0.2 * h, length=0.06),
+    "ravine": lambda h: shapes.ravine(6 * h, h, 0.2 * h, length=0.06),
+    "bump": lambda h: shapes.bump(h, 1.2 * h, "gaussian", length=0.06),
+    "pit": lambda h: shapes.pit(h, 6 * h, length=0.06),
+    "step": lambda h: shapes.step(h, length=0.06),
+    "cusp": lambda h: shapes.cusp(np.deg2rad(140), length=0.06),
+}
+
+
+@pytest.mark.parametrize("kind", KINDS)
+@pytest.mark.parametrize("height", [2e-3, 4e-3])
+@pytest.mark.parametrize("sigma", [0.0, 2e-5])
+def test_cross_sections_identify_every_kind(kind, height, sigma):
+    """Across the cross-section, then along the axis (the bump's and pit's profile again, the
+    others' a plane), as the extended flow chart moves the finger."""
+    c1, _ = _strip(ACROSS[kind](height), sigma, 1)
+    along = ACROSS[kind](height) if kind in ("bump", "pit") else shapes.plane(length=0.06)
+    c2, _ = _strip(along, sigma, 2)
+    e1, a1, _ = evidence(c1, np.tile([0, 0, 1.0], (len(c1), 1)), R, "across")
+    e2, _, _ = evidence(c2, np.tile([0, 0, 1.0], (len(c2), 1)), R, "along")
+    assert a1.features, "the crossing must see curvature features"
+    dec = identify([e1, e2])
+    assert dec.kind == kind, dec.path
+    assert dec.confidence > 0.5
+    assert sum(dec.scores.values()) == pytest.approx(1.0)
+
+
+def test_fig_4_7_patterns_on_one_crossing():
+    """Fig. 4.7's own branches: cusp one convex, step concave-convex, ridge -+-."""
+    pats = {}
+    for kind in ("cusp", "step", "ridge"):
+        c, _ = _strip(ACROSS[kind](3e-3))
+        pats[kind] = analyse_path(c, R).pattern
+    assert pats == {"cusp": "+", "step": "-+", "ridge": "-+-"}
+
+
+def test_nothing_seen_is_unknown_and_flow_chart_order():
+    c, _ = _strip(shapes.plane(length=0.06))
+    e, a, _ = evidence(c, np.tile([0, 0, 1.0], (len(c), 1)), R)
+    assert a.pattern == ""
+    assert identify([e]).kind == "unknown"
+    assert flow_chart_next([]) == "across"
+    assert flow_chart_next([Crossing("-+-", "across")]) == "along"
+    assert flow_chart_next([Crossing("-+-", "across"), Crossing("", "along")]) is None
+
+
+@settings(max_examples=30, deadline=None, derandomize=True)
+@given(st.lists(st.sampled_from([-1, 1]), min_size=0, max_size=8))
+def test_collapse_pattern_has_no_repeated_signs(signs):
+    p = collapse_pattern(signs)
+    assert all(a != b for a, b in zip(p, p[1:], strict=False))
+    assert set(p) <= {"+", "-"} and (len(p) > 0) == (len(signs) > 0)
+
+
+@settings(max_examples=40, deadline=None, derandomize=True)
+@given(st.floats(0, np.pi), st.floats(-1.2, 1.2))
+def test_axis_from_normals_of_an_oblique_ridge_crossing(psi, tilt):
+    """The tilt of the normals on a ridge's flanks points across it, whatever the crossing."""
+    across = np.array([np.cos(psi), np.sin(psi)])
+    d = np.array([np.cos(psi + tilt), np.sin(psi + tilt)])
+    s = np.linspace(-1, 1, 41)
+    g = 0.3 * np.sign(-s)[:, None] * across[None] * np.abs(np.sin(3 * s))[:, None]
+    normals = np.column_stack([g, np.sqrt(1 - (g**2).sum(1))])
+    est = crossing_axis(normals, d)
+    assert abs(abs(est @ across) - 1.0) < 1e-9
+
+
+@pytest.mark.parametrize(
+    ("kind", "size", "angle"),
+    [("bump", 3e-3, 0.4), ("pit", 3e-3, 0.0), ("ridge", 2e-3, 1.0), ("step", 4e-3, 2.2)],
+)
+def test_plate_crossings_with_the_ball_identify(kind, size, angle):
+    """On the simulator's plate geometry: search crossing at an angle, then across and along."""
+    rng = np.random.default_rng(5)
+    H = plate_height(random_plate(rng, kind, size, angle))
+    d = np.array([np.cos(angle + 0.5), np.sin(angle + 0.5)])
+    tr = ball_trace(H, line_points(-0.022 * d, 0.022 * d, 1e-4), R, noise=2e-5, rng=rng)
+    e0, a0, across = evidence(tr.centers, tr.normals, R, "search")
+    idx = [f.index for f in a0.features]
+    mid = tr.centers[int(round(0.5 * (min(idx) + max(idx)))), :2]
+    axis = np.array([-across[1], across[0]])
+    crossings = [e0]
+    for role, v in (("across", across), ("along", axis)):
+        t = ball_trace(H, line_points(mid - 0.02 * v, mid + 0.02 * v, 1e-4), R, noise=2e-5, rng=rng)
+        crossings.append(evidence(t.centers, t.normals, R, role)[0])
+    dec = identify(crossings)
+    assert dec.kind == kind, dec.path
+
+
+def test_raster_pattern_matching_ridge_and_bump():
+    rng = np.random.default_rng(2)
+    for kind, size in (("ridge", 3e-3), ("bump", 1e-3)):
+        H = plate_height(random_plate(rng, kind, size, 0.5))
+        lines = [
+            ball_trace(H, line_points((-0.02, y), (0.02, y), 1.5e-4), R).centers
+            for y in np.arange(-0.02, 0.0201, 0.004)
+        ]
+        found = raster_identify(lines, R)
+        assert found and found[0].decision.kind == kind
