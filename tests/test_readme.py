@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import re
 import shlex
+import os
 import subprocess
 import sys
 
@@ -46,9 +47,9 @@ def test_readme_python_example(code, tmp_path):
     script = tmp_path / "example.py"
     # examples that write run directories write them inside the temporary folder
     script.write_text(code.replace('"runs/', f'"{tmp_path}/runs/'))
+    env = {**os.environ, "MPLBACKEND": "Agg", "PYTHONPATH": str(ROOT)}  # test this checkout
     proc = subprocess.run([sys.executable, str(script)], cwd=ROOT, capture_output=True,
-                          text=True, timeout=300, env={**__import__("os").environ, "MPLBACKEND": "Agg",
-                                                       "PYTHONPATH": str(ROOT)})
+                          text=True, timeout=300, env=env)
     assert proc.returncode == 0, proc.stderr[-3000:]
     assert proc.stdout.strip(), "an example prints what it shows"
 
