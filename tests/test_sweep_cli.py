@@ -28,7 +28,7 @@ def test_bad_sweep_file_exits_2_and_writes_nothing(cli, tmp_path):
     path = write(
         tmp_path,
         """\
-        base: {kind: detect, tip_radius: 0.01, simulation: {shape: wire}}
+        base: {kind: detect, tip_radius: 0.01, simulation: {profile: {type: wire, diameter: 0.00065}}}
         grid:
           tip_radius: [0.01]
         seeds: -1
@@ -48,17 +48,17 @@ def test_one_bad_combination_exits_2_naming_it(cli, tmp_path):
     path = write(
         tmp_path,
         """\
-        base: {kind: detect, tip_radius: 0.01, simulation: {shape: wire}}
+        base: {kind: detect, tip_radius: 0.01, simulation: {profile: {type: wire, diameter: 0.00065}}}
         grid:
-          simulation.angle_deg: [0, 45, 120]
+          simulation.profile.angle_deg: [0, 45, 120]
         """,
     )
     out = tmp_path / "out"
     proc = cli("sweep", str(path), "--out", str(out))
     assert proc.returncode == 2
     (line,) = proc.stderr.strip().splitlines()
-    assert line.startswith(f"{path}:3: grid.simulation.angle_deg: combination ")
-    assert "simulation.angle_deg=120" in line and "less than or equal to 90" in line
+    assert line.startswith(f"{path}:3: grid.simulation.profile.angle_deg: combination ")
+    assert "simulation.profile.angle_deg=120" in line and "less than or equal to 89" in line
     assert not out.exists()
 
 
@@ -131,7 +131,7 @@ def test_ctrl_c_stops_cleanly_and_says_how_to_resume(cli, tmp_path):
           kind: detect
           tip_radius: 0.01
           algorithms: [3]
-          simulation: {shape: wire, length: 0.005, spacing: 1.0e-4}
+          simulation: {profile: {type: wire, diameter: 0.00065, length: 0.005}, spacing: 1.0e-4}
         seeds: 40
         """,
     )

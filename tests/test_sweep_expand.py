@@ -20,7 +20,7 @@ DETECT = {
     "kind": "detect",
     "tip_radius": 0.01,
     "algorithms": [3],
-    "simulation": {"shape": "wire", "length": 0.005, "spacing": 1.0e-4},
+    "simulation": {"profile": {"type": "wire", "diameter": 0.00065, "length": 0.005}, "spacing": 1.0e-4},
 }
 
 
@@ -40,7 +40,7 @@ def issues(exc_info) -> list[str]:
 
 def test_grid_random_seeds_is_the_product():
     s = sweep(
-        grid={"tip_radius": [0.005, 0.01, 0.02], "simulation.shape": ["wire", "step"]},
+        grid={"tip_radius": [0.005, 0.01, 0.02], "simulation.profile.angle_deg": [0.0, 45.0]},
         random={
             "samples": 4,
             "seed": 3,
@@ -54,8 +54,8 @@ def test_grid_random_seeds_is_the_product():
     )
     runs = plan(s)
     assert len(runs) == 3 * 2 * 4 * 2
-    combos = {(r.params["tip_radius"], r.params["simulation.shape"]) for r in runs}
-    assert combos == set(itertools.product([0.005, 0.01, 0.02], ["wire", "step"]))
+    combos = {(r.params["tip_radius"], r.params["simulation.profile.angle_deg"]) for r in runs}
+    assert combos == set(itertools.product([0.005, 0.01, 0.02], [0.0, 45.0]))
     assert {r.seed for r in runs} == {0, 1}
     for r in runs:  # the values reach the validated scenario through the --set key paths
         sim = r.config.simulation
@@ -152,10 +152,10 @@ def test_every_combination_is_validated_before_running(tmp_path):
         base:
           kind: detect
           tip_radius: 0.01
-          simulation: {shape: wire}
+          simulation: {profile: {type: wire, diameter: 0.00065}}
         grid:
           tip_radius: [0.005, -0.01, 2.0]
-          simulation.size_mm: [0.65]
+          simulation.profile.diameter: [0.00065]
         seeds: 2
         """,
     )
@@ -165,7 +165,7 @@ def test_every_combination_is_validated_before_running(tmp_path):
     # two bad values x two seeds, each named, at the line of the grid key
     assert len(lines) == 4, lines
     assert all(line.startswith(f"{path}:6: grid.tip_radius: combination (") for line in lines)
-    assert any("tip_radius=-0.01, simulation.size_mm=0.65, seed=1" in line for line in lines)
+    assert any("tip_radius=-0.01, simulation.profile.diameter=0.00065, seed=1" in line for line in lines)
     assert any("tip_radius=2.0" in line and "less than or equal to 1" in line for line in lines)
 
 
@@ -174,21 +174,24 @@ def test_a_bad_combination_in_the_base_file_is_located_there(tmp_path):
         tmp_path,
         """\
         kind: detect
-        tip_radius: 0.01
+        tip_radius: 0.002
+        multiscale_radii: [0.004]
         simulation:
-          shape: pit
-          size_mm: 1.0
+          profile: {type: wire, diameter: 0.00065}
+          spacing: 1.0e-4
         """,
         "base.yaml",
     )
-    path = write(tmp_path, "base: base.yaml\ngrid:\n  simulation.width_mm: [4.0, 1.0]\n")
+    path = write(tmp_path, "base: base.yaml\ngrid:\n  tip_radius: [0.002, 0.01]\n")
     assert load_sweep(path).base_dir == tmp_path
     with pytest.raises(ScenarioError) as exc:
         plan(load_sweep(path))
-    (line,) = issues(exc)
-    assert line.startswith(f"{base}:")
-    assert "pit needs 0 < size_mm <= width_mm / 2" in line
-    assert "(combination simulation.width_mm=1.0)" in line
+    lines = issues(exc)
+    assert len(lines) == 1, lines
+    (line,) = lines
+    assert line.startswith(f"{base}:")  # a rule of the base file, reported in the base file
+    assert "multiscale_radii [0.004] must each be in [tip_radius, 1]" in line
+    assert "(combination tip_radius=0.01)" in line
 
 
 @pytest.mark.parametrize(
@@ -246,7 +249,7 @@ def test_quick_variant_replaces_its_keys(tmp_path):
     path = write(
         tmp_path,
         """\
-        base: {kind: detect, tip_radius: 0.01, simulation: {shape: wire}}
+        base: {kind: detect, tip_radius: 0.01, simulation: {profile: {type: wire, diameter: 0.00065}}}
         grid: {tip_radius: [0.005, 0.01, 0.02]}
         seeds: 3
         quick:

@@ -18,11 +18,11 @@ DETECT = {
     "kind": "detect",
     "tip_radius": 0.01,
     "algorithms": [3],
-    "simulation": {"shape": "wire", "length": 0.005, "spacing": 1.0e-4},
+    "simulation": {"profile": {"type": "wire", "diameter": 0.00065, "length": 0.005}, "spacing": 1.0e-4},
 }
 GRASP = {
     "kind": "grasp_map",
-    "object": {"shape": "circle", "radius": 0.03},
+    "object": {"type": "circle", "radius": 0.03},
     "resolution": 60,
     "gait_resolution": 24,
 }

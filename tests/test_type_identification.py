@@ -31,7 +31,7 @@ def _strip(profile, sigma=0.0, seed=0):
     tr = simulate_trace(profile, R, spacing=1e-4, center_sigma=sigma, rng=rng)
     c = tr.centers
     centers = np.column_stack([c[:, 0], np.zeros(len(c)), c[:, 1]])
-    n = tr.true_normals
+    n = tr.truth.normals
     normals = np.column_stack([n[:, 0], np.zeros(len(n)), n[:, 1]])
     return centers, normals
 

@@ -153,6 +153,6 @@ def _reach(plate, tip_radius, region, goal, normal_force) -> None:
 
 def run(config: Config, ctx):
     """Explore the plate; metrics, arrays, events and figures of the run."""
-    from planner.exploration.surface.report import report
+    from planner.kinds._explore_report import report
 
     return report(config, ctx)
