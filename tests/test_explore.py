@@ -12,8 +12,8 @@ from planner.errors import InvalidParameter
 from planner.exploration import explore_surface
 from planner.exploration.surface.metrics import exploration_metrics
 from planner.exploration.surface.plates import truth_features
-from planner.kinds._explore_report import spacing_warnings
 from planner.exploration.surface.strategies import random_walk, raster
+from planner.kinds._explore_report import spacing_warnings
 from planner.sim.spatial.plate import Plate, PlateFeature
 
 R = 0.008

@@ -48,8 +48,14 @@ def test_readme_python_example(code, tmp_path):
     # examples that write run directories write them inside the temporary folder
     script.write_text(code.replace('"runs/', f'"{tmp_path}/runs/'))
     env = {**os.environ, "MPLBACKEND": "Agg", "PYTHONPATH": str(ROOT)}  # test this checkout
-    proc = subprocess.run([sys.executable, str(script)], cwd=ROOT, capture_output=True,
-                          text=True, timeout=300, env=env)
+    proc = subprocess.run(
+        [sys.executable, str(script)],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        env=env,
+    )
     assert proc.returncode == 0, proc.stderr[-3000:]
     assert proc.stdout.strip(), "an example prints what it shows"
 

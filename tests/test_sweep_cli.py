@@ -28,7 +28,7 @@ def test_bad_sweep_file_exits_2_and_writes_nothing(cli, tmp_path):
     path = write(
         tmp_path,
         """\
-        base: {kind: detect, tip_radius: 0.01, simulation: {profile: {type: wire, diameter: 0.00065}}}
+        base: {kind: detect, tip_radius: 0.01, simulation: {profile: {type: wire, diameter: 7e-4}}}
         grid:
           tip_radius: [0.01]
         seeds: -1
@@ -48,7 +48,7 @@ def test_one_bad_combination_exits_2_naming_it(cli, tmp_path):
     path = write(
         tmp_path,
         """\
-        base: {kind: detect, tip_radius: 0.01, simulation: {profile: {type: wire, diameter: 0.00065}}}
+        base: {kind: detect, tip_radius: 0.01, simulation: {profile: {type: wire, diameter: 7e-4}}}
         grid:
           simulation.profile.angle_deg: [0, 45, 120]
         """,

@@ -20,7 +20,10 @@ DETECT = {
     "kind": "detect",
     "tip_radius": 0.01,
     "algorithms": [3],
-    "simulation": {"profile": {"type": "wire", "diameter": 0.00065, "length": 0.005}, "spacing": 1.0e-4},
+    "simulation": {
+        "profile": {"type": "wire", "diameter": 0.00065, "length": 0.005},
+        "spacing": 1.0e-4,
+    },
 }
 
 
@@ -165,7 +168,8 @@ def test_every_combination_is_validated_before_running(tmp_path):
     # two bad values x two seeds, each named, at the line of the grid key
     assert len(lines) == 4, lines
     assert all(line.startswith(f"{path}:6: grid.tip_radius: combination (") for line in lines)
-    assert any("tip_radius=-0.01, simulation.profile.diameter=0.00065, seed=1" in line for line in lines)
+    named = "tip_radius=-0.01, simulation.profile.diameter=0.00065, seed=1"
+    assert any(named in line for line in lines)
     assert any("tip_radius=2.0" in line and "less than or equal to 1" in line for line in lines)
 
 
@@ -249,7 +253,7 @@ def test_quick_variant_replaces_its_keys(tmp_path):
     path = write(
         tmp_path,
         """\
-        base: {kind: detect, tip_radius: 0.01, simulation: {profile: {type: wire, diameter: 0.00065}}}
+        base: {kind: detect, tip_radius: 0.01, simulation: {profile: {type: wire, diameter: 7e-4}}}
         grid: {tip_radius: [0.005, 0.01, 0.02]}
         seeds: 3
         quick:

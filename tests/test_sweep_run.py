@@ -18,7 +18,10 @@ DETECT = {
     "kind": "detect",
     "tip_radius": 0.01,
     "algorithms": [3],
-    "simulation": {"profile": {"type": "wire", "diameter": 0.00065, "length": 0.005}, "spacing": 1.0e-4},
+    "simulation": {
+        "profile": {"type": "wire", "diameter": 0.00065, "length": 0.005},
+        "spacing": 1.0e-4,
+    },
 }
 GRASP = {
     "kind": "grasp_map",
