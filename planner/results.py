@@ -160,6 +160,18 @@ def _save_figures(
     return files
 
 
+def replace_directory(tmp: Path, target: Path) -> None:
+    """Move the complete folder ``tmp`` to ``target`` by renames, replacing a previous
+    ``target`` (moved aside first, then removed), so ``target`` is never half-written."""
+    old = None
+    if target.exists():
+        old = target.with_name(f".{target.name}.old-{os.getpid()}")
+        os.replace(target, old)
+    os.replace(tmp, target)
+    if old is not None:
+        shutil.rmtree(old, ignore_errors=True)
+
+
 def write_run_directory(
     out_dir: Path,
     result: RunResult,
@@ -223,17 +235,18 @@ def write_run_directory(
         }
         with open(tmp / "result.json", "w") as fh:
             json.dump(doc, fh, indent=2, allow_nan=False)
-        old = None
-        if out_dir.exists():
-            old = out_dir.with_name(f".{out_dir.name}.old-{os.getpid()}")
-            os.replace(out_dir, old)
-        os.replace(tmp, out_dir)
-        if old is not None:
-            shutil.rmtree(old, ignore_errors=True)
+        replace_directory(tmp, out_dir)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
     return out_dir
 
 
-__all__ = ["Event", "RunResult", "package_versions", "to_jsonable", "write_run_directory"]
+__all__ = [
+    "Event",
+    "RunResult",
+    "package_versions",
+    "replace_directory",
+    "to_jsonable",
+    "write_run_directory",
+]

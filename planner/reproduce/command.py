@@ -9,7 +9,6 @@ reproduced or explained, 1 otherwise, 2 for bad options (an unknown claim id).
 from __future__ import annotations
 
 import argparse
-import os
 import shutil
 import sys
 import tempfile
@@ -48,22 +47,13 @@ def _refuse_foreign(out: Path) -> None:
         )
 
 
-def _install(tmp: Path, out: Path) -> None:
-    old = None
-    if out.exists():
-        old = out.with_name(f".{out.name}.old-{os.getpid()}")
-        os.replace(out, old)
-    os.replace(tmp, out)
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
-
-
 def run(args: argparse.Namespace) -> int:
     """Run ``hapex reproduce``; returns the exit code."""
     from planner.errors import InvalidParameter
     from planner.reproduce.execute import run_claims
     from planner.reproduce.registry import select
     from planner.reproduce.report import exit_code, write_claims_json, write_report
+    from planner.results import replace_directory
 
     if args.jobs < 1:
         print(f"--jobs: {args.jobs}: must be >= 1", file=sys.stderr)
@@ -99,7 +89,7 @@ def run(args: argparse.Namespace) -> int:
         )
         write_report(results, tmp / "report.md", quick=args.quick)
         write_claims_json(results, tmp / "claims.json", quick=args.quick)
-        _install(tmp, out)
+        replace_directory(tmp, out)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise

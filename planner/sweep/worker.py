@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import io
 import json
-import os
 import shutil
 import socket
 import tarfile
@@ -130,19 +129,15 @@ def _extract(tar: tarfile.TarFile, dest: Path) -> None:
 def install(archive: bytes, run_dir: Path) -> Path:
     """Unpack a run directory at ``run_dir`` atomically (temporary sibling, then rename);
     a previous run directory there (a failed run being retried) is replaced."""
+    from planner.results import replace_directory
+
     run_dir = Path(run_dir)
     run_dir.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{run_dir.name}.tmp-", dir=run_dir.parent))
     try:
         with tarfile.open(fileobj=io.BytesIO(archive), mode="r") as tar:
             _extract(tar, tmp)
-        old = None
-        if run_dir.exists():
-            old = run_dir.with_name(f".{run_dir.name}.old-{os.getpid()}")
-            os.replace(run_dir, old)
-        os.replace(tmp, run_dir)
-        if old is not None:
-            shutil.rmtree(old, ignore_errors=True)
+        replace_directory(tmp, run_dir)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
