@@ -16,7 +16,11 @@ from planner.geometry.profiles import Profile
 from planner.sim.planar import scenes
 from planner.sim.planar.bodies import FIXED, FREE
 from planner.sim.planar.contacts import Pose, candidates
-from planner.sim.planar.geometry_kernel import contacts_kernel, find_contacts_packed
+from planner.sim.planar.geometry_kernel import (
+    ContactSearch,
+    contacts_kernel,
+    find_contacts_packed,
+)
 from planner.sim.planar.outline import compile_outline
 from planner.sim.planar.packed_outlines import (
     QUAD,
@@ -132,9 +136,19 @@ def test_a_many_cornered_polygon_on_a_plane_grows_the_output():
     ring = np.column_stack([np.cos(2 * np.pi * k / 48), np.sin(2 * np.pi * k / 48)]) * 0.03
     outlines = (compile_outline(shapes.polygon(ring)), OUTLINES["plane"])
     poses = np.array([[0.0, 0.0305, 0.1], [0.0, 0.0, -0.2]])
-    got = find_contacts_packed(PackedOutlines.from_outlines(outlines), poses, 0.05)
-    assert len(got) > 16
-    _assert_same(got, _reference(outlines, poses, [(0, 1)], [0.05]))
+    packed = PackedOutlines.from_outlines(outlines)
+    got = find_contacts_packed(packed, poses, 0.05)
+    assert len(got) > 16  # beyond contacts_kernel's first buffer
+    ref = _reference(outlines, poses, [(0, 1)], [0.05])
+    _assert_same(got, ref)
+    rows, counts = contacts_kernel(packed.F, packed.I, poses, packed.pairs, np.array([0.05]))
+    assert counts.tolist() == [len(ref)]
+    _assert_same(rows, ref)
+    search = ContactSearch(packed, capacity=1)  # grows on the first call
+    first = search(poses, 0.05)
+    _assert_same(first, ref)
+    search(poses + [0.0, 0.1, 0.0], 0.05)  # a second call leaves the first result alone
+    _assert_same(first, ref)
 
 
 def _world_poses(world) -> np.ndarray:

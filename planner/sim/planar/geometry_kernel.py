@@ -39,7 +39,7 @@ except ImportError:  # pragma: no cover - exercised only without numba
         return lambda f: f
 
 
-__all__ = ["contacts_kernel", "find_contacts_packed"]
+__all__ = ["ContactSearch", "contacts_into", "contacts_kernel", "find_contacts_packed"]
 
 TWO_PI = 2.0 * math.pi
 DUPLICATE = 4e-9  # candidates whose touching points differ by less (L1, 4 coordinates) merge [m]
@@ -109,11 +109,16 @@ def closest(F, I, b, px, py):  # noqa: E741
         r = o + 6 * k
         cx, cy, rad, phi0, sweep = F[r], F[r + 1], F[r + 2], F[r + 3], F[r + 4]
         sgn = 1.0 if F[r + 5] != 0.0 else -1.0
-        phi = math.atan2(py - cy, px - cx)
-        inside = _arc_contains(phi0, sweep, phi)
+        dx, dy = px - cx, py - cy
+        full = abs(sweep) >= TWO_PI - 1e-15  # a full circle: no angle needed
+        inside = full or _arc_contains(phi0, sweep, math.atan2(dy, dx))
         for e in range(1 if inside else 2):
-            ang = phi if inside else (phi0 if e == 0 else phi0 + sweep)
-            ux, uy = math.cos(ang), math.sin(ang)
+            if inside:  # the radial direction (cos, sin of atan2(dy, dx), to round-off)
+                dist = math.sqrt(dx * dx + dy * dy)
+                ux, uy = (dx / dist, dy / dist) if dist > 0.0 else (1.0, 0.0)
+            else:
+                ang = phi0 if e == 0 else phi0 + sweep
+                ux, uy = math.cos(ang), math.sin(ang)
             qx, qy = cx + rad * ux, cy + rad * uy
             d2 = (px - qx) ** 2 + (py - qy) ** 2
             nx, ny = sgn * ux, sgn * uy
@@ -144,16 +149,14 @@ def _point_vs(F, I, b, P, px, py):
 
 @njit(cache=True)
 def _push(out, n, i, j, gap, ax, ay, bx, by, nx, ny, k, flip):
-    if n == out.shape[0]:
-        grown = np.empty((2 * n, 10))
-        grown[:n] = out
-        out = grown
+    """Write row n when it fits (the caller counts it anyway, to size a larger buffer)."""
+    if n >= out.shape[0]:
+        return
     if flip:
         ax, ay, bx, by, nx, ny = bx, by, ax, ay, -nx, -ny
     row = out[n]
     row[0], row[1], row[2], row[3], row[4] = i, j, gap, ax, ay
     row[5], row[6], row[7], row[8], row[9] = bx, by, nx, ny, k
-    return out
 
 
 @njit(cache=True)
@@ -163,9 +166,9 @@ def _corners_vs(F, I, a, Pa, b, Pb, margin, flip, out, n, i, j):  # noqa: E741
         wx, wy = _to_world(Pa, F[o + 2 * k], F[o + 2 * k + 1])
         d, qx, qy, nx, ny = _point_vs(F, I, b, Pb, wx, wy)
         if d < margin:
-            out = _push(out, n, i, j, d, wx, wy, qx, qy, nx, ny, math.inf, flip)
+            _push(out, n, i, j, d, wx, wy, qx, qy, nx, ny, math.inf, flip)
             n += 1
-    return out, n
+    return n
 
 
 @njit(cache=True)
@@ -182,13 +185,12 @@ def _arcs_vs(F, I, a, Pa, b, Pb, margin, flip, out, n, i, j):  # noqa: E741
         if gap >= margin:
             continue
         lx, ly = _unrotate(Pa, -nx, -ny)
-        if not _arc_contains(F[r + 3], F[r + 4], math.atan2(ly, lx)):
+        full = abs(F[r + 4]) >= TWO_PI - 1e-15
+        if not full and not _arc_contains(F[r + 3], F[r + 4], math.atan2(ly, lx)):
             continue
-        out = _push(
-            out, n, i, j, gap, wx - rad * nx, wy - rad * ny, qx, qy, nx, ny, 1.0 / rad, flip
-        )
+        _push(out, n, i, j, gap, wx - rad * nx, wy - rad * ny, qx, qy, nx, ny, 1.0 / rad, flip)
         n += 1
-    return out, n
+    return n
 
 
 @njit(cache=True)
@@ -216,15 +218,15 @@ def _params_vs_lines(F, I, a, Pa, b, Pb, margin, flip, out, n, i, j):  # noqa: E
                 continue
             sx, sy = _to_world(Pa, x, y)
             qx, qy = _to_world(Pa, fx, fy)
-            out = _push(out, n, i, j, gap, sx, sy, qx, qy, wnx, wny, 0.0, flip)
+            _push(out, n, i, j, gap, sx, sy, qx, qy, wnx, wny, 0.0, flip)
             n += 1
-    return out, n
+    return n
 
 
 @njit(cache=True)
 def _params_vs_params(F, I, a, Pa, b, Pb, margin, out, n, i, j):  # noqa: E741
     if I[a, 7] == 0 or I[b, 7] == 0:
-        return out, n
+        return n
     c = Pa[0] * Pb[0] + Pa[1] * Pb[1]
     s = Pa[0] * Pb[1] - Pa[1] * Pb[0]
     dx, dy = _to_body(Pa, Pb[2], Pb[3])
@@ -248,9 +250,9 @@ def _params_vs_params(F, I, a, Pa, b, Pb, margin, out, n, i, j):  # noqa: E741
             sx, sy = _to_world(Pa, px, py)
             wx, wy = _to_world(Pa, qx, qy)
             vx, vy = _rotate(Pa, nx, ny)
-            out = _push(out, n, i, j, gap, sx, sy, wx, wy, vx, vy, 0.0, False)
+            _push(out, n, i, j, gap, sx, sy, wx, wy, vx, vy, 0.0, False)
             n += 1
-    return out, n
+    return n
 
 
 @njit(cache=True)
@@ -273,33 +275,54 @@ def _merge(out, start, n):
 
 
 @njit(cache=True)
-def contacts_kernel(F, I, poses, pairs, margins):  # noqa: E741
-    """Candidates of every known pair: ``(rows (n, 10), counts (np,))``; counts[k] = -1 marks a
-    pair left to the Python fallback (a body with an unknown parametric piece)."""
-    out = np.empty((16, 10))
-    counts = np.zeros(pairs.shape[0], np.int64)
+def contacts_into(F, I, poses, pairs, margins, out, counts):  # noqa: E741
+    """Candidates of every known pair written into ``out`` (cap, 10); returns their number n.
+
+    ``counts[k]`` receives the rows of pair k, -1 for a pair left to the Python fallback (a
+    body with an unknown parametric piece). When ``n > cap`` the buffer was too small (its
+    rows are incomplete and n is an upper bound): call again with at least n rows.
+    """
     n = 0
+    cap = out.shape[0]
+    T = np.empty((poses.shape[0], 4))  # placements (cos, sin, x, y), one per body
+    for b in range(poses.shape[0]):
+        T[b, 0], T[b, 1] = math.cos(poses[b, 2]), math.sin(poses[b, 2])
+        T[b, 2], T[b, 3] = poses[b, 0], poses[b, 1]
     for k in range(pairs.shape[0]):
         a, b = pairs[k, 0], pairs[k, 1]
+        counts[k] = 0
         if I[a, 8] == 0 or I[b, 8] == 0:
             counts[k] = -1
             continue
         m = margins[k]
-        Pa = (math.cos(poses[a, 2]), math.sin(poses[a, 2]), poses[a, 0], poses[a, 1])
-        Pb = (math.cos(poses[b, 2]), math.sin(poses[b, 2]), poses[b, 0], poses[b, 1])
+        Pa = (T[a, 0], T[a, 1], T[a, 2], T[a, 3])
+        Pb = (T[b, 0], T[b, 1], T[b, 2], T[b, 3])
         if math.hypot(Pa[2] - Pb[2], Pa[3] - Pb[3]) > F[a] + F[b] + m:
             continue
         start = n
-        out, n = _corners_vs(F, I, a, Pa, b, Pb, m, False, out, n, a, b)
-        out, n = _corners_vs(F, I, b, Pb, a, Pa, m, True, out, n, a, b)
-        out, n = _arcs_vs(F, I, a, Pa, b, Pb, m, False, out, n, a, b)
-        out, n = _arcs_vs(F, I, b, Pb, a, Pa, m, True, out, n, a, b)
-        out, n = _params_vs_lines(F, I, a, Pa, b, Pb, m, False, out, n, a, b)
-        out, n = _params_vs_lines(F, I, b, Pb, a, Pa, m, True, out, n, a, b)
-        out, n = _params_vs_params(F, I, a, Pa, b, Pb, m, out, n, a, b)
-        if n - start >= 2:
+        n = _corners_vs(F, I, a, Pa, b, Pb, m, False, out, n, a, b)
+        n = _corners_vs(F, I, b, Pb, a, Pa, m, True, out, n, a, b)
+        n = _arcs_vs(F, I, a, Pa, b, Pb, m, False, out, n, a, b)
+        n = _arcs_vs(F, I, b, Pb, a, Pa, m, True, out, n, a, b)
+        n = _params_vs_lines(F, I, a, Pa, b, Pb, m, False, out, n, a, b)
+        n = _params_vs_lines(F, I, b, Pb, a, Pa, m, True, out, n, a, b)
+        n = _params_vs_params(F, I, a, Pa, b, Pb, m, out, n, a, b)
+        if n - start >= 2 and n <= cap:
             n = _merge(out, start, n)
         counts[k] = n - start
+    return n
+
+
+@njit(cache=True)
+def contacts_kernel(F, I, poses, pairs, margins):  # noqa: E741
+    """Candidates of every known pair: ``(rows (n, 10), counts (np,))`` (see
+    :func:`contacts_into`; this one allocates its result, for callers inside numba)."""
+    counts = np.empty(pairs.shape[0], np.int64)
+    out = np.empty((16, 10))
+    n = contacts_into(F, I, poses, pairs, margins, out, counts)
+    if n > out.shape[0]:
+        out = np.empty((n, 10))
+        n = contacts_into(F, I, poses, pairs, margins, out, counts)
     return out[:n], counts
 
 
@@ -315,6 +338,65 @@ def _array(x) -> np.ndarray:
     return np.array(x, dtype=np.float64, order="C")
 
 
+class ContactSearch:
+    """The compiled contact search over one :class:`PackedOutlines`, with its scratch buffers
+    (the mutable half of a model/data split: one per world, reused every step).
+
+    Calling it gives :func:`find_contacts_packed`'s rows (a new array each call).
+    """
+
+    def __init__(self, packed: PackedOutlines, capacity: int = 32) -> None:
+        self.packed = packed
+        self._nb = len(packed.outlines)
+        self._np = len(packed.pairs)
+        self._out = np.empty((max(int(capacity), 1), 10))
+        self._counts = np.empty(self._np, np.int64)
+
+    def __call__(self, poses, margins) -> np.ndarray:
+        """Rows ``(i, j, gap, pax, pay, pbx, pby, nx, ny, curvature)`` (n, 10); see
+        :func:`find_contacts_packed` for the arguments."""
+        pk = self.packed
+        poses = _array(poses)
+        if poses.shape != (self._nb, 3):
+            raise InvalidParameter(
+                f"poses: expected shape ({self._nb}, 3) [m, m, rad], got {poses.shape}"
+            )
+        margins = self._margins(margins)
+        n = contacts_into(pk.F, pk.I, poses, pk.pairs, margins, self._out, self._counts)
+        if n > len(self._out):
+            self._out = np.empty((2 * n, 10))
+            n = contacts_into(pk.F, pk.I, poses, pk.pairs, margins, self._out, self._counts)
+        rows = self._out[:n].copy()
+        return rows if pk.all_known else self._fallback(rows, poses, margins)
+
+    def _margins(self, margins) -> np.ndarray:
+        if isinstance(margins, float | int):
+            return np.full(self._np, float(margins))
+        margins = _array(margins)
+        if margins.shape == (self._np,):
+            return margins
+        if margins.size != 1:
+            raise InvalidParameter(
+                f"margins: expected one float or shape ({self._np},) [m], got {margins.shape}"
+            )
+        return np.full(self._np, float(margins.ravel()[0]))
+
+    def _fallback(self, rows, poses, margins) -> np.ndarray:
+        """Insert the Python candidates of the pairs the kernel skipped, in pair order."""
+        pk = self.packed
+        parts, at = [], 0
+        for k, (i, j) in enumerate(pk.pairs):
+            c = int(self._counts[k])
+            if c >= 0:
+                parts.append(rows[at : at + c])
+                at += c
+                continue
+            oa, ob = pk.outlines[i], pk.outlines[j]
+            got = candidates(oa, Pose(*poses[i]), ob, Pose(*poses[j]), float(margins[k]))
+            parts.append(np.array([(i, j, *g) for g in got], float).reshape(-1, 10))
+        return np.concatenate(parts) if parts else rows
+
+
 def find_contacts_packed(packed: PackedOutlines, poses, margins) -> np.ndarray:
     """Contact candidates of the packed bodies at ``poses``.
 
@@ -328,35 +410,7 @@ def find_contacts_packed(packed: PackedOutlines, poses, margins) -> np.ndarray:
         (n, 10) rows ``(i, j, gap, pax, pay, pbx, pby, nx, ny, curvature)``: body indices (as
         floats), gap [m], touching points on i and on j [m], unit normal from j toward i,
         curvature of the touching feature [1/m] (inf at corners) - the tuples of
-        :func:`planner.sim.planar.stepper.find_contacts`, in its order.
+        :func:`planner.sim.planar.stepper.find_contacts`, in its order. A stepping loop keeps
+        one :class:`ContactSearch` instead (same rows, no buffer allocation per call).
     """
-    poses = _array(poses)
-    if poses.shape != (len(packed.outlines), 3):
-        raise InvalidParameter(
-            f"poses: expected shape ({len(packed.outlines)}, 3) [m, m, rad], got {poses.shape}"
-        )
-    npairs = len(packed.pairs)
-    if isinstance(margins, float | int):
-        margins = np.full(npairs, float(margins))
-    else:
-        margins = _array(margins)
-        if margins.shape != (npairs,):
-            if margins.size != 1:
-                raise InvalidParameter(
-                    f"margins: expected one float or shape ({npairs},) [m], got {margins.shape}"
-                )
-            margins = np.full(npairs, float(margins.ravel()[0]))
-    rows, counts = contacts_kernel(packed.F, packed.I, poses, packed.pairs, margins)
-    if packed.all_known:
-        return rows
-    parts, at = [], 0
-    for k, (i, j) in enumerate(packed.pairs):
-        if counts[k] >= 0:
-            parts.append(rows[at : at + counts[k]])
-            at += counts[k]
-            continue
-        got = candidates(
-            packed.outlines[i], Pose(*poses[i]), packed.outlines[j], Pose(*poses[j]), margins[k]
-        )
-        parts.append(np.array([(i, j, *c) for c in got], float).reshape(-1, 10))
-    return np.concatenate(parts) if parts else rows
+    return ContactSearch(packed)(poses, margins)
