@@ -209,3 +209,18 @@ def test_bad_input_raises_invalid_parameter():
         find_contacts_packed(packed, np.zeros((3, 3)), 0.01)
     with pytest.raises(InvalidParameter, match="margins"):
         find_contacts_packed(packed, np.zeros((2, 3)), np.zeros(4))
+
+
+def test_open_outline_ends_are_unsigned_in_the_kernel_too():
+    palm = compile_outline(shapes.plane(0.0, 0.16))
+    n = (-0.876903, 0.480667)
+    a = math.atan2(-n[0], n[1])
+    cases = [  # the pad's corner 9 cm behind the palm (PS's repro); a disc through its end
+        (OUTLINES["pad"], (-0.03 + 0.01 * math.cos(a), 0.0745 + 0.01 * math.sin(a), a), 0),
+        (compile_outline(shapes.circle(0.01)), (0.085, -0.002, 0.0), 1),
+    ]
+    for other, where, expected in cases:
+        poses = np.array([where, (0.0, 0.0, 0.0)])
+        got = find_contacts_packed(PackedOutlines.from_outlines([other, palm]), poses, 1e-3)
+        assert len(got) == expected
+        _assert_same(got, _reference([other, palm], poses, [(0, 1)], [1e-3]))

@@ -80,9 +80,22 @@ def _better(d2, sig, bd2, bsig):
 
 
 @njit(cache=True)
+def _is_end(F, e, qx, qy):
+    """Whether (qx, qy) is one of the two ends stored at F[e:e+4] (e < 0: a closed outline)."""
+    if e < 0:
+        return False
+    for k in range(2):
+        ex, ey = F[e + 2 * k], F[e + 2 * k + 1]
+        if abs(qx - ex) + abs(qy - ey) <= 1e-12 * (1.0 + abs(ex) + abs(ey)):
+            return True
+    return False
+
+
+@njit(cache=True)
 def closest(F, I, b, px, py):  # noqa: E741
     """Signed distance of body-frame point (px, py) to body b: ``(d, qx, qy, nx, ny)``
-    (transcribes :func:`planner.sim.planar.outline.closest_point`)."""
+    (transcribes :func:`planner.sim.planar.outline.closest_point`; unsigned at an open
+    outline's ends)."""
     bd2, bsig, binner = math.inf, -math.inf, True
     bqx = bqy = bnx = bny = 0.0
     o = I[b, 0]
@@ -133,7 +146,7 @@ def closest(F, I, b, px, py):  # noqa: E741
             bd2, bsig, binner, bqx, bqy, bnx, bny = d2, sig, inner, qx, qy, nx, ny
     d = math.sqrt(bd2)
     if not binner and d > 1e-13:
-        s = 1.0 if bsig >= 0 else -1.0
+        s = 1.0 if bsig >= 0 or _is_end(F, I[b, 9], bqx, bqy) else -1.0
         return s * d, bqx, bqy, s * (px - bqx) / d, s * (py - bqy) / d
     return (px - bqx) * bnx + (py - bqy) * bny, bqx, bqy, bnx, bny
 

@@ -10,9 +10,10 @@ convex``), corners (``cx, cy``), parametric-piece headers (:data:`PH` entries: `
 u1, direction, periodic, ntab, tab, c0x, c0y, c1x, c1y, c2x, c2y``) and seed tables (``ntab``
 parameters, then ``ntab`` x, then ``ntab`` y), all in the body frame.
 
-``I`` (int64, ``(nb, 9)``): per body the offsets into ``F`` and counts ``line0, nlines,
-arc0, narcs, corner0, ncorners, param0, nparams, known``; ``known`` is 1 when the kernel
-handles every piece of the body.
+``I`` (int64, ``(nb, 10)``): per body the offsets into ``F`` and counts ``line0, nlines,
+arc0, narcs, corner0, ncorners, param0, nparams, known, ends``; ``known`` is 1 when the
+kernel handles every piece of the body; ``ends`` is the offset of an open outline's two end
+points (``x0, y0, x1, y1``), -1 for a closed one.
 
 Parametric pieces are recognised by their values, not by their names: a piece whose
 ``f, df, ddf`` equal, on the whole 257-sample seed table to 1e-13 of the piece's size,
@@ -47,7 +48,7 @@ class PackedOutlines:
 
     Attributes:
         F: (nf,) float64 geometry [m, rad].
-        I: (nb, 9) int64 offsets and counts per body.
+        I: (nb, 10) int64 offsets and counts per body.
         pairs: (np, 2) int64 body pairs ``i < j`` tested by default (from
             :meth:`from_bodies`: every pair except fixed-fixed), in the order of
             :func:`planner.sim.planar.stepper.find_contacts`.
@@ -102,7 +103,7 @@ def _pack(outlines) -> tuple[np.ndarray, np.ndarray]:
     nb = len(outlines)
     chunks: list[np.ndarray] = [np.array([ol.bound for ol in outlines], float)]
     size = nb
-    I = np.zeros((nb, 9), np.int64)  # noqa: E741
+    I = np.zeros((nb, 10), np.int64)  # noqa: E741
 
     def put(a) -> int:
         nonlocal size
@@ -126,6 +127,7 @@ def _pack(outlines) -> tuple[np.ndarray, np.ndarray]:
             heads[k, 7:] = c
         I[b, 6], I[b, 7] = put(heads), len(ol.params)
         I[b, 8] = int(known)
+        I[b, 9] = put(ol.ends) if ol.ends else -1
     return np.concatenate(chunks), I
 
 
