@@ -6,7 +6,7 @@ For hand scenes (two fingertips, the palm, one object) it times, warm, one whole
 search (every body pair, the step's margins) by
 
 * ``python``: :func:`planner.sim.planar.stepper.find_contacts` (pure Python, the reference);
-* ``ContactSearch``: :class:`planner.sim.planar.geometry_kernel.ContactSearch` called from
+* ``ContactSearch``: :class:`planner.sim.planar.contact_search.ContactSearch` called from
   Python (buffers reused, a new result array per call);
 * ``contacts_into (Python call)``: the compiled kernel called from Python on caller buffers;
 * ``contacts_into (inside numba)``: the same kernel called from a numba loop (no dispatch):
@@ -94,7 +94,8 @@ def _numba_loop():
 
 
 def bench_scene(rows, label, world, loop, reps) -> None:
-    from planner.sim.planar.geometry_kernel import ContactSearch, contacts_into
+    from planner.sim.planar.contact_search import ContactSearch
+    from planner.sim.planar.geometry_kernel import contacts_into
     from planner.sim.planar.packed_outlines import PackedOutlines
     from planner.sim.planar.stepper import _reach, find_contacts
 
@@ -141,7 +142,7 @@ import numpy as np
 from planner.geometry import shapes
 from planner.sim.planar.outline import compile_outline
 from planner.sim.planar.packed_outlines import PackedOutlines
-from planner.sim.planar.geometry_kernel import find_contacts_packed
+from planner.sim.planar.contact_search import find_contacts_packed
 t1 = time.perf_counter()
 ols = [compile_outline(shapes.circle(0.01)), compile_outline(shapes.ellipse(0.03, 0.02))]
 find_contacts_packed(PackedOutlines.from_outlines(ols), np.array([[0, 0.03, 0], [0, 0, 0]]), 0.01)

@@ -15,12 +15,9 @@ from planner.geometry.primitives import Line
 from planner.geometry.profiles import Profile
 from planner.sim.planar import scenes
 from planner.sim.planar.bodies import FIXED, FREE
+from planner.sim.planar.contact_search import ContactSearch, find_contacts_packed
 from planner.sim.planar.contacts import Pose, candidates
-from planner.sim.planar.geometry_kernel import (
-    ContactSearch,
-    contacts_kernel,
-    find_contacts_packed,
-)
+from planner.sim.planar.geometry_kernel import contacts_kernel
 from planner.sim.planar.outline import compile_outline
 from planner.sim.planar.packed_outlines import (
     QUAD,

@@ -21,7 +21,7 @@ def _brute(profile, p, n=200001):
     return float(np.min(np.hypot(P[:, 0] - p[0], P[:, 1] - p[1])))
 
 
-@settings(max_examples=40, deadline=None)
+@settings(max_examples=40, deadline=None, derandomize=True)
 @given(x=st.floats(-0.08, 0.08), y=st.floats(-0.08, 0.08))
 def test_closest_point_on_ellipse_is_exact(x, y):
     prof = shapes.ellipse(0.04, 0.02)
@@ -35,13 +35,17 @@ def test_closest_point_on_ellipse_is_exact(x, y):
     assert (d < 0) == inside or abs(d) < 1e-12
 
 
-@settings(max_examples=40, deadline=None)
+@settings(max_examples=40, deadline=None, derandomize=True)
 @given(x=st.floats(-0.05, 0.05), y=st.floats(-0.03, 0.03))
 def test_closest_point_on_rounded_rectangle_is_exact(x, y):
     prof = shapes.rounded_rectangle(0.04, 0.02, 0.005)
     d, qx, qy, nx, ny = closest_point(compile_outline(prof), x, y)
     assert np.allclose([qx + d * nx, qy + d * ny], [x, y], atol=1e-12)
-    assert abs(abs(d) - _brute(prof, (x, y))) <= 2e-9  # the brute force's own sampling error
+    # the brute force is never closer, and farther by at most its sampling error: a sample
+    # lies within one spacing h of the true closest point (hypot(d, h) - |d|)
+    h = prof.length / 200000
+    brute = _brute(prof, (x, y))
+    assert -1e-12 <= brute - abs(d) <= math.hypot(d, h) - abs(d) + 1e-12
 
 
 def test_candidates_closed_forms():

@@ -1,21 +1,29 @@
-"""Compiled contact search of the planar world: every body pair in one numba call.
+"""Compiled contact search of the planar world (numba): every body pair in one call.
 
-:func:`find_contacts_packed` returns, for bodies at ``poses`` (nb, 3) ``[x, y, angle]`` and the
-pairs of a :class:`~planner.sim.planar.packed_outlines.PackedOutlines`, the rows
+:func:`contacts_into` finds, for bodies at ``poses`` (nb, 3) ``[x, y, angle]`` and the pairs of
+a :class:`~planner.sim.planar.packed_outlines.PackedOutlines`, the rows
 ``(i, j, gap, pax, pay, pbx, pby, nx, ny, curvature)`` of
 :func:`planner.sim.planar.stepper.find_contacts`, in its order and with its semantics: per pair
 the candidates of :func:`planner.sim.planar.contacts.candidates` (corners of A, corners of B,
 convex arcs of A, of B, parametric pieces of A against lines of B, of B against lines of A,
 parametric against parametric), the same duplicate merging, the same bounding-circle
-rejection. The kernel is a line-by-line transcription of :mod:`~planner.sim.planar.outline`
-and :mod:`~planner.sim.planar.contacts` (closed-form line and arc closest points, safeguarded
-Newton on parametric pieces seeded from the same 257-sample tables), so it finds the same
-candidates to round-off (tested to 1e-12 in ``tests/test_sim_geometry_kernel.py``); no
-curved outline is approximated.
+rejection. It is a line-by-line transcription of :mod:`~planner.sim.planar.outline` and
+:mod:`~planner.sim.planar.contacts`: closed-form closest points on lines and arcs, and on the
+closed-form parametric pieces (header at ``F[h : h + PH]``: ``kind, u0, u1, direction,
+periodic, ntab, tab`` and the 2-vectors ``c0, c1, c2`` of ``TRIG``: ``c0 + c1 cos u + c2 sin
+u`` (ellipses) or ``QUAD``: ``c0 + c1 u + c2 u^2`` (parabolas); seed table at ``F[tab]``) the
+root of ``(c(u) - p) . c'(u) = 0`` (closest point) or ``c'(u) . n = 0`` (support point) by
+Newton safeguarded by bisection on the bracket around the nearest table sample, and the
+closest points of two pieces by two-variable Newton seeded by the closest table pair. It finds
+the same candidates to round-off (tested to 1e-12 in ``tests/test_sim_geometry_kernel.py``);
+no curved outline is approximated. Pairs with a piece the kernel does not know are reported
+(``counts[k] = -1``) for the Python fallback of :mod:`planner.sim.planar.contact_search`.
 
-Fallback: a pair with a body holding a parametric piece the kernel does not know (a
-Gaussian bump, a spline; ``PackedOutlines.I[b, 8] == 0``) is skipped by the kernel and
-computed by the Python :func:`~planner.sim.planar.contacts.candidates`, in place.
+Why one module: numba's on-disk cache (``cache=True``) is invalidated per source file only, so
+a compiled function that inlines a helper from another file keeps the helper's old code after
+that file changes. Every compiled piece of the contact search therefore lives here. (Callers
+compiled in other files - the step kernel - must be recompiled when this file changes: delete
+their ``__pycache__/*.nbi`` or touch their source.)
 """
 
 from __future__ import annotations
@@ -24,10 +32,7 @@ import math
 
 import numpy as np
 
-from planner.errors import InvalidParameter
-from planner.sim.planar.contacts import Pose, candidates
-from planner.sim.planar.packed_outlines import PH, PackedOutlines
-from planner.sim.planar.param_kernel import param_closest, param_extreme, param_pair, peval
+from planner.sim.planar.packed_outlines import PH
 
 try:  # numba is a dependency; keep the library importable without it
     from numba import njit
@@ -39,10 +44,167 @@ except ImportError:  # pragma: no cover - exercised only without numba
         return lambda f: f
 
 
-__all__ = ["ContactSearch", "contacts_into", "contacts_kernel", "find_contacts_packed"]
+__all__ = ["closest", "contacts_into", "contacts_kernel"]
 
 TWO_PI = 2.0 * math.pi
 DUPLICATE = 4e-9  # candidates whose touching points differ by less (L1, 4 coordinates) merge [m]
+CLOSEST, EXTREME = 0, 1  # the two root problems on a parametric piece
+
+
+@njit(cache=True)
+def peval(F, h, u):
+    """Point, first and second derivative of the piece at ``u``: 6 floats (x, y, x', y',
+    x'', y'')."""
+    c0x, c0y, c1x, c1y, c2x, c2y = F[h + 7], F[h + 8], F[h + 9], F[h + 10], F[h + 11], F[h + 12]
+    if F[h] == 1.0:
+        cu, su = math.cos(u), math.sin(u)
+        return (
+            c0x + c1x * cu + c2x * su,
+            c0y + c1y * cu + c2y * su,
+            -c1x * su + c2x * cu,
+            -c1y * su + c2y * cu,
+            -c1x * cu - c2x * su,
+            -c1y * cu - c2y * su,
+        )
+    return (
+        c0x + c1x * u + c2x * u * u,
+        c0y + c1y * u + c2y * u * u,
+        c1x + 2.0 * c2x * u,
+        c1y + 2.0 * c2y * u,
+        2.0 * c2x,
+        2.0 * c2y,
+    )
+
+
+@njit(cache=True)
+def _g(F, h, mode, ax, ay, u):
+    """The function whose root Newton seeks, and its derivative: closest point to (ax, ay)
+    (``mode`` CLOSEST) or support point along the normal (ax, ay) (``mode`` EXTREME)."""
+    x, y, d1x, d1y, d2x, d2y = peval(F, h, u)
+    if mode == CLOSEST:
+        rx, ry = x - ax, y - ay
+        return rx * d1x + ry * d1y, d1x**2 + d1y**2 + rx * d2x + ry * d2y
+    return d1x * ax + d1y * ay, d2x * ax + d2y * ay
+
+
+@njit(cache=True)
+def _newton(F, h, mode, ax, ay, u, lo, hi):
+    """Root in [lo, hi]: Newton, bisection when it leaves the bracket (as ``outline._newton``)."""
+    glo = _g(F, h, mode, ax, ay, lo)[0]
+    for _ in range(60):
+        g, dg = _g(F, h, mode, ax, ay, u)
+        if g == 0.0:
+            return u
+        if (g < 0) == (glo < 0):
+            lo, glo = u, g
+        else:
+            hi = u
+        step = g / dg if dg != 0.0 else 0.0
+        un = u - step
+        if dg != 0.0 and abs(step) <= 1e-15 * max(1.0, abs(u)):
+            return un  # converged: the Newton step is below the resolution of u
+        if not (lo < un < hi) or dg == 0.0:
+            un = 0.5 * (lo + hi)
+        if abs(un - u) <= 1e-15 * max(1.0, abs(u)):
+            return un
+        u = un
+    return u
+
+
+@njit(cache=True)
+def _bracket(F, h, i):
+    n, t = int(F[h + 5]), int(F[h + 6])
+    lo, hi = F[t + max(i - 1, 0)], F[t + min(i + 1, n - 1)]
+    if F[h + 4] != 0.0 and (i == 0 or i == n - 1):
+        step = F[t + 1] - F[t]
+        lo, hi = F[t + i] - step, F[t + i] + step
+    return min(lo, hi), max(lo, hi)
+
+
+@njit(cache=True)
+def _normal(F, h, d1x, d1y):
+    tx, ty = F[h + 3] * d1x, F[h + 3] * d1y
+    s = math.hypot(tx, ty)
+    return -ty / s, tx / s
+
+
+@njit(cache=True)
+def param_closest(F, h, px, py):
+    """Closest point of the piece to (px, py): ``(d2, qx, qy, nx, ny, interior)``."""
+    n, t = int(F[h + 5]), int(F[h + 6])
+    i, best = 0, math.inf
+    for k in range(n):
+        d2 = (F[t + n + k] - px) ** 2 + (F[t + 2 * n + k] - py) ** 2
+        if d2 < best:
+            i, best = k, d2
+    lo, hi = _bracket(F, h, i)
+    if _g(F, h, CLOSEST, px, py, lo)[0] < 0 < _g(F, h, CLOSEST, px, py, hi)[0]:
+        u = _newton(F, h, CLOSEST, px, py, F[t + i], lo, hi)
+        interior = True
+    else:
+        u = F[t + i]
+        interior = False
+    x, y, d1x, d1y = peval(F, h, u)[:4]
+    nx, ny = _normal(F, h, d1x, d1y)
+    return (x - px) ** 2 + (y - py) ** 2, x, y, nx, ny, interior
+
+
+@njit(cache=True)
+def param_extreme(F, h, nx, ny):
+    """Support point along ``-n``: ``(min_u c(u) . n, x, y, interior)``."""
+    n, t = int(F[h + 5]), int(F[h + 6])
+    i, best = 0, math.inf
+    for k in range(n):
+        v = F[t + n + k] * nx + F[t + 2 * n + k] * ny
+        if v < best:
+            i, best = k, v
+    lo, hi = _bracket(F, h, i)
+    if not (_g(F, h, EXTREME, nx, ny, lo)[0] < 0 < _g(F, h, EXTREME, nx, ny, hi)[0]):
+        return math.inf, 0.0, 0.0, False
+    u = _newton(F, h, EXTREME, nx, ny, F[t + i], lo, hi)
+    x, y = peval(F, h, u)[:2]
+    return x * nx + y * ny, x, y, True
+
+
+@njit(cache=True)
+def param_pair(F, ha, hb, c, s, dx, dy):
+    """Closest points of pieces a and b, b mapped into a's frame by rotation (c, s) and
+    shift (dx, dy): ``(u, w, converged)``."""
+    na, ta, nb, tb = int(F[ha + 5]), int(F[ha + 6]), int(F[hb + 5]), int(F[hb + 6])
+    bx, by = np.empty(nb), np.empty(nb)
+    for k in range(nb):
+        x, y = F[tb + nb + k], F[tb + 2 * nb + k]
+        bx[k], by[k] = c * x + -s * y + dx, s * x + c * y + dy
+    i = j = 0
+    best = math.inf
+    for p in range(na):
+        ax, ay = F[ta + na + p], F[ta + 2 * na + p]
+        for q in range(nb):
+            d2 = (ax - bx[q]) ** 2 + (ay - by[q]) ** 2
+            if d2 < best:
+                i, j, best = p, q, d2
+    u, w = F[ta + i], F[tb + j]
+    du = dw = 0.0
+    for _ in range(50):
+        px, py, a1x, a1y, a2x, a2y = peval(F, ha, u)
+        qx, qy, b1x, b1y, b2x, b2y = peval(F, hb, w)
+        qx, qy = c * qx - s * qy + dx, s * qx + c * qy + dy
+        b1x, b1y = c * b1x - s * b1y, s * b1x + c * b1y
+        b2x, b2y = c * b2x - s * b2y, s * b2x + c * b2y
+        rx, ry = px - qx, py - qy
+        f1, f2 = rx * a1x + ry * a1y, -(rx * b1x + ry * b1y)
+        j11 = a1x * a1x + a1y * a1y + (rx * a2x + ry * a2y)
+        j12 = -(a1x * b1x + a1y * b1y)
+        j22 = b1x * b1x + b1y * b1y - (rx * b2x + ry * b2y)
+        det = j11 * j22 - j12 * j12
+        if det == 0.0 or not math.isfinite(det):
+            return u, w, False
+        du = (-f1 * j22 + f2 * j12) / det
+        dw = (-j11 * f2 + j12 * f1) / det
+        u, w = u + du, w + dw
+        if abs(du) + abs(dw) < 1e-15 * (1 + abs(u) + abs(w)):
+            return u, w, True
+    return u, w, abs(du) + abs(dw) < 1e-10
 
 
 @njit(cache=True)
@@ -337,93 +499,3 @@ def contacts_kernel(F, I, poses, pairs, margins):  # noqa: E741
         out = np.empty((n, 10))
         n = contacts_into(F, I, poses, pairs, margins, out, counts)
     return out[:n], counts
-
-
-def _array(x) -> np.ndarray:
-    """``x`` as a writable C-contiguous float64 array (one compiled signature)."""
-    if (
-        type(x) is np.ndarray
-        and x.dtype == np.float64
-        and x.flags.c_contiguous
-        and x.flags.writeable
-    ):
-        return x
-    return np.array(x, dtype=np.float64, order="C")
-
-
-class ContactSearch:
-    """The compiled contact search over one :class:`PackedOutlines`, with its scratch buffers
-    (the mutable half of a model/data split: one per world, reused every step).
-
-    Calling it gives :func:`find_contacts_packed`'s rows (a new array each call).
-    """
-
-    def __init__(self, packed: PackedOutlines, capacity: int = 32) -> None:
-        self.packed = packed
-        self._nb = len(packed.outlines)
-        self._np = len(packed.pairs)
-        self._out = np.empty((max(int(capacity), 1), 10))
-        self._counts = np.empty(self._np, np.int64)
-
-    def __call__(self, poses, margins) -> np.ndarray:
-        """Rows ``(i, j, gap, pax, pay, pbx, pby, nx, ny, curvature)`` (n, 10); see
-        :func:`find_contacts_packed` for the arguments."""
-        pk = self.packed
-        poses = _array(poses)
-        if poses.shape != (self._nb, 3):
-            raise InvalidParameter(
-                f"poses: expected shape ({self._nb}, 3) [m, m, rad], got {poses.shape}"
-            )
-        margins = self._margins(margins)
-        n = contacts_into(pk.F, pk.I, poses, pk.pairs, margins, self._out, self._counts)
-        if n > len(self._out):
-            self._out = np.empty((2 * n, 10))
-            n = contacts_into(pk.F, pk.I, poses, pk.pairs, margins, self._out, self._counts)
-        rows = self._out[:n].copy()
-        return rows if pk.all_known else self._fallback(rows, poses, margins)
-
-    def _margins(self, margins) -> np.ndarray:
-        if isinstance(margins, float | int):
-            return np.full(self._np, float(margins))
-        margins = _array(margins)
-        if margins.shape == (self._np,):
-            return margins
-        if margins.size != 1:
-            raise InvalidParameter(
-                f"margins: expected one float or shape ({self._np},) [m], got {margins.shape}"
-            )
-        return np.full(self._np, float(margins.ravel()[0]))
-
-    def _fallback(self, rows, poses, margins) -> np.ndarray:
-        """Insert the Python candidates of the pairs the kernel skipped, in pair order."""
-        pk = self.packed
-        parts, at = [], 0
-        for k, (i, j) in enumerate(pk.pairs):
-            c = int(self._counts[k])
-            if c >= 0:
-                parts.append(rows[at : at + c])
-                at += c
-                continue
-            oa, ob = pk.outlines[i], pk.outlines[j]
-            got = candidates(oa, Pose(*poses[i]), ob, Pose(*poses[j]), float(margins[k]))
-            parts.append(np.array([(i, j, *g) for g in got], float).reshape(-1, 10))
-        return np.concatenate(parts) if parts else rows
-
-
-def find_contacts_packed(packed: PackedOutlines, poses, margins) -> np.ndarray:
-    """Contact candidates of the packed bodies at ``poses``.
-
-    Args:
-        packed: the bodies' outlines and the pairs to test.
-        poses: (nb, 3) ``[x, y, angle]`` of each body's outline frame [m, rad].
-        margins: (np,) per pair of ``packed.pairs`` (or one float): candidates with a gap
-            below it are returned [m].
-
-    Returns:
-        (n, 10) rows ``(i, j, gap, pax, pay, pbx, pby, nx, ny, curvature)``: body indices (as
-        floats), gap [m], touching points on i and on j [m], unit normal from j toward i,
-        curvature of the touching feature [1/m] (inf at corners) - the tuples of
-        :func:`planner.sim.planar.stepper.find_contacts`, in its order. A stepping loop keeps
-        one :class:`ContactSearch` instead (same rows, no buffer allocation per call).
-    """
-    return ContactSearch(packed)(poses, margins)

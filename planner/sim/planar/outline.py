@@ -170,6 +170,8 @@ def _newton(fun, u: float, lo: float, hi: float) -> float:
             hi = u
         step = g / dg if dg != 0.0 else 0.0
         un = u - step
+        if dg != 0.0 and abs(step) <= 1e-15 * max(1.0, abs(u)):
+            return un  # converged: the Newton step is below the resolution of u
         if not (lo < un < hi) or dg == 0.0:
             un = 0.5 * (lo + hi)
         if abs(un - u) <= 1e-15 * max(1.0, abs(u)):
