@@ -32,7 +32,7 @@ import math
 
 import numpy as np
 
-from planner.sim.planar.packed_outlines import PH
+from planner.sim.planar.packed_outlines import ARC, PH
 
 try:  # numba is a dependency; keep the library importable without it
     from numba import njit
@@ -281,19 +281,20 @@ def closest(F, I, b, px, py):  # noqa: E741
             bd2, bsig, binner, bqx, bqy, bnx, bny = d2, sig, inner, qx, qy, nx, ny
     o = I[b, 2]
     for k in range(I[b, 3]):
-        r = o + 6 * k
+        r = o + ARC * k
         cx, cy, rad, phi0, sweep = F[r], F[r + 1], F[r + 2], F[r + 3], F[r + 4]
         sgn = 1.0 if F[r + 5] != 0.0 else -1.0
         dx, dy = px - cx, py - cy
+        dist = math.sqrt(dx * dx + dy * dy)
+        if (dist - rad) ** 2 > bd2 * (1.0 + 1e-9) + 1e-24:
+            continue  # no point of the circle can beat (or tie) the best so far
         full = abs(sweep) >= TWO_PI - 1e-15  # a full circle: no angle needed
         inside = full or _arc_contains(phi0, sweep, math.atan2(dy, dx))
         for e in range(1 if inside else 2):
             if inside:  # the radial direction (cos, sin of atan2(dy, dx), to round-off)
-                dist = math.sqrt(dx * dx + dy * dy)
                 ux, uy = (dx / dist, dy / dist) if dist > 0.0 else (1.0, 0.0)
-            else:
-                ang = phi0 if e == 0 else phi0 + sweep
-                ux, uy = math.cos(ang), math.sin(ang)
+            else:  # the ends' directions, cos/sin of phi0 and phi0 + sweep (packed)
+                ux, uy = F[r + 6 + 2 * e], F[r + 7 + 2 * e]
             qx, qy = cx + rad * ux, cy + rad * uy
             d2 = (px - qx) ** 2 + (py - qy) ** 2
             nx, ny = sgn * ux, sgn * uy
@@ -335,10 +336,24 @@ def _push(out, n, i, j, gap, ax, ay, bx, by, nx, ny, k, flip):
 
 
 @njit(cache=True)
+def _beyond(F, I, b, Pb, wx, wy, reach):
+    """Whether (wx, wy) is farther than ``bound_b + reach`` from closed body b's origin: its
+    distance to b's outline then exceeds ``reach`` (the query would be rejected, so skipping
+    it changes no result). Open outlines are never skipped (behind a face is inside)."""
+    if I[b, 9] >= 0:
+        return False
+    lim = F[b] + reach
+    dx, dy = wx - Pb[2], wy - Pb[3]
+    return lim > 0.0 and dx * dx + dy * dy > lim * lim
+
+
+@njit(cache=True)
 def _corners_vs(F, I, a, Pa, b, Pb, margin, flip, out, n, i, j):  # noqa: E741
     o = I[a, 4]
     for k in range(I[a, 5]):
         wx, wy = _to_world(Pa, F[o + 2 * k], F[o + 2 * k + 1])
+        if _beyond(F, I, b, Pb, wx, wy, margin):
+            continue
         d, qx, qy, nx, ny = _point_vs(F, I, b, Pb, wx, wy)
         if d < margin:
             _push(out, n, i, j, d, wx, wy, qx, qy, nx, ny, math.inf, flip)
@@ -350,11 +365,13 @@ def _corners_vs(F, I, a, Pa, b, Pb, margin, flip, out, n, i, j):  # noqa: E741
 def _arcs_vs(F, I, a, Pa, b, Pb, margin, flip, out, n, i, j):  # noqa: E741
     o = I[a, 2]
     for k in range(I[a, 3]):
-        r = o + 6 * k
+        r = o + ARC * k
         if F[r + 5] == 0.0:
             continue
         rad = F[r + 2]
         wx, wy = _to_world(Pa, F[r], F[r + 1])
+        if _beyond(F, I, b, Pb, wx, wy, margin + rad):
+            continue
         d, qx, qy, nx, ny = _point_vs(F, I, b, Pb, wx, wy)
         gap = d - rad
         if gap >= margin:

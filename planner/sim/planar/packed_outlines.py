@@ -5,10 +5,12 @@
 of each body. Its arrays are what :mod:`planner.sim.planar.geometry_kernel` reads:
 
 ``F`` (float64, 1-D): the first ``nb`` entries are the bodies' bounding radii [m]; then, per
-body, its lines (rows ``ax, ay, bx, by, nx, ny``), arcs (``cx, cy, r, phi0, sweep,
-convex``), corners (``cx, cy``), parametric-piece headers (:data:`PH` entries: ``kind, u0,
-u1, direction, periodic, ntab, tab, c0x, c0y, c1x, c1y, c2x, c2y``) and seed tables (``ntab``
-parameters, then ``ntab`` x, then ``ntab`` y), all in the body frame.
+body, its lines (rows ``ax, ay, bx, by, nx, ny``), arcs (:data:`ARC` entries: ``cx, cy, r,
+phi0, sweep, convex`` and the directions of the ends, ``cos phi0, sin phi0, cos phi1, sin
+phi1`` with ``phi1 = phi0 + sweep``), corners (``cx, cy``), parametric-piece headers
+(:data:`PH` entries: ``kind, u0, u1, direction, periodic, ntab, tab, c0x, c0y, c1x, c1y, c2x,
+c2y``) and seed tables (``ntab`` parameters, then ``ntab`` x, then ``ntab`` y), all in the
+body frame.
 
 ``I`` (int64, ``(nb, 10)``): per body the offsets into ``F`` and counts ``line0, nlines,
 arc0, narcs, corner0, ncorners, param0, nparams, known, ends``; ``known`` is 1 when the
@@ -28,6 +30,7 @@ splines) marks its body ``known = 0``; pairs with such a body go through the Pyt
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -35,10 +38,11 @@ import numpy as np
 from planner.errors import InvalidParameter
 from planner.sim.planar.outline import Outline, ParamPiece
 
-__all__ = ["PH", "QUAD", "TRIG", "PackedOutlines", "body_pairs", "param_model"]
+__all__ = ["ARC", "PH", "QUAD", "TRIG", "PackedOutlines", "body_pairs", "param_model"]
 
 TRIG, QUAD = 1, 2
 PH = 13  # entries of a parametric-piece header in F
+ARC = 10  # entries of an arc row in F
 FIT_TOL = 1e-13  # recognition tolerance, relative to the piece's size
 
 
@@ -115,7 +119,7 @@ def _pack(outlines) -> tuple[np.ndarray, np.ndarray]:
 
     for b, ol in enumerate(outlines):
         I[b, 0], I[b, 1] = put(ol.lines), len(ol.lines)
-        I[b, 2], I[b, 3] = put(ol.arcs), len(ol.arcs)
+        I[b, 2], I[b, 3] = put([_arc_row(row) for row in ol.arc_list]), len(ol.arcs)
         I[b, 4], I[b, 5] = put(ol.corners), len(ol.corners)
         models = [param_model(pp) for pp in ol.params]
         known = all(m is not None for m in models)
@@ -129,6 +133,13 @@ def _pack(outlines) -> tuple[np.ndarray, np.ndarray]:
         I[b, 8] = int(known)
         I[b, 9] = put(ol.ends) if ol.ends else -1
     return np.concatenate(chunks), I
+
+
+def _arc_row(row) -> list[float]:
+    """An arc's row: its 6 entries and the cos/sin of its end angles (math.cos/sin: the
+    values the Python path computes at every query)."""
+    phi0, phi1 = row[3], row[3] + row[4]
+    return [*row, math.cos(phi0), math.sin(phi0), math.cos(phi1), math.sin(phi1)]
 
 
 def param_model(pp: ParamPiece):
