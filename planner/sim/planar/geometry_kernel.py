@@ -468,11 +468,23 @@ def _merge(out, start, n):
 
 @njit(cache=True)
 def contacts_into(F, I, poses, pairs, margins, out, counts):  # noqa: E741
-    """Candidates of every known pair written into ``out`` (cap, 10); returns their number n.
+    """Candidates of every known pair written into ``out``; returns their number n.
 
-    ``counts[k]`` receives the rows of pair k, -1 for a pair left to the Python fallback (a
-    body with an unknown parametric piece). When ``n > cap`` the buffer was too small (its
-    rows are incomplete and n is an upper bound): call again with at least n rows.
+    Args:
+        F: (nf,) float64 packed geometry (:attr:`PackedOutlines.F`).
+        I: (nb, 10) int64 offsets and counts (:attr:`PackedOutlines.I`).
+        poses: (nb, 3) ``[x, y, angle]`` of each body's outline frame [m, rad].
+        pairs: (np, 2) int64 body pairs ``(i, j)`` to test, in output order.
+        margins: (np,) float64: candidates of pair k with a gap below ``margins[k]`` [m].
+        out: (cap, 10) float64, receives the rows ``(i, j, gap, pax, pay, pbx, pby, nx, ny,
+            curvature)`` of :func:`planner.sim.planar.stepper.find_contacts` (body indices
+            as floats, gap [m], touching points on i and j [m], unit normal from j toward i,
+            curvature of the touching feature [1/m], inf at corners).
+        counts: (np,) int64, receives the number of rows of each pair; -1 for a pair left to
+            the Python fallback (a body with a parametric piece the kernel does not know).
+
+    When ``n > cap`` the buffer was too small (its rows are incomplete and n is an upper
+    bound): call again with at least n rows.
     """
     n = 0
     cap = out.shape[0]
