@@ -18,8 +18,8 @@ both sides, an arc pair found from both centres) are merged. Limits: a concave p
 touches B only through B's convex features; a parametric piece against a concave arc is not
 searched (no catalogue shape needs it). An open outline (a pad, the palm) is one-sided:
 beyond its ends the distance to it is unsigned (see
-:func:`~planner.sim.planar.outline.closest_point`). The compiled twin of this module, used by the stepper, is
-:mod:`planner.sim.planar.geometry_kernel` (the same candidates to round-off).
+:func:`~planner.sim.planar.outline.closest_point`). The compiled twin of this module, used
+by the stepper, is :mod:`planner.sim.planar.geometry_kernel` (same candidates to round-off).
 """
 
 from __future__ import annotations
