@@ -32,7 +32,7 @@ import math
 
 import numpy as np
 
-from planner.sim.planar.packed_outlines import ARC, PH
+from planner.sim.planar.packed_outlines import ARC, BLOCK, PH
 
 try:  # numba is a dependency; keep the library importable without it
     from numba import njit
@@ -129,14 +129,71 @@ def _normal(F, h, d1x, d1y):
 
 
 @njit(cache=True)
+def _block(F, h, kb):
+    """Sample range [k0, k1) and bounding circle (cx, cy, r) of seed-table block ``kb``."""
+    n, bo = int(F[h + 5]), int(F[h + 14]) + 3 * kb
+    return BLOCK * kb, min(BLOCK * kb + BLOCK, n), F[bo], F[bo + 1], F[bo + 2]
+
+
+@njit(cache=True)
+def _nearest_sample(F, h, px, py):
+    """Index of the first table sample nearest to (px, py) (numpy's argmin of the distances):
+    the block whose circle is nearest first, then every block that could hold a sample as
+    near (or tied, lower index first)."""
+    n, t, nblk = int(F[h + 5]), int(F[h + 6]), int(F[h + 13])
+    first, low = 0, math.inf
+    for kb in range(nblk):
+        _, _, cx, cy, r = _block(F, h, kb)
+        lb = math.sqrt((cx - px) ** 2 + (cy - py) ** 2) - r
+        if lb < low:
+            first, low = kb, lb
+    i, best = n, math.inf
+    for step in range(nblk + 1):
+        kb = first if step == 0 else step - 1
+        if step > 0 and kb == first:
+            continue
+        k0, k1, cx, cy, r = _block(F, h, kb)
+        lb = math.sqrt((cx - px) ** 2 + (cy - py) ** 2) - r
+        if step > 0 and lb > 0.0 and lb * lb > best:
+            continue
+        for k in range(k0, k1):
+            d2 = (F[t + n + k] - px) ** 2 + (F[t + 2 * n + k] - py) ** 2
+            if d2 < best or (d2 == best and k < i):
+                i, best = k, d2
+    return i
+
+
+@njit(cache=True)
+def _lowest_sample(F, h, nx, ny):
+    """Index of the first table sample lowest along n (numpy's argmin of ``p . n``), pruned
+    by the blocks' circles as :func:`_nearest_sample`."""
+    n, t, nblk = int(F[h + 5]), int(F[h + 6]), int(F[h + 13])
+    first, low = 0, math.inf
+    for kb in range(nblk):
+        _, _, cx, cy, r = _block(F, h, kb)
+        lb = cx * nx + cy * ny - r
+        if lb < low:
+            first, low = kb, lb
+    i, best = n, math.inf
+    for step in range(nblk + 1):
+        kb = first if step == 0 else step - 1
+        if step > 0 and kb == first:
+            continue
+        k0, k1, cx, cy, r = _block(F, h, kb)
+        if step > 0 and cx * nx + cy * ny - r > best:
+            continue
+        for k in range(k0, k1):
+            v = F[t + n + k] * nx + F[t + 2 * n + k] * ny
+            if v < best or (v == best and k < i):
+                i, best = k, v
+    return i
+
+
+@njit(cache=True)
 def param_closest(F, h, px, py):
     """Closest point of the piece to (px, py): ``(d2, qx, qy, nx, ny, interior)``."""
-    n, t = int(F[h + 5]), int(F[h + 6])
-    i, best = 0, math.inf
-    for k in range(n):
-        d2 = (F[t + n + k] - px) ** 2 + (F[t + 2 * n + k] - py) ** 2
-        if d2 < best:
-            i, best = k, d2
+    t = int(F[h + 6])
+    i = _nearest_sample(F, h, px, py)
     lo, hi = _bracket(F, h, i)
     if _g(F, h, CLOSEST, px, py, lo)[0] < 0 < _g(F, h, CLOSEST, px, py, hi)[0]:
         u = _newton(F, h, CLOSEST, px, py, F[t + i], lo, hi)
@@ -152,12 +209,8 @@ def param_closest(F, h, px, py):
 @njit(cache=True)
 def param_extreme(F, h, nx, ny):
     """Support point along ``-n``: ``(min_u c(u) . n, x, y, interior)``."""
-    n, t = int(F[h + 5]), int(F[h + 6])
-    i, best = 0, math.inf
-    for k in range(n):
-        v = F[t + n + k] * nx + F[t + 2 * n + k] * ny
-        if v < best:
-            i, best = k, v
+    t = int(F[h + 6])
+    i = _lowest_sample(F, h, nx, ny)
     lo, hi = _bracket(F, h, i)
     if not (_g(F, h, EXTREME, nx, ny, lo)[0] < 0 < _g(F, h, EXTREME, nx, ny, hi)[0]):
         return math.inf, 0.0, 0.0, False
@@ -167,22 +220,55 @@ def param_extreme(F, h, nx, ny):
 
 
 @njit(cache=True)
+def _nearest_pair(F, ha, hb, bx, by, c, s, dx, dy):
+    """Indices (i, j) of the first nearest pair of table samples of a and of b (b's samples
+    (bx, by) already in a's frame by (c, s, dx, dy); numpy's row-major argmin), pruned by
+    the blocks' circles."""
+    na, ta, nb = int(F[ha + 5]), int(F[ha + 6]), int(F[hb + 5])
+    nba, nbb = int(F[ha + 13]), int(F[hb + 13])
+    cb = np.empty((nbb, 3))  # b's block circles in a's frame
+    for kb in range(nbb):
+        _, _, x, y, r = _block(F, hb, kb)
+        cb[kb, 0], cb[kb, 1], cb[kb, 2] = c * x + -s * y + dx, s * x + c * y + dy, r
+    lbs = np.empty((nba, nbb))
+    first, low = 0, math.inf
+    for ka in range(nba):
+        _, _, cx, cy, ra = _block(F, ha, ka)
+        for kb in range(nbb):
+            lb = math.sqrt((cx - cb[kb, 0]) ** 2 + (cy - cb[kb, 1]) ** 2) - ra - cb[kb, 2]
+            lbs[ka, kb] = lb
+            if lb < low:
+                first, low = ka * nbb + kb, lb
+    i, j, best = na, nb, math.inf
+    for step in range(nba * nbb + 1):
+        kk = first if step == 0 else step - 1
+        if step > 0 and kk == first:
+            continue
+        ka, kb = kk // nbb, kk % nbb
+        lb = lbs[ka, kb]
+        if step > 0 and lb > 0.0 and lb * lb > best:
+            continue
+        a0, a1 = _block(F, ha, ka)[:2]
+        b0, b1 = _block(F, hb, kb)[:2]
+        for p in range(a0, a1):
+            ax, ay = F[ta + na + p], F[ta + 2 * na + p]
+            for q in range(b0, b1):
+                d2 = (ax - bx[q]) ** 2 + (ay - by[q]) ** 2
+                if d2 < best or (d2 == best and (p < i or (p == i and q < j))):
+                    i, j, best = p, q, d2
+    return i, j
+
+
+@njit(cache=True)
 def param_pair(F, ha, hb, c, s, dx, dy):
     """Closest points of pieces a and b, b mapped into a's frame by rotation (c, s) and
     shift (dx, dy): ``(u, w, converged)``."""
-    na, ta, nb, tb = int(F[ha + 5]), int(F[ha + 6]), int(F[hb + 5]), int(F[hb + 6])
+    ta, nb, tb = int(F[ha + 6]), int(F[hb + 5]), int(F[hb + 6])
     bx, by = np.empty(nb), np.empty(nb)
     for k in range(nb):
         x, y = F[tb + nb + k], F[tb + 2 * nb + k]
         bx[k], by[k] = c * x + -s * y + dx, s * x + c * y + dy
-    i = j = 0
-    best = math.inf
-    for p in range(na):
-        ax, ay = F[ta + na + p], F[ta + 2 * na + p]
-        for q in range(nb):
-            d2 = (ax - bx[q]) ** 2 + (ay - by[q]) ** 2
-            if d2 < best:
-                i, j, best = p, q, d2
+    i, j = _nearest_pair(F, ha, hb, bx, by, c, s, dx, dy)
     u, w = F[ta + i], F[tb + j]
     du = dw = 0.0
     for _ in range(50):

@@ -9,8 +9,10 @@ body, its lines (rows ``ax, ay, bx, by, nx, ny``), arcs (:data:`ARC` entries: ``
 phi0, sweep, convex`` and the directions of the ends, ``cos phi0, sin phi0, cos phi1, sin
 phi1`` with ``phi1 = phi0 + sweep``), corners (``cx, cy``), parametric-piece headers
 (:data:`PH` entries: ``kind, u0, u1, direction, periodic, ntab, tab, c0x, c0y, c1x, c1y, c2x,
-c2y``) and seed tables (``ntab`` parameters, then ``ntab`` x, then ``ntab`` y), all in the
-body frame.
+c2y, nblk, blk``), seed tables (``ntab`` parameters, then ``ntab`` x, then ``ntab`` y) and
+the bounding circles ``cx, cy, r`` of the tables' blocks of :data:`BLOCK` samples (at
+``blk``; they let the kernel skip most samples when seeding, with the same result), all in
+the body frame.
 
 ``I`` (int64, ``(nb, 10)``): per body the offsets into ``F`` and counts ``line0, nlines,
 arc0, narcs, corner0, ncorners, param0, nparams, known, ends``; ``known`` is 1 when the
@@ -38,10 +40,11 @@ import numpy as np
 from planner.errors import InvalidParameter
 from planner.sim.planar.outline import Outline, ParamPiece
 
-__all__ = ["ARC", "PH", "QUAD", "TRIG", "PackedOutlines", "body_pairs", "param_model"]
+__all__ = ["ARC", "BLOCK", "PH", "QUAD", "TRIG", "PackedOutlines", "body_pairs", "param_model"]
 
 TRIG, QUAD = 1, 2
-PH = 13  # entries of a parametric-piece header in F
+PH = 15  # entries of a parametric-piece header in F
+BLOCK = 16  # seed-table samples per bounding circle
 ARC = 10  # entries of an arc row in F
 FIT_TOL = 1e-13  # recognition tolerance, relative to the piece's size
 
@@ -127,12 +130,26 @@ def _pack(outlines) -> tuple[np.ndarray, np.ndarray]:
         for k, (pp, m) in enumerate(zip(ol.params, models, strict=True)):
             kind, c = m if m is not None else (0, np.zeros(6))
             tab = put(np.concatenate([pp.u, pp.pts[:, 0], pp.pts[:, 1]]))
+            blocks = _block_circles(pp.pts)
             heads[k, :7] = (kind, pp.u[0], pp.u[-1], pp.direction, pp.periodic, len(pp.u), tab)
-            heads[k, 7:] = c
+            heads[k, 7:13] = c
+            heads[k, 13:] = (len(blocks), put(blocks))
         I[b, 6], I[b, 7] = put(heads), len(ol.params)
         I[b, 8] = int(known)
         I[b, 9] = put(ol.ends) if ol.ends else -1
     return np.concatenate(chunks), I
+
+
+def _block_circles(pts: np.ndarray) -> np.ndarray:
+    """(nblk, 3) circles ``cx, cy, r`` [m] holding each run of :data:`BLOCK` table points
+    (radius widened by 1e-9 relative + 1e-15 m: a lower bound survives round-off)."""
+    out = []
+    for k0 in range(0, len(pts), BLOCK):
+        blk = pts[k0 : k0 + BLOCK]
+        c = blk.mean(axis=0)
+        r = float(np.max(np.hypot(blk[:, 0] - c[0], blk[:, 1] - c[1])))
+        out.append((c[0], c[1], r * (1 + 1e-9) + 1e-15))
+    return np.array(out, float).reshape(-1, 3)
 
 
 def _arc_row(row) -> list[float]:
