@@ -221,3 +221,33 @@ def test_open_outline_ends_are_unsigned_in_the_kernel_too():
         got = find_contacts_packed(PackedOutlines.from_outlines([other, palm]), poses, 1e-3)
         assert len(got) == expected
         _assert_same(got, _reference([other, palm], poses, [(0, 1)], [1e-3]))
+
+
+@settings(max_examples=60, deadline=None, derandomize=True)
+@given(
+    name=st.sampled_from(["ellipse", "ellipse_moved", "bump_parabolic"]),
+    p=st.tuples(st.floats(-0.1, 0.1), st.floats(-0.1, 0.1)),
+    angle=st.floats(-math.pi, math.pi),
+)
+def test_pruned_seed_scans_are_numpys_argmin(name, p, angle):
+    """The block-pruned seed searches return exactly the full scans' first argmin."""
+    from planner.sim.planar.geometry_kernel import (
+        _lowest_sample,
+        _nearest_pair,
+        _nearest_sample,
+    )
+
+    ol = OUTLINES[name]
+    packed = PackedOutlines.from_outlines([ol, OUTLINES["ellipse"]])
+    ha, hb = int(packed.I[0, 6]), int(packed.I[1, 6])
+    pts, other = ol.params[0].pts, OUTLINES["ellipse"].params[0].pts
+    d2 = (pts[:, 0] - p[0]) ** 2 + (pts[:, 1] - p[1]) ** 2
+    assert _nearest_sample(packed.F, ha, p[0], p[1]) == int(np.argmin(d2))
+    n = (math.cos(angle), math.sin(angle))
+    assert _lowest_sample(packed.F, ha, *n) == int(np.argmin(pts @ np.array(n)))
+    c, s = n
+    B = other @ np.array([[c, -s], [s, c]]).T + np.array(p)
+    bx, by = np.ascontiguousarray(B[:, 0]), np.ascontiguousarray(B[:, 1])
+    D = (pts[:, None, 0] - bx[None, :]) ** 2 + (pts[:, None, 1] - by[None, :]) ** 2
+    i, j = _nearest_pair(packed.F, ha, hb, bx, by, c, s, p[0], p[1])
+    assert (i, j) == np.unravel_index(int(np.argmin(D)), D.shape)
