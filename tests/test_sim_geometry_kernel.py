@@ -20,6 +20,7 @@ from planner.sim.planar.contacts import Pose, candidates
 from planner.sim.planar.geometry_kernel import contacts_kernel
 from planner.sim.planar.outline import compile_outline
 from planner.sim.planar.packed_outlines import (
+    GAUSS,
     QUAD,
     TRIG,
     PackedOutlines,
@@ -46,6 +47,7 @@ CATALOGUE = {
     "bump_parabolic": shapes.bump(0.006, 0.03, "parabolic", length=0.12),
     "pit_parabolic": shapes.pit(0.004, 0.03, "parabolic", length=0.12),
     "bump_gaussian": shapes.bump(0.005, 0.008, "gaussian", length=0.12),
+    "pit_gaussian": shapes.pit(0.004, 0.01, "gaussian", length=0.12).transformed(0.3, (0.0, 0.01)),
     "wire": shapes.wire_on_plane(0.01, 0.1, length=0.12),
     "cusp": shapes.cusp(1.2, length=0.08),
     "spline": shapes.spline([(0.0, 0.0), (0.02, 0.01), (0.03, -0.01), (0.0, -0.02)], True),
@@ -103,7 +105,8 @@ def test_closed_form_pieces_are_recognised_by_their_values():
 
     assert [m[0] for m in model("ellipse") + model("ellipse_moved")] == [TRIG, TRIG]
     assert [m[0] for m in model("bump_parabolic") + model("pit_parabolic")] == [QUAD, QUAD]
-    assert model("bump_gaussian") == [None] and model("spline") == [None]
+    assert [m[0] for m in model("bump_gaussian") + model("pit_gaussian")] == [GAUSS, GAUSS]
+    assert model("spline") == [None]
     pp = OUTLINES["ellipse_moved"].params[0]
     kind, c = param_model(pp)
     u = np.linspace(-7.0, 7.0, 101)  # beyond the table: the model is the curve itself
@@ -225,7 +228,7 @@ def test_open_outline_ends_are_unsigned_in_the_kernel_too():
 
 @settings(max_examples=60, deadline=None, derandomize=True)
 @given(
-    name=st.sampled_from(["ellipse", "ellipse_moved", "bump_parabolic"]),
+    name=st.sampled_from(["ellipse", "ellipse_moved", "bump_parabolic", "pit_gaussian"]),
     p=st.tuples(st.floats(-0.1, 0.1), st.floats(-0.1, 0.1)),
     angle=st.floats(-math.pi, math.pi),
 )

@@ -9,9 +9,9 @@ convex arcs of A, of B, parametric pieces of A against lines of B, of B against 
 parametric against parametric), the same duplicate merging, the same bounding-circle
 rejection. It is a line-by-line transcription of :mod:`~planner.sim.planar.outline` and
 :mod:`~planner.sim.planar.contacts`: closed-form closest points on lines and arcs, and on the
-closed-form parametric pieces (header at ``F[h : h + PH]``: ``kind, u0, u1, direction,
-periodic, ntab, tab`` and the 2-vectors ``c0, c1, c2`` of ``TRIG``: ``c0 + c1 cos u + c2 sin
-u`` (ellipses) or ``QUAD``: ``c0 + c1 u + c2 u^2`` (parabolas); seed table at ``F[tab]``) the
+closed-form parametric pieces (header at ``F[h : h + PH]``, see
+:mod:`~planner.sim.planar.packed_outlines`: ellipses ``c0 + c1 cos u + c2 sin u``, parabolas
+``c0 + c1 u + c2 u^2``, Gaussians ``c0 + c1 u + c2 exp(-(u - m)^2 / (2 s^2))``) the
 root of ``(c(u) - p) . c'(u) = 0`` (closest point) or ``c'(u) . n = 0`` (support point) by
 Newton safeguarded by bisection on the bracket around the nearest table sample, and the
 closest points of two pieces by two-variable Newton seeded by the closest table pair. It finds
@@ -56,6 +56,19 @@ def peval(F, h, u):
     """Point, first and second derivative of the piece at ``u``: 6 floats (x, y, x', y',
     x'', y'')."""
     c0x, c0y, c1x, c1y, c2x, c2y = F[h + 7], F[h + 8], F[h + 9], F[h + 10], F[h + 11], F[h + 12]
+    if F[h] == 3.0:
+        m, s = F[h + 15], F[h + 16]
+        w = u - m
+        g = math.exp(-(w * w) / (2.0 * s * s))
+        g1, g2 = -w / (s * s) * g, (w * w / s**4 - 1.0 / (s * s)) * g
+        return (
+            c0x + c1x * u + c2x * g,
+            c0y + c1y * u + c2y * g,
+            c1x + c2x * g1,
+            c1y + c2y * g1,
+            c2x * g2,
+            c2y * g2,
+        )
     if F[h] == 1.0:
         cu, su = math.cos(u), math.sin(u)
         return (

@@ -9,7 +9,7 @@ body, its lines (rows ``ax, ay, bx, by, nx, ny``), arcs (:data:`ARC` entries: ``
 phi0, sweep, convex`` and the directions of the ends, ``cos phi0, sin phi0, cos phi1, sin
 phi1`` with ``phi1 = phi0 + sweep``), corners (``cx, cy``), parametric-piece headers
 (:data:`PH` entries: ``kind, u0, u1, direction, periodic, ntab, tab, c0x, c0y, c1x, c1y, c2x,
-c2y, nblk, blk``), seed tables (``ntab`` parameters, then ``ntab`` x, then ``ntab`` y) and
+c2y, nblk, blk, m, s``), seed tables (``ntab`` parameters, then ``ntab`` x, then ``ntab`` y) and
 the bounding circles ``cx, cy, r`` of the tables' blocks of :data:`BLOCK` samples (at
 ``blk``; they let the kernel skip most samples when seeding, with the same result), all in
 the body frame.
@@ -20,13 +20,14 @@ kernel handles every piece of the body; ``ends`` is the offset of an open outlin
 points (``x0, y0, x1, y1``), -1 for a closed one.
 
 Parametric pieces are recognised by their values, not by their names: a piece whose
-``f, df, ddf`` equal, on the whole 257-sample seed table to 1e-13 of the piece's size,
+``f, df, ddf`` equal, on the whole 257-sample seed table, to 1e-13 of their largest values
 
 * ``c0 + c1 cos u + c2 sin u`` (:data:`TRIG`: ellipses, also rotated and shifted), or
-* ``c0 + c1 u + c2 u^2`` (:data:`QUAD`: parabolic bumps and pits),
+* ``c0 + c1 u + c2 u^2`` (:data:`QUAD`: parabolic bumps and pits), or
+* ``c0 + c1 u + c2 exp(-(u - m)^2 / (2 s^2))`` (:data:`GAUSS`: Gaussian bumps and pits),
 
-is evaluated in closed form by the kernel. Any other parametric piece (Gaussian bumps,
-splines) marks its body ``known = 0``; pairs with such a body go through the Python
+is evaluated in closed form by the kernel. Any other parametric piece (splines) marks its
+body ``known = 0``; pairs with such a body go through the Python
 :func:`~planner.sim.planar.contacts.candidates` (same results, slower).
 """
 
@@ -40,10 +41,20 @@ import numpy as np
 from planner.errors import InvalidParameter
 from planner.sim.planar.outline import Outline, ParamPiece
 
-__all__ = ["ARC", "BLOCK", "PH", "QUAD", "TRIG", "PackedOutlines", "body_pairs", "param_model"]
+__all__ = [
+    "ARC",
+    "BLOCK",
+    "GAUSS",
+    "PH",
+    "QUAD",
+    "TRIG",
+    "PackedOutlines",
+    "body_pairs",
+    "param_model",
+]
 
-TRIG, QUAD = 1, 2
-PH = 15  # entries of a parametric-piece header in F
+TRIG, QUAD, GAUSS = 1, 2, 3
+PH = 17  # entries of a parametric-piece header in F
 BLOCK = 16  # seed-table samples per bounding circle
 ARC = 10  # entries of an arc row in F
 FIT_TOL = 1e-13  # recognition tolerance, relative to the piece's size
@@ -128,12 +139,13 @@ def _pack(outlines) -> tuple[np.ndarray, np.ndarray]:
         known = all(m is not None for m in models)
         heads = np.zeros((len(ol.params), PH))
         for k, (pp, m) in enumerate(zip(ol.params, models, strict=True)):
-            kind, c = m if m is not None else (0, np.zeros(6))
+            kind, c = m if m is not None else (0, np.zeros(8))
             tab = put(np.concatenate([pp.u, pp.pts[:, 0], pp.pts[:, 1]]))
             blocks = _block_circles(pp.pts)
             heads[k, :7] = (kind, pp.u[0], pp.u[-1], pp.direction, pp.periodic, len(pp.u), tab)
-            heads[k, 7:13] = c
-            heads[k, 13:] = (len(blocks), put(blocks))
+            heads[k, 7:13] = c[:6]
+            heads[k, 13:15] = (len(blocks), put(blocks))
+            heads[k, 15:17] = c[6:]
         I[b, 6], I[b, 7] = put(heads), len(ol.params)
         I[b, 8] = int(known)
         I[b, 9] = put(ol.ends) if ol.ends else -1
@@ -160,40 +172,87 @@ def _arc_row(row) -> list[float]:
 
 
 def param_model(pp: ParamPiece):
-    """``(kind, (c0x, c0y, c1x, c1y, c2x, c2y))`` when the piece is one of the closed forms
-    of the module docstring (checked on its seed table), else None."""
+    """``(kind, (c0x, c0y, c1x, c1y, c2x, c2y, m, s))`` when the piece is one of the closed
+    forms of the module docstring (each of c, c', c'' equal on its seed table to 1e-13 of its
+    largest value), else None."""
     piece, u = pp.piece, pp.u
-    f, d1, d2 = piece.f(u), piece.df(u), piece.ddf(u)
-    scale = max(float(np.abs(f).max()), float(np.abs(d1).max()), float(np.abs(d2).max()))
-    tol = FIT_TOL * max(scale, 1e-300)
-    for kind, fit in ((TRIG, _fit_trig), (QUAD, _fit_quad)):
-        c = fit(piece, float(u[0]))
-        P, D1, D2 = model_eval(kind, c, u)
-        if max(np.abs(P - f).max(), np.abs(D1 - d1).max(), np.abs(D2 - d2).max()) <= tol:
-            return kind, c.ravel()
+    exact = piece.f(u), piece.df(u), piece.ddf(u)
+    for kind, fit in ((TRIG, _fit_trig), (QUAD, _fit_quad), (GAUSS, _fit_gauss)):
+        c = fit(piece, u)
+        if c is None:
+            continue
+        model = model_eval(kind, c, u)
+        if all(
+            np.abs(m - e).max() <= FIT_TOL * max(float(np.abs(e).max()), 1e-300)
+            for m, e in zip(model, exact, strict=True)
+        ):
+            return kind, c
     return None
 
 
-def _fit_trig(piece, u0: float) -> np.ndarray:
+def _fit_trig(piece, u: np.ndarray) -> np.ndarray:
     g = piece.f(np.array([0.0, np.pi, 0.5 * np.pi, -0.5 * np.pi]))
-    return np.array([0.5 * (g[0] + g[1]), 0.5 * (g[0] - g[1]), 0.5 * (g[2] - g[3])])
+    c = (0.5 * (g[0] + g[1]), 0.5 * (g[0] - g[1]), 0.5 * (g[2] - g[3]))
+    return np.concatenate([*c, (0.0, 0.0)])
 
 
-def _fit_quad(piece, u0: float) -> np.ndarray:
-    uu = np.array([u0])
+def _fit_quad(piece, u: np.ndarray) -> np.ndarray:
+    uu = u[:1]
     c2 = 0.5 * piece.ddf(uu)[0]
-    c1 = piece.df(uu)[0] - 2.0 * c2 * u0
-    c0 = piece.f(uu)[0] - c1 * u0 - c2 * u0 * u0
-    return np.array([c0, c1, c2])
+    c1 = piece.df(uu)[0] - 2.0 * c2 * u[0]
+    c0 = piece.f(uu)[0] - c1 * u[0] - c2 * u[0] * u[0]
+    return np.concatenate([c0, c1, c2, (0.0, 0.0)])
+
+
+def _fit_gauss(piece, u: np.ndarray):
+    """``c0 + c1 u + c2 exp(-(u - m)^2 / (2 s^2))``: m +- s are the two zeros of c''(u)
+    (refined by bisection), then c'' (m) = -c2 / s^2, c'(m) = c1, c(m) = c0 + c1 m + c2."""
+    d2 = piece.ddf(u)
+    k = int(np.argmax(np.hypot(d2[:, 0], d2[:, 1])))
+    e = d2[k] / np.hypot(*d2[k])
+    side = np.sign(d2 @ e)
+    flips = np.flatnonzero(side[:-1] * side[1:] < 0)
+    if len(flips) != 2:
+        return None
+
+    def ddf_e(x: float) -> float:
+        return float(piece.ddf(np.array([x]))[0] @ e)
+
+    zeros = []
+    for i in flips:
+        lo, hi = float(u[i]), float(u[i + 1])
+        flo = ddf_e(lo)
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            if mid in (lo, hi):
+                break
+            if (ddf_e(mid) < 0) == (flo < 0):
+                lo, flo = mid, ddf_e(mid)
+            else:
+                hi = mid
+        zeros.append(0.5 * (lo + hi))
+    m, s = 0.5 * (zeros[0] + zeros[1]), 0.5 * abs(zeros[1] - zeros[0])
+    mm = np.array([m])
+    c2 = -piece.ddf(mm)[0] * s * s
+    c1 = piece.df(mm)[0]
+    c0 = piece.f(mm)[0] - c1 * m - c2
+    return np.concatenate([c0, c1, c2, (m, s)])
 
 
 def model_eval(kind: int, c: np.ndarray, u: np.ndarray):
-    """Points, first and second derivatives (n, 2) of a closed-form piece at ``u`` (n,)."""
-    c = np.asarray(c, float).reshape(3, 2)
+    """Points, first and second derivatives (n, 2) of a closed-form piece at ``u`` (n,);
+    ``c`` = (c0x, c0y, c1x, c1y, c2x, c2y, m, s)."""
+    m, s = float(c[6]), float(c[7])
+    c = np.asarray(c[:6], float).reshape(3, 2)
     u = np.asarray(u, float)[:, None]
     if kind == TRIG:
         cu, su = np.cos(u), np.sin(u)
         return c[0] + c[1] * cu + c[2] * su, -c[1] * su + c[2] * cu, -c[1] * cu - c[2] * su
+    if kind == GAUSS:
+        w = u - m
+        g = np.exp(-(w * w) / (2.0 * s * s))
+        g1, g2 = -w / (s * s) * g, (w * w / s**4 - 1.0 / (s * s)) * g
+        return c[0] + c[1] * u + c[2] * g, c[1] + c[2] * g1, c[2] * g2
     return (
         c[0] + c[1] * u + c[2] * u * u,
         c[1] + 2.0 * c[2] * u,
