@@ -54,7 +54,7 @@ CLOSEST, EXTREME = 0, 1  # the two root problems on a parametric piece
 @njit(cache=True)
 def peval(F, h, u):
     """Point, first and second derivative of the piece at ``u``: 6 floats (x, y, x', y',
-    x'', y'')."""
+    x'', y'') of its closed form (kind 1 ellipse, 2 parabola, 3 Gaussian)."""
     c0x, c0y, c1x, c1y, c2x, c2y = F[h + 7], F[h + 8], F[h + 9], F[h + 10], F[h + 11], F[h + 12]
     if F[h] == 3.0:
         m, s = F[h + 15], F[h + 16]
