@@ -39,7 +39,7 @@ except ImportError:  # pragma: no cover - exercised only without numba
         return lambda f: f
 
 
-__all__ = ["LCP_OK", "LCP_RAY", "LCP_MAX_ITER", "solve_lcp"]
+__all__ = ["LCP_OK", "LCP_RAY", "LCP_MAX_ITER", "lcp_residual", "solve_lcp"]
 
 LCP_OK, LCP_RAY, LCP_MAX_ITER = 0, 1, 2
 
@@ -145,10 +145,19 @@ def _lemke(M, q, d, max_iter):
     return z, 2, it
 
 
-def _residual(M, q, z) -> float:
+def lcp_residual(M: np.ndarray, q: np.ndarray, z: np.ndarray) -> float:
+    """Largest violation of ``z >= 0, w = M z + q >= 0, z.w = 0``, relative to ``max(1, |q|)``.
+
+    ``z`` is taken as given (Lemke returns ``z >= 0`` by construction); the complementarity
+    gap is divided by ``max(1, max z)``.
+    """
+    z = np.asarray(z, float)
     w = M @ z + q
+    if z.size == 0:
+        return 0.0
+    neg = max(float(-z.min()), 0.0)
     scale = max(1.0, float(np.abs(q).max()))
-    return max(float(-w.min()), float(abs(w @ z)) / max(1.0, float(z.max())), 0.0) / scale
+    return max(float(-w.min()), float(abs(w @ z)) / max(1.0, float(z.max())), neg) / scale
 
 
 def solve_lcp(M: np.ndarray, q: np.ndarray, max_iter: int | None = None, tol: float = 1e-9):
@@ -191,7 +200,7 @@ def solve_lcp(M: np.ndarray, q: np.ndarray, max_iter: int | None = None, tol: fl
         zs, status, pivots = _lemke(Ms, qs, d, it)
         if status == LCP_OK:
             z = s * zs
-            if _residual(M, q, z) <= tol:
+            if lcp_residual(M, q, z) <= tol:
                 return z, LCP_OK, pivots
             status = LCP_RAY
     return s * zs, status, pivots
