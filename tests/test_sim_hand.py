@@ -7,6 +7,8 @@ import math
 import numpy as np
 import pinocchio as pin
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from planner.geometry import shapes
 from planner.sim import PlanarWorld, SensorSettings
@@ -199,3 +201,41 @@ def test_gait_state_of_the_lemke_ray_steps_without_a_jump():
     assert not world.penetrations(1e-6)
     kinds = {c.bodies for c in world.contacts() if c.normal_force > 0}
     assert ("hand.palm", "object") in kinds or ("object", "hand.palm") in kinds
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1), gx=st.floats(-10, 10), gy=st.floats(-10, 10))
+def test_closed_form_hand_dynamics_equal_pinocchio(seed, gx, gy):
+    from planner.sim.planar.step_kernel import hand_dynamics, hand_kinematics, hand_parameters
+
+    hand = PlanarHand()
+    model = hand.model.copy()
+    model.gravity.linear = np.array([gx, gy, 0.0])
+    data = model.createData()
+    P = hand_parameters(model, [hand.params.finger(f).lengths[2] for f in ("left", "right")])
+    rng = np.random.default_rng(seed)
+    q, qd = rng.uniform(-3, 3, 6), rng.uniform(-20, 20, 6)
+    M, h = np.zeros((6, 6)), np.zeros(6)
+    hand_dynamics(q, qd, gx, gy, P, M, h)
+    Mp = pin.crba(model, data, q)
+    Mp = np.triu(Mp) + np.triu(Mp, 1).T
+    assert np.abs(M - Mp).max() <= 1e-12 * max(1.0, np.abs(Mp).max())
+    hp = pin.rnea(model, data, q, qd, np.zeros(6))
+    assert np.abs(h - hp).max() <= 1e-12 * max(1.0, np.abs(hp).max())
+    joints, tips = np.zeros((2, 3, 2)), np.zeros((2, 3))
+    hand_kinematics(q, P, joints, tips)
+    for k, f in enumerate(("left", "right")):
+        pose = hand.fingertip_pose(q, f)
+        assert np.allclose(tips[k, :2], pose.position, rtol=0, atol=1e-15)
+        assert np.allclose(joints[k], hand.finger_points(q, f)[:3], rtol=0, atol=1e-15)
+
+
+@settings(max_examples=30, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1))
+def test_compiled_preset_equals_its_reference(seed):
+    world, ctrl, _ = pinch_scene(squeeze=1.96, friction=1.0)
+    rng = np.random.default_rng(seed)
+    world.q = world.q + rng.normal(0.0, 0.1, 6)
+    world.qd = rng.normal(0.0, 2.0, 6)
+    obs, t = world.observe(), float(rng.uniform(0.0, 5.0))
+    assert np.abs(ctrl(t, obs) - ctrl.reference(t, obs)).max() <= 1e-12

@@ -54,11 +54,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from planner.errors import InfeasibleProblem
-from planner.sim.lcp import lcp_residual, solve_lcp
+from planner.sim.lcp import COVERS, lcp_residual, solve_lcp
 from planner.sim.planar.bodies import FIXED, FREE, TIP
 from planner.sim.planar.contacts import Pose, candidates
 
-__all__ = ["StepResult", "find_contacts", "point_velocity", "step"]
+__all__ = ["StepResult", "find_contacts", "point_velocity", "step", "step_fast"]
 
 
 @dataclass(frozen=True)
@@ -386,4 +386,70 @@ def step(world, tau) -> StepResult:
         T @ nu_new,
         lidx,
         pl,
+    )
+
+
+def _packed_bodies(world):
+    """(kind, index, friction, mass, inertia) arrays of the bodies, cached per body count."""
+    cache = getattr(world, "_packed", None)
+    if cache is None or cache[0] != len(world.bodies):
+        bodies = world.bodies
+        free = [b for b in bodies if b.kind == FREE]
+        cache = (
+            len(bodies),
+            np.array([b.kind for b in bodies], np.int64),
+            np.array([b.index for b in bodies], np.int64),
+            np.array([b.friction for b in bodies], float),
+            np.array([b.mass for b in free], float),
+            np.array([b.inertia for b in free], float),
+        )
+        world._packed = cache
+    return cache
+
+
+_NO_HAND = (np.zeros(6), np.zeros((2, 4, 6)), np.zeros((6, 2)))
+
+
+def step_fast(world, tau) -> StepResult:
+    """:func:`step` with everything after the contact search in one compiled call.
+
+    Same equations and solver (:func:`planner.sim.planar.step_kernel.contact_step`); a step
+    that needs a position projection, or whose LCP the kernel cannot answer, is done by
+    :func:`step` instead (which projects, retries and raises), so both give the same state.
+    """
+    from planner.sim.planar.step_kernel import contact_step
+
+    P, _ = _placements(world)
+    cands = find_contacts(world, world.margin, P)
+    if cands and min(c[2] for c in cands) < -world.projection_tolerance:
+        return step(world, tau)
+    _, kind, index, mu_b, mass, inertia = _packed_bodies(world)
+    arr = np.array(cands, float).reshape(-1, 10)
+    hand = world.hand
+    if hand is not None:
+        q, qd, tau_arr, packed, limits = world.q, world.qd, tau, hand.packed, hand.limits
+    else:
+        q, qd, tau_arr = _NO_HAND[0].copy(), _NO_HAND[0].copy(), _NO_HAND[0]
+        packed, limits = _NO_HAND[1], _NO_HAND[2]
+    gx, gy = world.gravity
+    status, pn, pt, slip, mu, lj, lp = contact_step(
+        world.dt, gx, gy, arr, kind, index, mu_b, world._x, world._v, mass, inertia,
+        hand is not None, q, qd, np.asarray(tau_arr, float), packed, limits, COVERS,
+    )  # fmt: skip
+    if status != 0:  # nothing was updated
+        return step(world, tau)
+    return StepResult(
+        arr[:, 0].astype(int),
+        arr[:, 1].astype(int),
+        arr[:, 2].copy(),
+        arr[:, 3:5],
+        arr[:, 5:7],
+        arr[:, 7:9],
+        arr[:, 9],
+        mu,
+        pn,
+        pt,
+        slip,
+        lj,
+        lp,
     )
