@@ -306,8 +306,17 @@ class PlanarWorld(WorldBase):
         same values as :meth:`WorldBase.record` from :meth:`contacts`)."""
         log.t[k] = self.time
         for name in log.poses:
-            log.poses[name][k] = self.pose(name)
-            log.velocities[name][k] = self.velocity(name)
+            b = self._names[name]
+            if b.kind != FREE:
+                log.poses[name][k] = self.pose(name)
+                log.velocities[name][k] = self.velocity(name)
+                continue
+            x, y, a = self._x[b.index].tolist()
+            vx, vy, w = self._v[b.index].tolist()
+            c, s = math.cos(a), math.sin(a)
+            rx, ry = -c * b.com[0] + s * b.com[1], -s * b.com[0] - c * b.com[1]
+            log.poses[name][k] = (x + rx, y + ry, a)
+            log.velocities[name][k] = (vx - w * ry, vy + w * rx, w)
         if self.hand is not None:
             log.q[k], log.qd[k], log.tau[k] = self.q, self.qd, tau
         res = self._last
@@ -319,8 +328,12 @@ class PlanarWorld(WorldBase):
         h = self.dt
         b = self.bodies
         ia, ib = res.body_a[:m].tolist(), res.body_b[:m].tolist()
-        for i, (a, c) in enumerate(zip(ia, ib, strict=True)):
-            log.contact_pair[k, i] = log.pair_index(b[a].name, b[c].name)
+        cache = log.__dict__.setdefault("_pair_of_bodies", {})
+        for i, key in enumerate(zip(ia, ib, strict=True)):
+            p = cache.get(key)
+            if p is None:
+                p = cache[key] = log.pair_index(b[key[0]].name, b[key[1]].name)
+            log.contact_pair[k, i] = p
         log.contact_point[k, :m] = res.point_b[:m]
         log.contact_normal[k, :m] = res.normal[:m]
         log.normal_force[k, :m] = res.p_n[:m] / h
