@@ -64,9 +64,10 @@ class TactileImages(Mapping):
     copied at observation time, so a late read gives the image of that instant.
     """
 
-    def __init__(self, array, frames: dict, touches: dict) -> None:
+    def __init__(self, array, hand, q: np.ndarray, fingers: dict, touches: dict) -> None:
         self._array = array
-        self._frames = frames  # finger -> (x, y, phi) of the fingertip frame
+        self._hand, self._q = hand, q  # the fingertip frames are computed when needed
+        self._frames = fingers  # finger -> its index (0 left, 1 right)
         self._touches = touches  # finger -> [(point (2,), normal force [N], curvature)]
         self._images: dict[str, np.ndarray] = {}
 
@@ -93,7 +94,7 @@ class TactileImages(Mapping):
         img = np.zeros((arr.rows, arr.cols))
         touches = self._touches[finger]
         if touches:
-            x, y, phi = self._frames[finger]
+            x, y, phi = self._hand.frames(self._q)[1][self._frames[finger]]
             c, s = math.cos(phi), math.sin(phi)
             for point, fn, kappa in touches:
                 u = c * (point[0] - x) + s * (point[1] - y)
@@ -116,10 +117,9 @@ def _tactile(world, per_tip):
         world.hand._flat = flat
     if not flat:
         return {}
-    _, tips = world.hand.frames(world.q)
-    frames = {FINGERS[k]: tips[k] for k in flat}
+    fingers = {FINGERS[k]: k for k in flat}
     touches = {FINGERS[k]: per_tip[k] for k in flat}
-    return TactileImages(arr, frames, touches)
+    return TactileImages(arr, world.hand, world.q.copy(), fingers, touches)
 
 
 def observe(world, oracle: bool = False) -> Observation:
