@@ -26,6 +26,7 @@ __all__ = [
     "RidgeScene",
     "TipForceVelocityController",
     "centre_path_error",
+    "path_error",
     "ridge_slide_scene",
 ]
 
@@ -143,8 +144,14 @@ def _profile_distance(plate: Plate, c: np.ndarray, r: float) -> float:
 
 def centre_path_error(scene: RidgeScene, log) -> PathError:
     """:class:`PathError` of a run of ``scene`` (``log`` from ``scene.world.run``)."""
-    centres = log.poses[scene.finger][:, :3]
     active = (log.normal_force > 0).any(axis=1)
+    return path_error(scene, log.poses[scene.finger][:, :3], active)
+
+
+def path_error(scene: RidgeScene, centres: np.ndarray, active: np.ndarray) -> PathError:
+    """:class:`PathError` of tip ``centres`` (T, 3) [m] with ``active`` (T,) flags (the tip
+    carried a contact force at that row); for any engine (see
+    :func:`planner.sim.spatial.mujoco_peer.mujoco_ridge_rollout`)."""
     first = int(np.argmax(active)) if active.any() else len(active)
     rows = np.arange(first, len(active))
     errs = np.array(
