@@ -292,7 +292,7 @@ class SpatialWorld(WorldBase):
         """Every position and velocity (for the run loop's NaN guard; a view of the state
         when the world holds the finger alone: read it, do not keep it)."""
         if not self.spheres and self.finger is not None:
-            return self.finger.x[sk.TH : sk.THD + 3]
+            return self.finger.state_view
         parts = [np.concatenate([b.pose(), b.velocity()]) for b in self.spheres.values()]
         if self.finger:
             parts.append(np.concatenate([self.finger.th, self.finger.thd]))
@@ -301,7 +301,7 @@ class SpatialWorld(WorldBase):
     def velocity_vector(self) -> np.ndarray:
         """Every velocity (for the runaway guard; a view as :meth:`state_vector`)."""
         if not self.spheres and self.finger is not None:
-            return self.finger.x[sk.THD : sk.THD + 3]
+            return self.finger.rate_view
         parts = [b.velocity() for b in self.spheres.values()]
         if self.finger:
             parts.append(self.finger.thd)
@@ -406,6 +406,13 @@ class SpatialWorld(WorldBase):
         if held != self._held_mask:
             self._limit_events(f, [i for i in range(3) if held >> i & 1])
         return code
+
+    def drain_events(self) -> list[SimEvent]:
+        """The world events since the last call (and forget them)."""
+        if not self._events:
+            return []
+        out, self._events = self._events, []
+        return out
 
     def _limit_events(self, f, held: list[int]) -> None:
         """A ``joint_limit`` event for every joint that starts to be held at a limit."""
