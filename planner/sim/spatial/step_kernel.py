@@ -9,7 +9,8 @@ path stays the reference; the tests compare both on random states):
    :mod:`planner.sim.spatial.finger_codegen`, called through its address by
    :func:`call_compiled`): ``c, J, J_ω, M_r⁻¹`` and ``θ̇_free``;
 2. torque clipping at the App. C limits, the foot point on the plate (Newton of
-   :func:`planner.sim.spatial.kernel.plate_foot`, warm-started);
+   :func:`planner.sim.spatial.kernel.plate_foot`, warm-started; from the nearest grid sample
+   on a cold start or when it does not converge);
 3. the contact problem: the exact circular cone of
    :mod:`planner.sim.spatial.friction_cone` (separate / stick / slide by Newton on
    ``g(φ)``), coupled with the joint limits (unilateral rows ``±e_i``,
@@ -47,7 +48,7 @@ except ImportError:  # pragma: no cover - depends on the environment
         return f
 
 
-from planner.sim.spatial.kernel import plate_foot
+from planner.sim.spatial.kernel import plate_foot, plate_seed
 
 __all__ = ["FALLBACK", "SINGULAR_END", "SINGULAR_START", "STATE_SIZE", "finger_step"]
 
@@ -97,9 +98,13 @@ def _foot(F, P, base, prm, x, cx, cy, cz, out):
     px = R[0] * d0 + R[3] * d1 + R[6] * d2
     py = R[1] * d0 + R[4] * d1 + R[7] * d2
     pz = R[2] * d0 + R[5] * d1 + R[8] * d2
-    if x[HINT_OK] == 0.0:
-        x[HINT], x[HINT + 1], x[HINT_OK] = px, py, 1.0
-    fx, fy, fz, nx, ny, nz, dist = plate_foot(F, P, base, px, py, pz, x[HINT], x[HINT + 1])
+    if x[HINT_OK] == 0.0:  # cold start: the nearest sample under the sphere
+        x[HINT], x[HINT + 1] = plate_seed(F, P, base, px, py, pz)
+        x[HINT_OK] = 1.0
+    fx, fy, fz, nx, ny, nz, dist, done = plate_foot(F, P, base, px, py, pz, x[HINT], x[HINT + 1])
+    if not done:  # a sharp crest crossed: restart from the nearest sample
+        sx, sy = plate_seed(F, P, base, px, py, pz)
+        fx, fy, fz, nx, ny, nz, dist, done = plate_foot(F, P, base, px, py, pz, sx, sy)
     x[HINT], x[HINT + 1] = fx, fy
     for i in range(3):
         out[i] = R[3 * i] * fx + R[3 * i + 1] * fy + R[3 * i + 2] * fz + t[i]
