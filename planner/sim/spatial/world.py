@@ -25,9 +25,19 @@ of length ``h``:
    exact offset surface to round-off (no penetration, no hovering), without any stiffness or
    Baumgarte gain.
 
-One finger over one :class:`Plate`/:class:`Plane` runs through the scalar kernels of
-:mod:`planner.sim.spatial.fast_step` (numba-compiled when numba is installed); everything
-else through :mod:`planner.sim.spatial.stepping`; both give the same trajectories (tested).
+Joint limits of the 3GM (``three_gm.joint_limits``) are unilateral constraints of the same
+problem: a joint within reach of a limit adds the row ``±e_i`` with
+``0 <= λ_i ⊥ (θ_i - θ_lim)/h ± θ̇_i⁺ >= 0`` (a joint already beyond is held, not pushed back),
+coupled with the contact by block Gauss-Seidel over the exact cone and the scalar rows; the
+projection of step 5 keeps held joints fixed (``M⁻¹`` conditioned on them). A joint that
+starts to be held emits a ``joint_limit`` event (data: ``joint``, ``side``, ``limit``,
+``theta``).
+
+One finger over one :class:`Plate`/:class:`Plane` (numba installed, dynamics compiled) runs as
+ONE compiled call per step (:mod:`planner.sim.spatial.step_kernel`: dynamics, foot, cone,
+limits, integration, projection, contact record, OWTS rows), with compiled ``record`` and
+``observe``; everything else through :mod:`planner.sim.spatial.stepping`, the reference; both
+give the same trajectories (tested on random states to ~1e-12).
 
 Contact records (``contacts()``): the contacts of the last step that carried force
 (``λ_n > 0``); forces are impulses / h; ``tangential_force`` and ``slip_velocity`` are
@@ -37,23 +47,31 @@ surface and to the body (a body's ``None`` leaves the surface's value).
 
 Limits: one contact per sphere and surface (a sphere wider than a concave groove touches
 it at two points: only the nearest foot is modelled); spheres do not collide with each other
-or with the finger; the finger's joint limits are reported (``joint_limit`` events), not
-enforced.
+or with the finger.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
 from planner import checks
 from planner.errors import InvalidParameter
 from planner.sim.events import SimEvent
-from planner.sim.observation import Observation, SensorSettings, read_forces, read_joints
+from planner.sim.observation import Observation, SensorSettings
 from planner.sim.records import Contact
+from planner.sim.spatial import step_kernel as sk
 from planner.sim.spatial.bodies import FingerBody, SphereBody
 from planner.sim.spatial.closest import PlacedSurface
-from planner.sim.spatial.fast_step import fast_plate, step_finger
-from planner.sim.spatial.sensing import FULL_INTENSITY_FORCE, OWTSRecorder
+from planner.sim.spatial.fast_step import KernelContact, fast_plate
+from planner.sim.spatial.observing import observe, record_owts
+from planner.sim.spatial.recording import record
+from planner.sim.spatial.sensing import (
+    SAMPLE_RATE,
+    OWTSRecorder,
+)
+from planner.sim.spatial.step_kernel import FALLBACK
 from planner.sim.spatial.stepping import step_body
 from planner.sim.world import WorldBase
 
@@ -90,7 +108,11 @@ class SpatialWorld(WorldBase):
         self._contacts: tuple[Contact, ...] = ()
         self._events: list[SimEvent] = []
         self._owts: OWTSRecorder | None = None
-        self._at_limit = False
+        self._held_mask = 0  # joints held at a limit after the last step (bits)
+        self._from_kernel = False  # the last step's contact lives in finger.x
+        self._zero3 = np.zeros(3)
+        self._rec = None  # (log, its arrays, pair index) of the compiled record
+        self._sense = False  # packed sensor settings (False: not built yet)
         self.steps = 0
         self._fast = False  # packed plate of the kernel path (False: not built yet)
         #: use the scalar kernels for one finger over one Plate/Plane (same results)
@@ -195,7 +217,9 @@ class SpatialWorld(WorldBase):
             self._check_clear(body, surf, sname)
         self.finger = body
         self._fast = False
-        self._tau_max = three_gm.torque_limits
+        self._tau_max = np.array(three_gm.torque_limits, float)
+        self._tau_max.flags.writeable = False
+        self._owts_per_step = int(math.ceil(self.dt * SAMPLE_RATE)) + 1
         from robots.sensors import OWTS, Encoder
 
         if self._user_sensors is None:
@@ -203,6 +227,7 @@ class SpatialWorld(WorldBase):
                 encoder=Encoder(three_gm.encoder_resolution), tactile=None, owts=OWTS(radius=r)
             )
         self._owts = OWTSRecorder(self.sensors.owts or OWTS(radius=r), self.rng)
+        self._sense = False
         return body.name
 
     def _check_clear(self, body, surf: PlacedSurface, sname: str) -> None:
@@ -228,7 +253,8 @@ class SpatialWorld(WorldBase):
 
     @property
     def torque_limits(self) -> np.ndarray | None:
-        return self._tau_max.copy() if self.finger else None
+        """(3,) motor torque limits [N m] (read-only) or None without a finger."""
+        return self._tau_max if self.finger else None
 
     def _body(self, handle: str):
         if handle in self.spheres:
@@ -253,39 +279,39 @@ class SpatialWorld(WorldBase):
         return self.finger.th.copy(), self.finger.thd.copy()
 
     def contacts(self) -> tuple[Contact, ...]:
+        """The contacts of the last step that carried force (records built on demand)."""
+        if self._contacts is None:  # the kernel's step: its contact lives in finger.x
+            x = self.finger.x
+            self._contacts = (
+                (KernelContact((self.finger.name, self._fast.name), x[sk.FN : sk.GAP + 1].copy()),)
+                if x[sk.ACT] > 0.0
+                else ()
+            )
         return self._contacts
 
     def state_vector(self) -> np.ndarray:
+        """Every position and velocity (for the run loop's NaN guard; a view of the state
+        when the world holds the finger alone: read it, do not keep it)."""
+        if not self.spheres and self.finger is not None:
+            return self.finger.state_view
         parts = [np.concatenate([b.pose(), b.velocity()]) for b in self.spheres.values()]
         if self.finger:
             parts.append(np.concatenate([self.finger.th, self.finger.thd]))
         return np.concatenate(parts) if parts else np.zeros(0)
 
     def velocity_vector(self) -> np.ndarray:
+        """Every velocity (for the runaway guard; a view as :meth:`state_vector`)."""
+        if not self.spheres and self.finger is not None:
+            return self.finger.rate_view
         parts = [b.velocity() for b in self.spheres.values()]
         if self.finger:
             parts.append(self.finger.thd)
         return np.concatenate(parts) if parts else np.zeros(0)
 
     def record(self, log, k: int, tau: np.ndarray) -> None:
-        """Write the current state into row ``k`` of ``log`` (a leaner
-        :meth:`WorldBase.record`: same rows)."""
-        log.t[k] = self.time
-        for b in self._bodies():
-            log.poses[b.name][k] = b.pose()
-            log.velocities[b.name][k] = b.velocity()
-        if self.finger is not None:
-            log.q[k], log.qd[k], log.tau[k] = self.finger.th, self.finger.thd, tau
-        contacts = self._contacts
-        log.contact_count[k] = len(contacts)
-        for i, c in enumerate(contacts[: log.max_contacts]):
-            log.contact_pair[k, i] = log.pair_index(*c.bodies)
-            log.contact_point[k, i] = c.point
-            log.contact_normal[k, i] = c.normal
-            log.normal_force[k, i] = c.normal_force
-            log.tangential_force[k, i] = c.tangential_force
-            log.slip_velocity[k, i] = c.slip_velocity
-            log.gap[k, i] = c.gap
+        """Write the current state into row ``k`` of ``log`` (the rows of
+        :meth:`WorldBase.record`, faster: :func:`planner.sim.spatial.recording.record`)."""
+        record(self, log, k, tau)
 
     # ------------------------------------------------------------------ stepping
     def step(self, tau=None) -> None:
@@ -296,80 +322,86 @@ class SpatialWorld(WorldBase):
             SingularConfiguration: the 3GM reached a configuration where its loop cannot
                 close or its passive links align (the run loop makes it a "singular" event).
         """
-        contacts: list[Contact] = []
-        for body in self.spheres.values():
-            contacts += step_body(self, body, None)
-        if self.finger is not None:
-            t = np.zeros(3) if tau is None else np.asarray(tau, float)
+        f = self.finger
+        if f is not None:
+            t = self._zero3 if tau is None else tau
+            if not isinstance(t, np.ndarray) or t.dtype != np.float64:
+                t = np.asarray(t, float)
             if t.shape != (3,):
                 raise InvalidParameter(f"tau: expected 3 motor torques [N m], got shape {t.shape}")
-            t = np.clip(t, -self._tau_max, self._tau_max)
-            f = self.finger
             if self._fast is False:
                 self._fast = fast_plate(self) if self.use_kernels else None
-            got = step_finger(self, f, t, self._fast) if self._fast is not None else None
-            contacts += got if got is not None else step_body(self, f, t)
-            self._limit_event(f)
+            if self._fast is not None:
+                code = self._step_kernel(f, t)
+                if code >= 0:
+                    self.time += self.dt
+                    self.steps += 1
+                    return
+        contacts: list[Contact] = []
+        for body in self.spheres.values():
+            contacts += step_body(self, body, None)[0]
+        if f is not None:
+            t = np.clip(t, -self._tau_max, self._tau_max)
+            got, held = step_body(self, f, t)
+            f.x[sk.LIM : sk.LIM + 3] = held
+            contacts += got
+            self._limit_events(f, [int(i) for i in np.flatnonzero(held)])
         self.time += self.dt
         self.steps += 1
         self._contacts = tuple(contacts)
-        if self.finger is not None:
+        self._from_kernel = False
+        if f is not None:
             self._record_owts(contacts)
 
-    def _limit_event(self, f) -> None:
-        lim = f.gm.joint_limits
-        th = f.th.tolist()
-        beyond = any(not lo <= a <= hi for a, (lo, hi) in zip(th, lim.tolist(), strict=True))
-        if beyond == self._at_limit:
-            return
-        out = (f.th < lim[:, 0]) | (f.th > lim[:, 1])
-        if out.any() and not self._at_limit:
-            self._events.append(
-                SimEvent(
-                    self.time + self.dt,
-                    "joint_limit",
-                    f"3GM joint(s) {np.flatnonzero(out).tolist()} beyond their limits",
-                    {"theta": f.th.tolist()},
-                )
-            )
-        self._at_limit = bool(out.any())
+    def _step_kernel(self, f, tau) -> int:
+        """One step through :class:`.fast_step.FingerKernel`; the kernel's code (< 0: the
+        general path must run, nothing has been changed)."""
+        self._owts.reserve(self._owts_per_step)
+        code = self._fast.step(f.x, tau, self.time + self.dt, self._owts)
+        if code == FALLBACK:
+            return code
+        if code < 0:
+            raise f._singular(f.x[sk.SIN])
+        self._from_kernel = True
+        self._contacts = None  # built on demand from f.x
+        held = code & 7
+        if held != self._held_mask:
+            self._limit_events(f, [i for i in range(3) if held >> i & 1])
+        return code
 
-    def _record_owts(self, contacts) -> None:
-        f = self.finger
-        mine = [c for c in contacts if c.bodies[0] == f.name]
-        if mine:
-            c = max(mine, key=lambda c: c.normal_force)
-            R = f.tcs()
-            n = c.normal.tolist()
-            ft = c.tangential_force.tolist()
-            n_t = [-(R[0, j] * n[0] + R[1, j] * n[1] + R[2, j] * n[2]) for j in range(3)]
-            f_t = [R[0, j] * ft[0] + R[1, j] * ft[1] + R[2, j] * ft[2] for j in range(3)]
-            inten = min(c.normal_force / FULL_INTENSITY_FORCE, 1.0)
-        else:
-            n_t, inten, f_t = (0.0, 0.0, 0.0), 0.0, (0.0, 0.0, 0.0)
-        self._owts.advance(self.time, n_t, inten, f_t)
+    def drain_events(self) -> list[SimEvent]:
+        """The world events since the last call (and forget them)."""
+        if not self._events:
+            return []
+        out, self._events = self._events, []
+        return out
+
+    def _limit_events(self, f, held: list[int]) -> None:
+        """A ``joint_limit`` event for every joint that starts to be held at a limit."""
+        mask = sum(1 << i for i in held)
+        new = mask & ~self._held_mask
+        self._held_mask = mask
+        for i in range(3):
+            if new >> i & 1:
+                side = "lower" if f.x[sk.LIM + i] > 0 else "upper"
+                lim = float(f.limits[i, 0 if side == "lower" else 1])
+                self._events.append(
+                    SimEvent(
+                        self.time + self.dt,
+                        "joint_limit",
+                        f"3GM joint {i} held at its {side} limit {lim:.6g} rad",
+                        {"joint": i, "side": side, "limit": lim, "theta": f.th.tolist()},
+                    )
+                )
 
     # ------------------------------------------------------------------ sensing
+    def _record_owts(self, contacts) -> None:
+        record_owts(self, contacts)
+
     def observe(self, oracle: bool = False) -> Observation:
         """Sensor readings: 3GM encoders (θ1, θ2, θ3) [rad] and rates [rad/s], the fingertip
         force sensor (``tip_forces`` (1, 3): force the tip applies on the surface, WCS [N]),
         and ``owts``: the :class:`~planner.sim.spatial.OWTSReading` of the 5 kHz samples since
-        the previous call. ``truth`` (oracle only): poses, velocities, joints, contacts."""
-        truth = None
-        if oracle:
-            truth = {
-                "poses": {b: self.pose(b) for b in self.body_names},
-                "velocities": {b: self.velocity(b) for b in self.body_names},
-                "joints": self.joint_state(),
-                "contacts": self._contacts,
-            }
-        if self.finger is None:
-            return Observation(self.time, np.zeros(0), np.zeros(0), truth=truth)
-        f = self.finger
-        q, qd = read_joints(self.sensors, f.th, f.thd)
-        force = np.zeros(3)
-        for c in self._contacts:
-            if c.bodies[0] == f.name:
-                force -= c.normal_force * c.normal + c.tangential_force
-        tip = read_forces(self.sensors, force[None, :], self.rng)
-        return Observation(self.time, q, qd, (f.name,), tip, None, self._owts.read(), truth)
+        the previous call. ``truth`` (oracle only): poses, velocities, joints, contacts.
+        (:func:`planner.sim.spatial.observing.observe`.)"""
+        return observe(self, oracle)
