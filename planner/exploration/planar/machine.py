@@ -36,6 +36,9 @@ PHASE1_TRAVEL = math.radians(22.0)
 #: the gait terminates when this many cycles together turned the object less than
 #: ``STALL_ROTATION`` [rad]
 STALL_CYCLES = 3
+#: phases 2/3 end when the sensed object centre moved this far from its start [m] (a
+#: safety net: the sliding pad rolls the ball 1-5 mm per phase 3, more over the ridge)
+HOLD_SLIP = 0.01
 STALL_ROTATION = math.radians(5.0)
 
 
@@ -204,7 +207,8 @@ class _Runner:
             mu = s.mu * (1 - s.friction_margin)
             R = self.ctrl.sensing.radius
             plan = self.nlp.solve(q, est.centre, R, r, mu, est.beta, est.u, margin=s.nlp_margin,
-                                  joint_margin=s.joint_margin + 0.02)  # fmt: skip
+                                  joint_margin=s.joint_margin + 0.02,
+                                  home_x=self.start["rest"][0])  # fmt: skip
             if not plan.success or abs(plan.rotation) < math.radians(1.0):
                 return None, 0.0, plan.solve_time_s, f"phase-1 NLP: {plan.stop}"
             seg = phase1_segment(plan, est, q, self.theta, s, self.hand, lift=0.0015)
@@ -242,14 +246,26 @@ class _Runner:
         n0 = len(c.trace)
         eps_min = [math.inf]
         horizon = min(seg.duration + 0.5, self.t_end - t0)
-        log = w.run(max(horizon, w.dt), c, control_rate=self.s.control_rate, stop=c.stop)
+        c0 = c.sensing.est.centre.copy()
+        moved = [False]
+
+        def stop(t, world):
+            # phases 2/3: the held object must stay where it is; a sensed centre that moved
+            # HOLD_SLIP means the explorer drags it (a ridge caught the round right tip and
+            # rolled the ball 30 deg back along the palm before this check)
+            if kind != 1 and math.hypot(*(c.sensing.est.centre - c0)) > HOLD_SLIP:
+                moved[0] = True
+                return "object moved"
+            return c.stop(t, world)
+
+        log = w.run(max(horizon, w.dt), c, control_rate=self.s.control_rate, stop=stop)
         self.logs.append(log)
         self.theta = c.theta
         if kind != 1 and len(c.trace) > n0 + 1:
             # phases 2/3 hold the object on the palm, where it rolls (the explorer's friction
             # rolled the ball back 1-5 deg per phase): theta -= dx / R from the sensed centre
             self.theta -= (c.trace[-1][CX] - c.trace[n0][CX]) / self.ctrl.sensing.radius
-        event = c.event or "time limit"
+        event = "object moved" if moved[0] else (c.event or "time limit")
         if c.event_data:
             self.events.append({"t": w.time, "kind": "phase_end", "phase": kind,
                                 "message": f"{event}: {c.event_data}"})  # fmt: skip

@@ -13,6 +13,7 @@ from the current sensed estimate; §2.2.2-2.2.3).
 
 from __future__ import annotations
 
+import bisect
 import math
 
 import numpy as np
@@ -28,14 +29,22 @@ MAX_REORIENT = 0.6
 
 
 def _interp(times: np.ndarray, values: np.ndarray):
-    """Piecewise-linear ``t -> (value, rate)`` through knots (held outside)."""
+    """Piecewise-linear ``t -> (value, rate)`` through knots (held outside), as lists of
+    floats (plain Python: it runs in every control step)."""
+    ts = [float(x) for x in times]
+    vs = np.asarray(values, float).tolist()
+    n = len(ts)
 
     def f(t: float):
-        k = int(np.clip(np.searchsorted(times, t) - 1, 0, len(times) - 2))
-        h = times[k + 1] - times[k]
-        w = min(max((t - times[k]) / h, 0.0), 1.0)
-        rate = (values[k + 1] - values[k]) / h if times[0] <= t <= times[-1] else 0 * values[0]
-        return values[k] + w * (values[k + 1] - values[k]), rate
+        k = min(max(bisect.bisect_left(ts, t) - 1, 0), n - 2)  # == clip(searchsorted - 1)
+        a, b = vs[k], vs[k + 1]
+        h = ts[k + 1] - ts[k]
+        w = min(max((t - ts[k]) / h, 0.0), 1.0)
+        inside = ts[0] <= t <= ts[-1]
+        return (
+            [x + w * (y - x) for x, y in zip(a, b, strict=True)],
+            [(y - x) / h if inside else 0.0 for x, y in zip(a, b, strict=True)],
+        )
 
     return f
 
@@ -123,25 +132,26 @@ def explore_segment(
             return pad_angle(b, phi0)
 
     lag = friction_lag(s) * math.copysign(1.0, b1 - b0)
+    path = spline.scalar()
+    cx, cy = float(c[0]), float(c[1])
 
     def explore(t: float):
         tm = t - s.startup_time
-        (b,), (bd,), _ = spline(tm)
-        n = np.array([math.cos(b), math.sin(b)])
-        tang = np.array([-math.sin(b), math.cos(b)])
+        b, bd, _ = path(tm)
+        cb, sb = math.cos(b), math.sin(b)
         w = min(max(min(tm, T_move - tm) / s.startup_time, 0.0), 1.0)
-        p = c + radius * n + w * lag * tang
-        v = radius * bd * tang
-        return (p[0], p[1]), (v[0], v[1]), phi_of(t, b)
+        p = (cx + radius * cb - w * lag * sb, cy + radius * sb + w * lag * cb)
+        v = (-radius * bd * sb, radius * bd * cb)
+        return p, v, phi_of(t, b)
 
     holder = 0 if kind == 2 else 1
     f_hold0 = float(max(est.normal_force[holder], 0.0))
-    hold = ForceRamp(f_hold0, s.internal_force, s.startup_time)
+    hold = ForceRamp(f_hold0, s.hold_force, s.startup_time)
     f_exp0 = float(max(est.normal_force[k], 0.0))
     fexp = ForceRamp(f_exp0, s.explore_force, s.startup_time)
     phiR = float(q[3:6].sum())
-    keep = (est.u, round_contact_arclength(est.beta[1], phiR, r),
-            np.array([q[0:3].sum(), phiR]), np.zeros(2))  # fmt: skip
+    keep = (float(est.u), round_contact_arclength(est.beta[1], phiR, r),
+            [float(q[0:3].sum()), phiR], [0.0, 0.0])  # fmt: skip
     return Segment(
         kind=kind,
         duration=T + 0.02,
