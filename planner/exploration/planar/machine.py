@@ -36,6 +36,8 @@ PHASE1_TRAVEL = math.radians(22.0)
 #: the gait terminates when this many cycles together turned the object less than
 #: ``STALL_ROTATION`` [rad]
 STALL_CYCLES = 3
+#: range of the fitted local radius, in nominal radii [-]
+RADIUS_FIT = (0.85, 1.2)
 #: phases 2/3 end when the sensed object centre moved this far from its start [m] (a
 #: safety net: the sliding pad rolls the ball 1-5 mm per phase 3, more over the ridge)
 HOLD_SLIP = 0.01
@@ -102,7 +104,9 @@ def explore_object(
     from planner.exploration.planar.metrics import coverage_of, detect_pad_features
 
     trace = trace_arrays(ctrl)
-    features = detect_pad_features(trace, profile, start["rest"], R, s.explore_force)
+    moved = [(p.start, p.end) for p in runner.records if p.event == "object moved"]
+    tip_r = hand.params.right.tip_radius
+    features = detect_pad_features(trace, profile, start["rest"], R, s.explore_force, tip_r, moved)
     timings = {
         "nlp_build_s": nlp_build,
         "nlp_solve_ms": [1e3 * p.nlp_time_s for p in runner.records if p.kind == 1],
@@ -139,6 +143,7 @@ class _Runner:
         self.theta = 0.0
         self.angle0 = float(world.pose("object")[2])
         self._traces: list = []
+        self.R_nominal = float(ctrl.sensing.radius)
 
     def rotation(self) -> float:
         """True rotation of the object so far [rad] (unwrapped from the logs)."""
@@ -205,7 +210,9 @@ class _Runner:
         if kind == 1:
             r = self.hand.params.right.tip_radius
             mu = s.mu * (1 - s.friction_margin)
-            R = self.ctrl.sensing.radius
+            R = self._fit_radius(est, r)
+            self.ctrl.sensing.radius = R
+            est = self.ctrl.sensing.update(self.world.observe(), "auto")
             plan = self.nlp.solve(q, est.centre, R, r, mu, est.beta, est.u, margin=s.nlp_margin,
                                   joint_margin=s.joint_margin + 0.02,
                                   home_x=self.start["rest"][0])  # fmt: skip
@@ -219,6 +226,23 @@ class _Runner:
             target = self._left_regrasp_angle(est)
         seg = explore_segment(kind, est, q, target, self.theta, s, self.hand, PHASE1_TRAVEL)
         return seg, 0.0, 0.0, ""
+
+    def _fit_radius(self, est, r: float) -> float:
+        """The local radius [m] of the object between the two fingers (§2.2.3: "planning is
+        done ... using a current estimate of the object curvature"): the circle tangent to
+        the left pad at its sensed contact and touching the round right tip,
+        ``|T - p + R n| = R + r`` solved for ``R`` (``T`` tip centre, ``p``, ``n`` the pad's
+        contact point and outward normal), clamped to ``RADIUS_FIT`` times the nominal one.
+        On a non-circular object the nominal circle put the NLP's start out of reach of the
+        fingers (solver failed at the start of the ellipse)."""
+        R0 = self.R_nominal
+        d = est.tips[1] - est.p[0]
+        den = 2.0 * (float(d @ est.n[0]) - r)
+        if abs(den) < 1e-9 or not est.pad_touch:
+            return R0
+        R = (r * r - float(d @ d)) / den
+        lo, hi = RADIUS_FIT
+        return float(min(max(R, lo * R0), hi * R0))
 
     def _left_regrasp_angle(self, est) -> float:
         """Where the left pad goes in phase 3 (world polar angle [rad]): the §2.2.3 choice of

@@ -135,6 +135,7 @@ def detect_pad_features(
     radius: float,
     explore_force: float = 0.3,
     tip_radius: float = 0.025,
+    exclude=(),
 ) -> list[DetectedFeature]:
     """Features in the left pad's sensed trace while it explores (phase 3).
 
@@ -142,11 +143,19 @@ def detect_pad_features(
     mapped to the object frame with the *estimated* pose (centre and rotation from the
     sensors), detected per contiguous run, reported as polar angles on the object (one per
     feature: repeated detections within :data:`MERGE_ANGLE` are merged) and matched to the
-    nearest true curvature feature of ``profile``.
+    nearest true curvature feature of ``profile``. Macro features (ridges, grooves) come
+    from :mod:`.macro`. ``exclude``: ``(t0, t1)`` windows [s] left out (phases that ended
+    with "object moved": the held object moved, so the sensed pose there is wrong - each
+    gave a phantom ridge or groove next to the true ridge).
     """
     if len(trace.get("t", ())) == 0:
         return []
     trace = {**trace, "theta": object_rotation(trace, radius)}
+    if exclude:  # rows of phases whose estimate is invalid (the held object moved)
+        kind = np.array(trace["kind"], float)
+        for t0, t1 in exclude:
+            kind[(trace["t"] >= t0) & (trace["t"] <= t1)] = 0.0
+        trace["kind"] = kind
     from planner.exploration.planar.macro import detect_macro_features
 
     band = (FORCE_BAND[0] * explore_force, FORCE_BAND[1] * explore_force)
