@@ -29,8 +29,17 @@ MACRO_HEIGHT = 1.0e-3
 MACRO_BIN = math.radians(0.5)
 #: a region needs at least this many samples [-]
 MACRO_MIN_SAMPLES = 8
-#: regions closer than this are one feature [rad]
-MACRO_MERGE = math.radians(5.0)
+#: regions of different passes closer than this are one feature [rad]: a round tip of
+#: radius r rides over a feature of height h on a circle of radius R within
+#: +-sqrt(2 r h) / R of it (14 deg for the 3 mm ridge), and a pass that ends on the
+#: feature sees only one side of it (the ridge at 170 deg was seen at 165 and 177 deg)
+MACRO_MERGE = math.radians(15.0)
+#: a region covering this fraction of its pass's bins is not local (a whole pass lifted by
+#: an estimate 3 mm off, e.g. with the ridge under the palm), so it is no feature [-]
+MACRO_LOCAL = 0.8
+#: pass numbers of the pad's rows are offset by this (the locality test applies to them:
+#: in phase 3 the centre comes from the right tip and the palm) [-]
+PAD_PASS = 1_000_000
 #: a region must be seen in this many separate passes (phases) [-]: a single pass can be
 #: off by the holder's estimate (in phase 3 the centre comes from the right tip and the
 #: palm, 3 mm off while the ridge is under either; that gave two phantom ridges)
@@ -51,12 +60,15 @@ def sensed_heights(trace: dict, theta, radius: float, tip_radius: float, band) -
     tip = (t_kind == 2) & (trace["fnR"] >= band[0]) & (trace["fnR"] <= band[1])
     rx = trace["pRx"] + tip_radius * trace["nRx"] - trace["cx"]
     ry = trace["pRy"] + tip_radius * trace["nRy"] - trace["cy"]
-    for sel, x, y, model in ((pad, px, py, radius), (tip, rx, ry, radius + tip_radius)):
+    for sel, x, y, model, off in (
+        (pad, px, py, radius, PAD_PASS),
+        (tip, rx, ry, radius + tip_radius, 0),
+    ):
         X, Y = c[sel] * x[sel] - s[sel] * y[sel], s[sel] * x[sel] + c[sel] * y[sel]
         out_a.append(np.arctan2(Y, X))
         ang = np.arctan2(Y, X)
         out_h.append(_detrend(ang, np.hypot(X, Y) - model))
-        out_p.append(passes[sel])
+        out_p.append(passes[sel] + off)
     return np.concatenate(out_a), np.concatenate(out_h), np.concatenate(out_p)
 
 
@@ -107,7 +119,8 @@ def macro_regions(angles: np.ndarray, heights: np.ndarray, passes=None) -> list:
     seen: list[tuple[float, int, int]] = []
     for q in np.unique(passes):
         m = passes == q
-        seen += [(a, sg, int(q)) for a, sg in _pass_regions(angles[m], heights[m])]
+        regions = _pass_regions(angles[m], heights[m], local=q >= PAD_PASS)
+        seen += [(a, sg, int(q)) for a, sg in regions]
     out = []
     for sign in (1, -1):
         pts = sorted((a, q) for a, sg, q in seen if sg == sign)
@@ -128,8 +141,9 @@ def macro_regions(angles: np.ndarray, heights: np.ndarray, passes=None) -> list:
     return out
 
 
-def _pass_regions(angles: np.ndarray, heights: np.ndarray) -> list[tuple[float, int]]:
-    """Feature regions of one pass: ``[(middle angle [rad], sign), ...]``."""
+def _pass_regions(angles: np.ndarray, heights: np.ndarray, local: bool = False) -> list:
+    """Feature regions of one pass: ``[(middle angle [rad], sign), ...]``; ``local``: drop
+    regions covering :data:`MACRO_LOCAL` of the pass."""
     n = int(round(2 * math.pi / MACRO_BIN))
     k = np.floor(np.mod(angles, 2 * math.pi) / MACRO_BIN).astype(int) % n
     count = np.bincount(k, minlength=n)
@@ -147,7 +161,8 @@ def _pass_regions(angles: np.ndarray, heights: np.ndarray) -> list[tuple[float, 
             if flag[j % n] and j < start + n:
                 run.append(j)
                 continue
-            if run and count[np.array(run) % n].sum() >= MACRO_MIN_SAMPLES:
+            ok = not local or len(run) < MACRO_LOCAL * np.count_nonzero(count)
+            if run and ok and count[np.array(run) % n].sum() >= MACRO_MIN_SAMPLES:
                 h = sign * med[np.array(run) % n]
                 top = [b for b, x in zip(run, h, strict=True) if x >= 0.5 * h.max()]
                 mid = (0.5 * (top[0] + top[-1]) + 0.5) * MACRO_BIN
