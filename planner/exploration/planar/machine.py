@@ -20,7 +20,7 @@ import numpy as np
 
 from planner.errors import InvalidParameter
 from planner.exploration.planar.controller import TRACE_NAMES, GaitController
-from planner.exploration.planar.heuristics import regrasp_left_angle
+from planner.exploration.planar.heuristics import regrasp_left_angle, stable_pair
 from planner.exploration.planar.logs import concat_logs
 from planner.exploration.planar.objects import mean_radius
 from planner.exploration.planar.result import ExplorationResult, PhaseRecord
@@ -217,7 +217,8 @@ class _Runner:
                                   joint_margin=s.joint_margin + 0.02,
                                   home_x=self.start["rest"][0])  # fmt: skip
             if not plan.success or abs(plan.rotation) < math.radians(1.0):
-                return None, 0.0, plan.solve_time_s, f"phase-1 NLP: {plan.stop}"
+                why = self._blocking(est, q, mu)
+                return None, 0.0, plan.solve_time_s, f"phase-1 NLP: {plan.stop}; {why}"
             seg = phase1_segment(plan, est, q, self.theta, s, self.hand, lift=0.0015)
             return seg, plan.rotation, plan.solve_time_s, ""
         if kind == 2:
@@ -226,6 +227,25 @@ class _Runner:
             target = self._left_regrasp_angle(est)
         seg = explore_segment(kind, est, q, target, self.theta, s, self.hand, PHASE1_TRAVEL)
         return seg, 0.0, 0.0, ""
+
+    def _blocking(self, est, q, mu: float) -> str:
+        """Which constraint blocks phase 1 at the sensed grasp (the issue's three):
+        force closure (the contact line outside the friction cones), workspace (a joint
+        at its limit) or reach (no stable left grasp within the pad's reach)."""
+        stab = stable_pair(float(est.beta[0]), float(est.beta[1]), mu, 0.0)
+        if stab < 0:
+            return (f"blocking: force closure (contact line {math.degrees(-stab):.0f} deg "
+                    "outside the friction cones)")  # fmt: skip
+        lim = self.hand.joint_limits
+        margin = np.minimum(np.asarray(q) - lim[:, 0], lim[:, 1] - np.asarray(q))
+        j = int(np.argmin(margin))
+        if margin[j] < self.s.joint_margin + 0.02:
+            return (
+                f"blocking: workspace (joint {j} {math.degrees(margin[j]):.1f} deg from its limit)"
+            )
+        if self._left_regrasp_angle(est, fallback=False) is None:
+            return "blocking: reach (no stable left grasp within the pad's reach)"
+        return "blocking: none of force closure / workspace / reach at the start (IPOPT failed)"
 
     def _fit_radius(self, est, r: float) -> float:
         """The local radius [m] of the object between the two fingers (§2.2.3: "planning is
@@ -244,7 +264,7 @@ class _Runner:
         lo, hi = RADIUS_FIT
         return float(min(max(R, lo * R0), hi * R0))
 
-    def _left_regrasp_angle(self, est) -> float:
+    def _left_regrasp_angle(self, est, fallback: bool = True):
         """Where the left pad goes in phase 3 (world polar angle [rad]): the §2.2.3 choice of
         :func:`regrasp_left_angle` for the right contact it will grasp with; the start
         grasp's angle when none is stable and reachable (phase 1 then reports it)."""
@@ -252,7 +272,9 @@ class _Runner:
         mu = s.mu * (1 - s.friction_margin)
         b = regrasp_left_angle(self.hand, est.centre, self.ctrl.sensing.radius, float(est.beta[1]),
                                mu, s.nlp_margin, PHASE1_TRAVEL)  # fmt: skip
-        return self.start["beta"][0] if b is None else b
+        if b is None and fallback:
+            return self.start["beta"][0]
+        return b
 
     def _right_hold_angle(self) -> float:
         """Lowest polar angle [rad] of the right contact from which the right finger can
@@ -270,14 +292,16 @@ class _Runner:
         n0 = len(c.trace)
         eps_min = [math.inf]
         horizon = min(seg.duration + 0.5, self.t_end - t0)
-        c0 = c.sensing.est.centre.copy()
+        c0 = []  # the centre as this phase senses it (its own source), at its first step
         moved = [False]
 
         def stop(t, world):
+            if not c0:
+                c0.append(c.sensing.est.centre.copy())
             # phases 2/3: the held object must stay where it is; a sensed centre that moved
             # HOLD_SLIP means the explorer drags it (a ridge caught the round right tip and
             # rolled the ball 30 deg back along the palm before this check)
-            if kind != 1 and math.hypot(*(c.sensing.est.centre - c0)) > HOLD_SLIP:
+            if kind != 1 and math.hypot(*(c.sensing.est.centre - c0[0])) > HOLD_SLIP:
                 moved[0] = True
                 return "object moved"
             return c.stop(t, world)
