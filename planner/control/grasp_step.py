@@ -29,6 +29,10 @@ import numpy as np
 from planner.control.grasp_layout import N_CON, N_DIAG, N_PAR, N_REF, N_VAR
 from planner.errors import HapexError
 
+#: doubles of the per-step inputs ``q`` (6), ``qd`` (6), ``geo`` (8), ``ref`` (N_REF), stored
+#: back to back at the start of :attr:`GraspStep.inputs` (``par`` follows them)
+STEP_INPUTS = 20 + N_REF
+
 _DRIVER = r"""
 #include <stdlib.h>
 typedef struct { int n; int m; int ms; double *H; double *f; double *A; double *bupper;
@@ -141,7 +145,8 @@ class GraspStep:
     """One compiled control step of the planar grasp (see the module docstring).
 
     Write the step's inputs into :attr:`q`, :attr:`qd`, :attr:`geo`, :attr:`ref` and
-    :attr:`par` (layout in :mod:`planner.control.grasp_layout`), then call the object.
+    :attr:`par` (layout in :mod:`planner.control.grasp_layout`), then call the object. The
+    five are consecutive views of one array, :attr:`inputs`.
 
     Args:
         hand: the ``robots.planar_hand.PlanarHand``.
@@ -181,8 +186,11 @@ class GraspStep:
         lib.hx_step.restype = ctypes.c_int
         lib.hx_step.argtypes = [ctypes.c_void_p] * 9
         self._lib = lib
-        self.q, self.qd, self.geo = np.zeros(6), np.zeros(6), np.zeros(8)
-        self.ref, self.par = np.zeros(N_REF), np.zeros(N_PAR)
+        # one contiguous input block (q, qd, geo, ref, par): a caller can fill the per-step
+        # part q..ref with a single ``struct.pack_into`` (:data:`STEP_INPUTS` doubles)
+        self.inputs = np.zeros(STEP_INPUTS + N_PAR)
+        self.q, self.qd, self.geo = self.inputs[0:6], self.inputs[6:12], self.inputs[12:20]
+        self.ref, self.par = self.inputs[20:STEP_INPUTS], self.inputs[STEP_INPUTS:]
         self.tau, self.forces, self.diag = np.zeros(6), np.zeros(N_VAR), np.zeros(N_DIAG)
         self.flag = 0
         symbols = _daqp_symbols()
@@ -247,4 +255,4 @@ class GraspStep:
         return self.tau
 
 
-__all__ = ["GraspStep"]
+__all__ = ["STEP_INPUTS", "GraspStep"]

@@ -13,16 +13,19 @@ lost, path finished. The first event is kept in :attr:`GaitController.event`; th
 from __future__ import annotations
 
 import math
+import struct
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
-from planner.control.grasp_layout import N_PAR, N_REF, PAR, REF, pack
+from planner.control.grasp_layout import N_PAR, PAR, pack
+from planner.control.grasp_stability import epsilon_two_contacts
 from planner.control.internal_force import InternalForcePI, sensed_internal_force
 from planner.control.rolling_pd import RollingGains, rolling_moment
-from planner.exploration.planar.sensing import GraspSensing, round_contact_arclength
+from planner.exploration.planar.sensing import SOURCES, GraspSensing, round_contact_arclength
 from planner.exploration.planar.settings import GaitSettings
 
 
@@ -61,6 +64,24 @@ TRACE_NAMES = (
 )  # fmt: skip
 
 
+class _Mode(NamedTuple):
+    """What a phase kind fixes for every control step (looked up once per phase)."""
+
+    kind: int
+    source: int  # centre estimate of the sensing (planar.sensing.SOURCES)
+    grasp: float  # the control step's grasp flag
+    explorer: tuple[float, float]  # exploring flags of the left and right finger
+    holder: int  # the finger anchored by its fingertip (phases 2/3)
+    moving: tuple[int, ...]  # joints whose limits end the phase
+    touching: tuple[int, ...]  # fingers whose contact loss ends the phase
+
+
+_MODES = {
+    1: _Mode(1, SOURCES["auto"], 1.0, (0.0, 0.0), 1, tuple(range(6)), (0, 1)),
+    2: _Mode(2, SOURCES["pad"], 0.0, (0.0, 1.0), 0, tuple(range(3, 6)), (0,)),
+    3: _Mode(3, SOURCES["palm"], 0.0, (1.0, 0.0), 1, tuple(range(3)), (1,)),
+}
+
 #: a command beyond this many torque limits is rejected (safe fallback) [-]
 FALLBACK_RATIO = 5.0
 #: joint damping of the fallback command [N m s/rad]
@@ -73,10 +94,14 @@ class GaitController:
     Args:
         hand: the ``PlanarHand``; settings: :class:`GaitSettings`; radius: the estimate's
             radius [m]; gravity: (2,) [m/s^2].
+
+    Attributes:
+        step_times: wall time of every call [s] (the whole call: sensing, references,
+            control laws, the compiled step with its QP, the trace and the event checks).
     """
 
     def __init__(self, hand, settings: GaitSettings, radius: float, gravity) -> None:
-        from planner.control.grasp_step import GraspStep
+        from planner.control.grasp_step import STEP_INPUTS, GraspStep
 
         self.hand, self.s = hand, settings
         self.step = GraspStep(hand)
@@ -98,16 +123,23 @@ class GaitController:
             },
             PAR, N_PAR,
         )  # fmt: skip
+        self._pack = struct.Struct(f"{STEP_INPUTS}d").pack_into
+        self._inputs, self._par = self.step.inputs, self.step.par
+        self._f_n_tip = PAR["f_n_tip"].start
+        self._dt = 1.0 / s.control_rate
+        self._tau_bound = FALLBACK_RATIO * s.torque_limit
         self.segment: Segment | None = None
         self.t0 = 0.0
         self.event: str | None = None
         self.event_data: dict = {}
         self.theta = 0.0
+        self._mode = _MODES[1]
         self._u0 = 0.0
         self._beta0 = 0.0
         self._weak = 0.0
         self._holder = 0
-        self._hold_tip = np.zeros(2)
+        self._hold_tip = (0.0, 0.0)
+        self._trigger: tuple[list, list] | None = None
         self.step_times: list[float] = []
         self.fallbacks = 0  # control steps that used the safe fallback command
         self._last_tau = np.zeros(6)
@@ -120,135 +152,138 @@ class GaitController:
         self.segment, self.t0 = segment, t
         self.event, self.event_data = None, {}
         self.theta = segment.theta0
+        self._mode = _MODES[segment.kind]
         self._weak = 0.0
         e = self.sensing.est
-        self._u0, self._beta0 = e.u, e.beta[0]
-        holder = 0 if segment.kind == 2 else 1
+        self._u0, self._beta0 = e.u, float(e.beta[0])
         # the holding finger is anchored by its fingertip point (encoders), not by the sensed
         # contact: the contact estimate jumps when the tactile centroid or the centre
         # estimate changes, and a stiff anchor on it dragged the held object
-        self._holder = holder
-        self._hold_tip = e.tips[holder].copy()
+        self._holder = self._mode.holder
+        self._hold_tip = tuple(e.tips[self._holder].tolist())
         self.pi.reset()
         self._trigger = None  # limit triggers, set from the phase's first joint reading
 
     # ------------------------------------------------------------------ the step
     def __call__(self, t: float, obs) -> np.ndarray:
-        seg, s, st = self.segment, self.s, self.step
         tau_t0 = time.perf_counter()
-        e = self.sensing.update(obs, {1: "auto", 2: "pad", 3: "palm"}[seg.kind])
+        seg, mode = self.segment, self._mode
+        b = self.sensing.update_raw(obs, mode.source).tolist()  # layout B_* of .sensing
+        q, qd = obs.q.tolist(), obs.qd.tolist()
         tl = t - self.t0
         R = self.sensing.radius
-        ref = st.ref
-        if seg.kind == 1 and e.pad_touch:  # rolling integration (eq. 2.4)
-            self.theta = seg.theta0 + (e.beta[0] - self._beta0) - (e.u - self._u0) / R
+        kind = mode.kind
+        u, cx = b[0], b[10]
+        if kind == 1 and b[1]:  # rolling integration (eq. 2.4)
+            self.theta = seg.theta0 + (b[12] - self._beta0) - (u - self._u0) / R
         f_des = seg.hold_force(tl)
-        if seg.kind == 1:
-            sensed = sensed_internal_force(e.p[0], e.p[1], e.forces[0], e.forces[1])
+        if kind == 1:
+            sensed = sensed_internal_force(b[2:4], b[4:6], b[14:16], b[16:18])
         else:
-            holder = 0 if seg.kind == 2 else 1
-            palm = np.array([e.centre[0], 0.0])
-            sensed = sensed_internal_force(e.p[holder], palm, e.forces[holder], -e.forces[holder])
-        f_cmd = self.pi.command(f_des, sensed, 1.0 / s.control_rate)
+            h = 2 * mode.holder
+            fx, fy = b[14 + h], b[15 + h]
+            sensed = sensed_internal_force(b[2 + h : 4 + h], (cx, 0.0), (fx, fy), (-fx, -fy))
+        f_cmd = self.pi.command(f_des, sensed, self._dt)
         pose_now = seg.pose(tl) if seg.pose is not None else None
         m_roll = [0.0, 0.0]
-        self._roll_cmd = (math.nan, math.nan, math.nan)
+        roll_cmd = (math.nan, math.nan, math.nan)
         if seg.rolling is not None:
-            u_des, sR_des, phi_ref, phid_ref = seg.rolling(tl)
-            phiR = float(obs.q[3] + obs.q[4] + obs.q[5])
-            sR = round_contact_arclength(e.beta[1], phiR, self.r)
-            self._roll_cmd = (u_des, sR, sR_des)
-            w_des = float(pose_now[1][2]) if pose_now is not None else 0.0
-            qd = obs.qd
-            # contact rates from pure rolling (eq. 2.4): ds = -d(phi - theta) / (k_f + k_o)
-            sdL = -R * (qd[0] + qd[1] + qd[2] - w_des)
-            sdR = -(self.r * R / (self.r + R)) * (qd[3] + qd[4] + qd[5] - w_des)
-            m_roll = [rolling_moment(-e.u, sdL, -u_des, 0.0, self.roll),
-                      rolling_moment(sR, sdR, sR_des, 0.0, self.roll)]  # fmt: skip
-            if seg.kind != 1:
-                # the holder of phases 2/3 gets no rolling PD: on a round tip its distal
-                # moment becomes a tangential contact force (moment / tip radius) that
-                # rolled the held object away along the palm
-                m_roll = [0.0, 0.0]
-            # orientation of each grasping/holding fingertip along its planned path
-            for k in range(2):
-                phi = float(obs.q[3 * k] + obs.q[3 * k + 1] + obs.q[3 * k + 2])
-                phid = float(qd[3 * k] + qd[3 * k + 1] + qd[3 * k + 2])
-                kp = s.hold_kp if seg.kind == 1 else 0.0
-                m_roll[k] += kp * (phi_ref[k] - phi) - s.hold_kv * (phid - phid_ref[k])
-        x_des, xd_des = (
-            pose_now if pose_now is not None else ((e.centre[0], e.centre[1], 0.0), (0, 0, 0))
-        )
-        p_des, v_des, phi_des = (
-            seg.explore(tl) if seg.explore is not None else ((0.0, 0.0), (0.0, 0.0), 0.0)
-        )
-        explorer = {1: (0.0, 0.0), 2: (0.0, 1.0), 3: (1.0, 0.0)}[seg.kind]
-        phis = [phi_des if explorer[0] else 0.0, phi_des if explorer[1] else 0.0]
-        ref[:] = pack(
-            {
-                "x_des": x_des, "xd_des": xd_des, "theta_est": self.theta, "rho": (R, R),
-                "f_int": f_cmd, "m_roll": m_roll, "p_des": p_des, "v_des": v_des,
-                "phi_des": phis, "palm": (e.centre[0], 0.0),
-                "flags": (1.0 if seg.kind == 1 else 0.0, explorer[0], explorer[1]),
-                "p_hold": self._hold_tip + (e.p[self._holder] - e.tips[self._holder]),
-            },
-            REF, N_REF,
+            m_roll, roll_cmd = self._rolling(seg.rolling(tl), pose_now, b, qd)
+        if pose_now is not None:
+            (xx, xy, xt), (vx, vy, vt) = pose_now[0], pose_now[1]
+        else:
+            xx, xy, xt, vx, vy, vt = cx, b[11], 0.0, 0.0, 0.0, 0.0
+        if seg.explore is not None:
+            (pdx, pdy), (vdx, vdy), phi_des = seg.explore(tl)
+        else:
+            pdx, pdy, vdx, vdy, phi_des = 0.0, 0.0, 0.0, 0.0, 0.0
+        ex = mode.explorer
+        h = 2 * self._holder
+        hx, hy = self._hold_tip
+        geo = b[20:28]
+        if kind == 3:  # the exploring pad is steered by its centre (it slides)
+            geo[0] = geo[1] = 0.0
+        self._pack(
+            self._inputs, 0, *q, *qd, *geo,
+            xx, xy, xt, vx, vy, vt, 0.0, 0.0, 0.0, self.theta, R, R, f_cmd, m_roll[0],
+            m_roll[1], pdx, pdy, vdx, vdy, phi_des if ex[0] else 0.0,
+            phi_des if ex[1] else 0.0, cx, 0.0, mode.grasp, ex[0], ex[1],
+            hx + (b[2 + h] - b[28 + h]), hy + (b[3 + h] - b[29 + h]),
         )  # fmt: skip
         if seg.explore_force is not None:
-            st.par[PAR["f_n_tip"]] = seg.explore_force(tl)
-        st.q[:], st.qd[:] = obs.q, obs.qd
-        st.geo[:4], st.geo[4:] = e.offsets, e.tip_normals
-        if seg.kind == 3:  # the exploring pad is steered by its centre (it slides)
-            st.geo[0:2] = 0.0
-        tau = st().copy()
-        if not np.all(np.isfinite(tau)) or np.max(np.abs(tau)) > FALLBACK_RATIO * s.torque_limit:
+            self._par[self._f_n_tip] = seg.explore_force(tl)
+        tau = self.step()
+        taus = tau.tolist()
+        bound = self._tau_bound
+        if math.isfinite(sum(taus)) and max(taus) <= bound and min(taus) >= -bound:
+            tau = self._last_tau = tau.copy()
+        else:
             # a near-singular finger Jacobian or an infeasible QP gave a command of tens of
             # N m: saturated at the torque limits it threw the light fingers into the object
             # (simulator faults); hold the last good command, damped, for this step instead
             tau = self._last_tau - FALLBACK_DAMPING * np.asarray(obs.qd, float)
             self.fallbacks += 1
-        else:
-            self._last_tau = tau
-        self.step_times.append(time.perf_counter() - tau_t0)
         self.trace.append(
-            (t, seg.kind, e.u, e.pad_touch, *e.p.ravel(), *e.n.ravel(), *e.centre, self.theta,
-             *e.normal_force, f_cmd, sensed, *p_des, *self._roll_cmd, f_des,
-             *e.forces.ravel())
+            (t, kind, *b[0:12], self.theta, b[18], b[19], f_cmd, sensed, pdx, pdy, *roll_cmd,
+             f_des, *b[14:18])
         )  # fmt: skip
         if obs.tactile is not None and len(self.trace) % 5 == 0 and "left" in obs.tactile:
             self.images.append((t, obs.tactile["left"].copy()))
-        self._check_events(t, tl, obs, e)
+        if self.event is None:
+            self._check_events(tl, q, b)
+        self.step_times.append(time.perf_counter() - tau_t0)
         return tau
 
+    def _rolling(self, refs, pose_now, b, qd) -> tuple[list, tuple]:
+        """Distal moments of the grasping/holding fingers [N m] (rolling PD of eq. 2.8 in
+        phase 1, orientation along the planned path) and the trace's rolling columns."""
+        s, R, r = self.s, self.sensing.radius, self.r
+        u_des, sR_des, phi_ref, phid_ref = refs
+        sR = round_contact_arclength(b[13], b[33], r)
+        m_roll = [0.0, 0.0]
+        if self._mode.kind == 1:
+            w_des = float(pose_now[1][2]) if pose_now is not None else 0.0
+            # contact rates from pure rolling (eq. 2.4): ds = -d(phi - theta) / (k_f + k_o)
+            sdL = -R * (qd[0] + qd[1] + qd[2] - w_des)
+            sdR = -(r * R / (r + R)) * (qd[3] + qd[4] + qd[5] - w_des)
+            m_roll = [rolling_moment(-b[0], sdL, -u_des, 0.0, self.roll),
+                      rolling_moment(sR, sdR, sR_des, 0.0, self.roll)]  # fmt: skip
+            kp = s.hold_kp
+        else:
+            # the holder of phases 2/3 gets no rolling PD: on a round tip its distal
+            # moment becomes a tangential contact force (moment / tip radius) that
+            # rolled the held object away along the palm
+            kp = 0.0
+        # orientation of each grasping/holding fingertip along its planned path
+        for k in range(2):
+            phid = qd[3 * k] + qd[3 * k + 1] + qd[3 * k + 2]
+            m_roll[k] += kp * (phi_ref[k] - b[32 + k]) - s.hold_kv * (phid - phid_ref[k])
+        return m_roll, (u_des, sR, sR_des)
+
     # ------------------------------------------------------------------ events
-    def _check_events(self, t, tl, obs, e) -> None:
-        if self.event is not None:
-            return
-        s, seg = self.s, self.segment
-        q = obs.q
+    def _check_events(self, tl: float, q: list, b: list) -> None:
+        s, mode = self.s, self._mode
         if self._trigger is None:
-            self._trigger = limit_triggers(q, self.lim, s.joint_margin)
+            lo, hi = limit_triggers(q, self.lim, s.joint_margin)
+            self._trigger = (lo.tolist(), hi.tolist())
         lo, hi = self._trigger
-        near = np.flatnonzero((q < lo) | (q > hi))
-        moving = {1: range(6), 2: range(3, 6), 3: range(0, 3)}[seg.kind]
-        hit = [int(j) for j in near if j in moving]
-        if hit and tl > s.startup_time:
+        started = tl > s.startup_time
+        hit = [j for j in mode.moving if q[j] < lo[j] or q[j] > hi[j]]
+        if hit and started:
             self._set("workspace limit", joints=hit)
             return
-        touching = {1: (0, 1), 2: (0,), 3: (1,)}[seg.kind]
-        weak = any(e.normal_force[k] < s.lost_force for k in touching)
+        weak = any(b[18 + k] < s.lost_force for k in mode.touching)
         self._weak = self._weak + 1.0 / s.control_rate if weak else 0.0
-        if self._weak > s.lost_time and tl > s.startup_time:
-            self._set("contact lost", fingers=[k for k in touching])
+        if self._weak > s.lost_time and started:
+            self._set("contact lost", fingers=list(mode.touching))
             return
-        if seg.kind == 1 and tl > s.startup_time:
-            from planner.grasp import epsilon_two_planar
-
-            eps = float(epsilon_two_planar(e.p[0], -e.n[0], e.p[1], -e.n[1], s.mu))
+        if mode.kind == 1 and started:
+            e = self.sensing.est
+            eps = epsilon_two_contacts(e.p, e.n, s.mu, -1.0)
             if eps < s.min_epsilon:
                 self._set("grasp stability lost", epsilon=eps)
                 return
-        if tl >= seg.duration:
+        if tl >= self.segment.duration:
             self._set("path finished")
 
     def _set(self, kind: str, **data) -> None:
