@@ -103,6 +103,23 @@ int hx_step(void* ctx, const double* q, const double* qd, const double* geo, con
   }
   return flag;
 }
+
+/* the step on arrays bound once (hx_bind): one pointer crosses ctypes per step */
+typedef struct { void* ctx; const double *q, *qd, *geo, *ref, *par; double *tau, *f, *diag; }
+  hx_bound;
+
+void* hx_bind(void* ctx, const double* q, const double* qd, const double* geo,
+              const double* ref, const double* par, double* tau, double* f, double* diag) {
+  hx_bound* b = (hx_bound*)calloc(1, sizeof(hx_bound));
+  b->ctx = ctx; b->q = q; b->qd = qd; b->geo = geo; b->ref = ref; b->par = par;
+  b->tau = tau; b->f = f; b->diag = diag;
+  return b;
+}
+
+int hx_run(void* bound) {
+  hx_bound* b = (hx_bound*)bound;
+  return hx_step(b->ctx, b->q, b->qd, b->geo, b->ref, b->par, b->tau, b->f, b->diag);
+}
 """
 
 
@@ -203,7 +220,12 @@ class GraspStep:
             self._ctx = lib.hx_create()
         arrays = (self.q, self.qd, self.geo, self.ref, self.par, self.tau, self.forces, self.diag)
         self._args = (self._ctx,) + tuple(a.ctypes.data for a in arrays)
-        self._step = lib.hx_step
+        lib.hx_bind.restype = ctypes.c_void_p
+        lib.hx_bind.argtypes = [ctypes.c_void_p] * 9
+        lib.hx_run.restype = ctypes.c_int
+        lib.hx_run.argtypes = [ctypes.c_void_p]
+        self._bound = lib.hx_bind(*self._args) if self._ctx else None
+        self._run = lib.hx_run
 
     def _selftest(self) -> bool:
         """Solve two QPs through the C workspace path (setup, then update) and compare with
@@ -235,7 +257,7 @@ class GraspStep:
             ``tau`` (6,) [N m] (the reused attribute array).
         """
         if self.backend == "c-daqp":
-            self.flag = self._step(*self._args)
+            self.flag = self._run(self._bound)
             return self.tau
         return self._python_step()
 
