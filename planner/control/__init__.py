@@ -54,6 +54,7 @@ _EXPORTS = {
     "GraspStep": ("grasp_step", "GraspStep"),
     "grasp_reference_step": ("grasp_reference", "reference_step"),
     "epsilon_two_contacts": ("grasp_stability", "epsilon_two_contacts"),
+    "epsilon_two_scalar": ("grasp_stability", "epsilon_two_scalar"),
     # the surface explorer's hybrid force/velocity law (§4.3)
     "GRAVITY_MODES": ("hybrid_law", "GRAVITY_MODES"),
     "HybridController": ("hybrid_law", "HybridController"),

@@ -30,16 +30,24 @@ def epsilon_two_contacts(points, normals, mu: float, sign: float) -> float:  # p
     Returns:
         ε >= 0 (0 without force closure), as :func:`planner.grasp.epsilon_two_planar`.
     """
-    dx = points[1, 0] - points[0, 0]
-    dy = points[1, 1] - points[0, 1]
+    return epsilon_two_scalar(
+        points[0, 0], points[0, 1], points[1, 0], points[1, 1], sign * normals[0, 0],
+        sign * normals[0, 1], sign * normals[1, 0], sign * normals[1, 1], mu,
+    )  # fmt: skip
+
+
+@njit(cache=True, nogil=True)
+def epsilon_two_scalar(p1x, p1y, p2x, p2y, n1x, n1y, n2x, n2y, mu):  # pragma: no cover
+    """:func:`epsilon_two_contacts` on scalars: points ``p1``, ``p2`` [m], INWARD unit
+    normals ``n1``, ``n2``, friction ``mu`` [-] (for other compiled code)."""
+    dx = p2x - p1x
+    dy = p2y - p1y
     dist = math.hypot(dx, dy)
     if not dist > 0:
         return 0.0
     ux, uy = dx / dist, dy / dist
     r2 = math.sqrt(2.0)
     cg, sg = 1.0 / math.sqrt(1.0 + mu * mu), mu / math.sqrt(1.0 + mu * mu)
-    n1x, n1y = sign * normals[0, 0], sign * normals[0, 1]
-    n2x, n2y = sign * normals[1, 0], sign * normals[1, 1]
     c, s = n1x * ux + n1y * uy, ux * n1y - uy * n1x
     a1c, a1s, a2c, a2s = c * cg + s * sg, s * cg - c * sg, c * cg - s * sg, s * cg + c * sg
     c, s = n2x * ux + n2y * uy, ux * n2y - uy * n2x
@@ -76,4 +84,4 @@ def epsilon_two_contacts(points, normals, mu: float, sign: float) -> float:  # p
     return eps if inside else 0.0
 
 
-__all__ = ["epsilon_two_contacts"]
+__all__ = ["epsilon_two_contacts", "epsilon_two_scalar"]

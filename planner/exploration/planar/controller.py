@@ -17,15 +17,15 @@ import struct
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import NamedTuple
 
 import numpy as np
 
 from planner.control.grasp_layout import N_PAR, PAR, pack
-from planner.control.grasp_stability import epsilon_two_contacts
-from planner.control.internal_force import InternalForcePI, sensed_internal_force
-from planner.control.rolling_pd import RollingGains, rolling_moment
-from planner.exploration.planar.sensing import SOURCES, GraspSensing, round_contact_arclength
+from planner.control.internal_force import InternalForcePI
+from planner.control.rolling_pd import RollingGains
+from planner.exploration.planar import controller_kernel as ck
+from planner.exploration.planar.controller_kernel import gait_kernel
+from planner.exploration.planar.sensing import SOURCES, GraspSensing
 from planner.exploration.planar.settings import GaitSettings
 
 
@@ -63,24 +63,6 @@ TRACE_NAMES = (
     "sR_des", "f_des", "fLx", "fLy", "fRx", "fRy",
 )  # fmt: skip
 
-
-class _Mode(NamedTuple):
-    """What a phase kind fixes for every control step (looked up once per phase)."""
-
-    kind: int
-    source: int  # centre estimate of the sensing (planar.sensing.SOURCES)
-    grasp: float  # the control step's grasp flag
-    explorer: tuple[float, float]  # exploring flags of the left and right finger
-    holder: int  # the finger anchored by its fingertip (phases 2/3)
-    moving: tuple[int, ...]  # joints whose limits end the phase
-    touching: tuple[int, ...]  # fingers whose contact loss ends the phase
-
-
-_MODES = {
-    1: _Mode(1, SOURCES["auto"], 1.0, (0.0, 0.0), 1, tuple(range(6)), (0, 1)),
-    2: _Mode(2, SOURCES["pad"], 0.0, (0.0, 1.0), 0, tuple(range(3, 6)), (0,)),
-    3: _Mode(3, SOURCES["palm"], 0.0, (1.0, 0.0), 1, tuple(range(3)), (1,)),
-}
 
 #: a command beyond this many torque limits is rejected (safe fallback) [-]
 FALLBACK_RATIO = 5.0
@@ -123,95 +105,65 @@ class GaitController:
             },
             PAR, N_PAR,
         )  # fmt: skip
-        self._pack = struct.Struct(f"{STEP_INPUTS}d").pack_into
-        self._inputs, self._par = self.step.inputs, self.step.par
-        self._f_n_tip = PAR["f_n_tip"].start
-        self._dt = 1.0 / s.control_rate
+        self._ks = _constants(self, STEP_INPUTS + PAR["f_n_tip"].start)
+        self._sv = np.zeros(ck.N_SV)
+        self._inputs = self.step.inputs
+        self._row = np.zeros(len(TRACE_NAMES))
+        self._pack_sv = struct.Struct(f"{ck.N_SV}d").pack_into
         self._tau_bound = FALLBACK_RATIO * s.torque_limit
         self.segment: Segment | None = None
         self.t0 = 0.0
         self.event: str | None = None
         self.event_data: dict = {}
-        self.theta = 0.0
-        self._mode = _MODES[1]
-        self._u0 = 0.0
-        self._beta0 = 0.0
-        self._weak = 0.0
-        self._holder = 0
-        self._hold_tip = (0.0, 0.0)
-        self._trigger: tuple[list, list] | None = None
         self.step_times: list[float] = []
         self.fallbacks = 0  # control steps that used the safe fallback command
         self._last_tau = np.zeros(6)
         self.trace: list[tuple] = []
         self.images: list[tuple[float, np.ndarray]] = []
 
+    @property
+    def theta(self) -> float:
+        """The object rotation estimate [rad] (rolling integration of eq. 2.4 in phase 1)."""
+        return float(self._ks[ck.S_THETA])
+
     # ------------------------------------------------------------------ phases
     def start(self, segment: Segment, t: float) -> None:
         """Begin ``segment`` at world time ``t`` [s]."""
         self.segment, self.t0 = segment, t
         self.event, self.event_data = None, {}
-        self.theta = segment.theta0
-        self._mode = _MODES[segment.kind]
-        self._weak = 0.0
-        e = self.sensing.est
-        self._u0, self._beta0 = e.u, float(e.beta[0])
+        kind = segment.kind
+        ex = {1: (0.0, 0.0), 2: (0.0, 1.0), 3: (1.0, 0.0)}[kind]
+        e, ks = self.sensing.est, self._ks
         # the holding finger is anchored by its fingertip point (encoders), not by the sensed
         # contact: the contact estimate jumps when the tactile centroid or the centre
         # estimate changes, and a stiff anchor on it dragged the held object
-        self._holder = self._mode.holder
-        self._hold_tip = tuple(e.tips[self._holder].tolist())
-        self.pi.reset()
-        self._trigger = None  # limit triggers, set from the phase's first joint reading
+        holder = 0 if kind == 2 else 1
+        ks[ck.K_KIND], ks[ck.K_SOURCE] = kind, SOURCES[{1: "auto", 2: "pad", 3: "palm"}[kind]]
+        ks[ck.K_HOLDER], ks[ck.K_EX0], ks[ck.K_EX1] = holder, ex[0], ex[1]
+        ks[ck.K_GRASP] = 1.0 if kind == 1 else 0.0
+        ks[ck.K_THETA0] = ks[ck.S_THETA] = segment.theta0
+        ks[ck.K_DURATION] = segment.duration
+        ks[ck.S_U0], ks[ck.S_BETA0] = e.u, e.beta[0]
+        ks[ck.S_HOLD : ck.S_HOLD + 2] = e.tips[holder]
+        ks[ck.S_INT] = 0.0  # the internal-force PI restarts
+        ks[ck.S_WEAK] = 0.0
+        ks[ck.S_TRIG] = 0.0  # limit triggers, set from the phase's first joint reading
+        ks[ck.S_DONE] = 0.0
 
     # ------------------------------------------------------------------ the step
     def __call__(self, t: float, obs) -> np.ndarray:
         tau_t0 = time.perf_counter()
-        seg, mode = self.segment, self._mode
-        b = self.sensing.update_raw(obs, mode.source).tolist()  # layout B_* of .sensing
-        q, qd = obs.q.tolist(), obs.qd.tolist()
+        seg = self.segment
         tl = t - self.t0
-        R = self.sensing.radius
-        kind = mode.kind
-        u, cx = b[0], b[10]
-        if kind == 1 and b[1]:  # rolling integration (eq. 2.4)
-            self.theta = seg.theta0 + (b[12] - self._beta0) - (u - self._u0) / R
-        f_des = seg.hold_force(tl)
-        if kind == 1:
-            sensed = sensed_internal_force(b[2:4], b[4:6], b[14:16], b[16:18])
-        else:
-            h = 2 * mode.holder
-            fx, fy = b[14 + h], b[15 + h]
-            sensed = sensed_internal_force(b[2 + h : 4 + h], (cx, 0.0), (fx, fy), (-fx, -fy))
-        f_cmd = self.pi.command(f_des, sensed, self._dt)
-        pose_now = seg.pose(tl) if seg.pose is not None else None
-        m_roll = [0.0, 0.0]
-        roll_cmd = (math.nan, math.nan, math.nan)
-        if seg.rolling is not None:
-            m_roll, roll_cmd = self._rolling(seg.rolling(tl), pose_now, b, qd)
-        if pose_now is not None:
-            (xx, xy, xt), (vx, vy, vt) = pose_now[0], pose_now[1]
-        else:
-            xx, xy, xt, vx, vy, vt = cx, b[11], 0.0, 0.0, 0.0, 0.0
-        if seg.explore is not None:
-            (pdx, pdy), (vdx, vdy), phi_des = seg.explore(tl)
-        else:
-            pdx, pdy, vdx, vdy, phi_des = 0.0, 0.0, 0.0, 0.0, 0.0
-        ex = mode.explorer
-        h = 2 * self._holder
-        hx, hy = self._hold_tip
-        geo = b[20:28]
-        if kind == 3:  # the exploring pad is steered by its centre (it slides)
-            geo[0] = geo[1] = 0.0
-        self._pack(
-            self._inputs, 0, *q, *qd, *geo,
-            xx, xy, xt, vx, vy, vt, 0.0, 0.0, 0.0, self.theta, R, R, f_cmd, m_roll[0],
-            m_roll[1], pdx, pdy, vdx, vdy, phi_des if ex[0] else 0.0,
-            phi_des if ex[1] else 0.0, cx, 0.0, mode.grasp, ex[0], ex[1],
-            hx + (b[2 + h] - b[28 + h]), hy + (b[3 + h] - b[29 + h]),
+        self._pack_sv(self._sv, 0, seg.hold_force(tl), *_references(seg, tl), t, tl)
+        tactile = obs.tactile
+        image = tactile.get("left") if tactile is not None else None
+        sensing = self.sensing
+        code = gait_kernel(
+            obs.q, obs.qd, obs.tip_forces, sensing._no_image if image is None else image,
+            image is not None, sensing.geo, sensing.taxel_u, sensing.buffer, self._sv,
+            self._ks, self._inputs, self._row,
         )  # fmt: skip
-        if seg.explore_force is not None:
-            self._par[self._f_n_tip] = seg.explore_force(tl)
         tau = self.step()
         taus = tau.tolist()
         bound = self._tau_bound
@@ -223,75 +175,79 @@ class GaitController:
             # (simulator faults); hold the last good command, damped, for this step instead
             tau = self._last_tau - FALLBACK_DAMPING * np.asarray(obs.qd, float)
             self.fallbacks += 1
-        self.trace.append(
-            (t, kind, *b[0:12], self.theta, b[18], b[19], f_cmd, sensed, pdx, pdy, *roll_cmd,
-             f_des, *b[14:18])
-        )  # fmt: skip
-        if obs.tactile is not None and len(self.trace) % 5 == 0 and "left" in obs.tactile:
-            self.images.append((t, obs.tactile["left"].copy()))
-        if self.event is None:
-            self._check_events(tl, q, b)
+        self.trace.append(tuple(self._row.tolist()))
+        if image is not None and len(self.trace) % 5 == 0:
+            self.images.append((t, image.copy()))
+        if code:
+            self._event(code)
         self.step_times.append(time.perf_counter() - tau_t0)
         return tau
 
-    def _rolling(self, refs, pose_now, b, qd) -> tuple[list, tuple]:
-        """Distal moments of the grasping/holding fingers [N m] (rolling PD of eq. 2.8 in
-        phase 1, orientation along the planned path) and the trace's rolling columns."""
-        s, R, r = self.s, self.sensing.radius, self.r
-        u_des, sR_des, phi_ref, phid_ref = refs
-        sR = round_contact_arclength(b[13], b[33], r)
-        m_roll = [0.0, 0.0]
-        if self._mode.kind == 1:
-            w_des = float(pose_now[1][2]) if pose_now is not None else 0.0
-            # contact rates from pure rolling (eq. 2.4): ds = -d(phi - theta) / (k_f + k_o)
-            sdL = -R * (qd[0] + qd[1] + qd[2] - w_des)
-            sdR = -(r * R / (r + R)) * (qd[3] + qd[4] + qd[5] - w_des)
-            m_roll = [rolling_moment(-b[0], sdL, -u_des, 0.0, self.roll),
-                      rolling_moment(sR, sdR, sR_des, 0.0, self.roll)]  # fmt: skip
-            kp = s.hold_kp
+    def _event(self, code: int) -> None:
+        """Record the event the kernel found (code of ``controller_kernel.EVENTS``)."""
+        ks = self._ks
+        kind = ck.EVENTS[code]
+        if code == 1:
+            hit = int(ks[ck.S_HIT])
+            self._set(kind, joints=[j for j in range(6) if hit >> j & 1])
+        elif code == 2:
+            touching = {1: [0, 1], 2: [0], 3: [1]}[self.segment.kind]
+            self._set(kind, fingers=touching)
+        elif code == 3:
+            self._set(kind, epsilon=float(ks[ck.S_EPS]))
         else:
-            # the holder of phases 2/3 gets no rolling PD: on a round tip its distal
-            # moment becomes a tangential contact force (moment / tip radius) that
-            # rolled the held object away along the palm
-            kp = 0.0
-        # orientation of each grasping/holding fingertip along its planned path
-        for k in range(2):
-            phid = qd[3 * k] + qd[3 * k + 1] + qd[3 * k + 2]
-            m_roll[k] += kp * (phi_ref[k] - b[32 + k]) - s.hold_kv * (phid - phid_ref[k])
-        return m_roll, (u_des, sR, sR_des)
-
-    # ------------------------------------------------------------------ events
-    def _check_events(self, tl: float, q: list, b: list) -> None:
-        s, mode = self.s, self._mode
-        if self._trigger is None:
-            lo, hi = limit_triggers(q, self.lim, s.joint_margin)
-            self._trigger = (lo.tolist(), hi.tolist())
-        lo, hi = self._trigger
-        started = tl > s.startup_time
-        hit = [j for j in mode.moving if q[j] < lo[j] or q[j] > hi[j]]
-        if hit and started:
-            self._set("workspace limit", joints=hit)
-            return
-        weak = any(b[18 + k] < s.lost_force for k in mode.touching)
-        self._weak = self._weak + 1.0 / s.control_rate if weak else 0.0
-        if self._weak > s.lost_time and started:
-            self._set("contact lost", fingers=list(mode.touching))
-            return
-        if mode.kind == 1 and started:
-            e = self.sensing.est
-            eps = epsilon_two_contacts(e.p, e.n, s.mu, -1.0)
-            if eps < s.min_epsilon:
-                self._set("grasp stability lost", epsilon=eps)
-                return
-        if tl >= self.segment.duration:
-            self._set("path finished")
+            self._set(kind)
 
     def _set(self, kind: str, **data) -> None:
         self.event, self.event_data = kind, data
+        self._ks[ck.S_DONE] = 1.0
 
     def stop(self, t: float, world) -> str | None:
         """The ``stop`` callback of ``world.run``: the event that ends the phase, if any."""
         return self.event
+
+
+_NO_POSE = (0.0,) * 7
+_NO_ROLL = (0.0,) * 7
+_NO_EXPLORE = (0.0,) * 6
+_NO_FORCE = (0.0, 0.0)
+
+
+def _references(seg: Segment, tl: float) -> tuple:
+    """The segment's references at phase time ``tl`` [s] as the floats of ``sv`` (layout
+    ``V_HAS_POSE`` .. ``V_FNT`` of :mod:`.controller_kernel`)."""
+    if seg.pose is None:
+        pose = _NO_POSE
+    else:
+        (x, y, a), (vx, vy, w) = seg.pose(tl)
+        pose = (1.0, x, y, a, vx, vy, w)
+    if seg.rolling is None:
+        roll = _NO_ROLL
+    else:
+        u_des, s_des, (p0, p1), (w0, w1) = seg.rolling(tl)
+        roll = (1.0, u_des, s_des, p0, p1, w0, w1)
+    if seg.explore is None:
+        explore = _NO_EXPLORE
+    else:
+        (px, py), (vx, vy), phi = seg.explore(tl)
+        explore = (1.0, px, py, vx, vy, phi)
+    force = _NO_FORCE if seg.explore_force is None else (1.0, seg.explore_force(tl))
+    return (*pose, *roll, *explore, *force)
+
+
+def _constants(ctrl: GaitController, f_n_tip: int) -> np.ndarray:
+    """The constant part of the kernel's ``ks`` array for ``ctrl``."""
+    s, g, roll = ctrl.s, ctrl.pi.gains, ctrl.roll
+    ks = np.zeros(ck.N_KS)
+    ks[: ck.K_LIM_LO] = (
+        ctrl.sensing.radius, ctrl.r, 1.0 / s.control_rate, g.kp, g.ki, g.max_correction,
+        roll.kp, roll.kv, roll.max_moment, s.hold_kp, s.hold_kv, s.startup_time,
+        s.lost_force, s.lost_time, s.mu, s.min_epsilon, s.joint_margin,
+    )  # fmt: skip
+    ks[ck.K_LIM_LO : ck.K_LIM_LO + 6] = ctrl.lim[:, 0]
+    ks[ck.K_LIM_HI : ck.K_LIM_HI + 6] = ctrl.lim[:, 1]
+    ks[ck.K_F_NT] = f_n_tip
+    return ks
 
 
 def limit_triggers(q, lim, margin: float) -> tuple[np.ndarray, np.ndarray]:
