@@ -9,13 +9,16 @@ recorded as their values at every time the controller asked for, so a replay nee
 the planner nor the simulator. Outputs: the torques, the trace row and the event of every
 call.
 
-Regenerate the data file (only when the controller's behaviour is meant to change)::
+The data file was recorded with the controller as it was before its hot path was compiled
+(commit 252cf84, GaitSettings and hand of that commit's scenario, stored in the file).
+Regenerate it only when the controller's behaviour is meant to change::
 
     python tests/gait_replay.py record tests/data/gait_controller_replay.pkl.gz
 """
 
 from __future__ import annotations
 
+import dataclasses
 import gzip
 import math
 import pickle
@@ -64,7 +67,9 @@ def record(path: Path, calls_per_window: int = 120, duration: float = 6.0) -> di
     class Recording(ctl.GaitController):
         def __init__(self, hand, settings, radius, gravity):
             super().__init__(hand, settings, radius, gravity)
-            setup.update(radius=float(radius), gravity=np.array(gravity, float))
+            setup.update(radius=float(radius), gravity=np.array(gravity, float),
+                         settings=dataclasses.asdict(settings),
+                         hand=dataclasses.asdict(hand.params))  # fmt: skip
             self._in_call = False
             self._pending_sense = None
             inner = self.sensing.update
@@ -155,13 +160,20 @@ def replay_segment(window: dict):
 
 
 def make_controller(data: dict, cls=None):
-    """A fresh controller (``cls``, default :class:`GaitController`) for the recording."""
+    """A fresh controller (``cls``, default :class:`GaitController`) with the settings and
+    hand of the recording."""
+    from planner.control.internal_force import InternalForceGains
     from planner.exploration.planar.controller import GaitController
-    from planner.kinds.gait import _hand
-    from planner.scenario import load_scenario
+    from planner.exploration.planar.settings import GaitSettings
+    from robots.planar_hand import PlanarHand
+    from robots.planar_hand.params import FingerParams, HandParams
 
-    cfg = load_scenario(Path(__file__).parent.parent / "scenarios" / "ball_with_ridge.yaml")
-    return (cls or GaitController)(_hand(cfg), cfg.settings(), data["radius"], data["gravity"])
+    s = dict(data["settings"])
+    s["internal_gains"] = InternalForceGains(**s["internal_gains"])
+    h = dict(data["hand"])
+    hand = PlanarHand(HandParams(left=FingerParams(**h.pop("left")),
+                                 right=FingerParams(**h.pop("right")), **h))  # fmt: skip
+    return (cls or GaitController)(hand, GaitSettings(**s), data["radius"], data["gravity"])
 
 
 def replay(ctrl, data: dict):
@@ -179,6 +191,7 @@ def replay(ctrl, data: dict):
 
 
 if __name__ == "__main__":
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
     if len(sys.argv) == 3 and sys.argv[1] == "record":
         d = record(Path(sys.argv[2]))
         print(f"{len(d['windows'])} windows, {sum(len(w['calls']) for w in d['windows'])} calls")

@@ -88,3 +88,51 @@ def test_compiled_epsilon_of_an_antipodal_grasp():
     assert epsilon_two_contacts(pts, outward, 0.0, -1.0) == 0.0
     same = np.array([[-1.0, 0.0], [-1.0, 0.0]])  # both fingers push the same way
     assert epsilon_two_contacts(pts, same, 0.5, -1.0) == 0.0
+
+
+# ---------------------------------------------------------------- the kernel's scalar laws
+num = st.floats(-5.0, 5.0, allow_nan=False)
+
+
+@settings(max_examples=200, deadline=None, derandomize=True)
+@given(v=st.lists(num, min_size=8, max_size=8))
+def test_kernel_internal_force_equals_the_library(v):
+    from planner.control.internal_force import sensed_internal_force
+    from planner.exploration.planar.controller_kernel import _internal_force
+
+    ref = sensed_internal_force(v[0:2], v[2:4], v[4:6], v[6:8])
+    assert _internal_force(*v) == ref
+    assert _internal_force(1.0, 2.0, 1.0, 2.0, *v[4:]) == 0.0  # coincident points
+
+
+@settings(max_examples=200, deadline=None, derandomize=True)
+@given(v=st.lists(num, min_size=4, max_size=4), kp=st.floats(0, 2), kv=st.floats(0, 1),
+       limit=st.floats(1e-3, 1.0))  # fmt: skip
+def test_kernel_rolling_moment_equals_eq_2_8(v, kp, kv, limit):
+    from planner.control.rolling_pd import RollingGains, rolling_moment
+    from planner.exploration.planar.controller_kernel import _rolling_moment
+
+    ref = rolling_moment(*v, RollingGains(kp, kv, limit))
+    assert _rolling_moment(*v, kp, kv, limit) == ref
+    assert abs(ref) <= limit
+
+
+@settings(max_examples=200, deadline=None, derandomize=True)
+@given(beta=num, phi=num, r=st.floats(1e-3, 0.05))
+def test_kernel_arclength_equals_the_sensing(beta, phi, r):
+    from planner.exploration.planar.controller_kernel import _arclength
+    from planner.exploration.planar.sensing import round_contact_arclength
+
+    assert _arclength(beta, phi, r) == round_contact_arclength(beta, phi, r)
+
+
+def test_controller_interface_kept(recording):
+    """What the phase machine uses: theta after start, stop(), event data, images."""
+    ctrl = gait_replay.make_controller(recording)
+    w = recording["windows"][0]
+    ctrl.start(gait_replay.replay_segment(w), w["t0"])
+    assert ctrl.theta == w["theta0"]
+    assert ctrl.stop(w["t0"], None) is None
+    events = [(c, e) for c, _, _, e in gait_replay.replay(ctrl, recording) if e is not None]
+    assert events and all(isinstance(e, str) for _, e in events)
+    assert ctrl.images and ctrl.images[0][1].shape == (8, 8)
