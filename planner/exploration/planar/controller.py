@@ -1,13 +1,20 @@
 """The gait's controller: one callable ``controller(t, obs) -> tau`` for every phase (§2.2).
 
-Per control step it (1) updates the sensed grasp (:mod:`.sensing`), (2) evaluates the
-phase's references (plan of phase 1, or the exploring finger's path of phases 2/3, with the
-startup ramps of §2.2.3), (3) runs the internal-force PI and the rolling PD (eq. 2.8) in
-Python scalars, (4) runs the compiled step (:class:`planner.control.grasp_step.GraspStep`:
-kinematics, Jacobians, object impedance eq. 2.7, fingertip impedance and the QP), and
-(5) checks the events that end a phase: workspace limit, grasp stability lost, contact
-lost, path finished. The first event is kept in :attr:`GaitController.event`; the world's
-``stop`` callback returns it.
+Per control step it (1) evaluates the phase's references (plan of phase 1, or the exploring
+finger's path of phases 2/3, with the startup ramps of §2.2.3: the segment's callables),
+(2) runs one compiled kernel (:func:`.controller_kernel.gait_kernel`): the sensed grasp of
+:mod:`.sensing`, the object rotation estimate, the internal-force PI and the rolling PD
+(eq. 2.8), the step's inputs, the trace row and the checks of the events that end a phase
+(workspace limit, contact lost, grasp stability lost, path finished), (3) runs the compiled
+step (:class:`planner.control.grasp_step.GraspStep`: kinematics, Jacobians, object impedance
+eq. 2.7, fingertip impedance and the QP, one C call) and (4) rejects a command beyond
+:data:`FALLBACK_RATIO` torque limits. The first event is kept in
+:attr:`GaitController.event`; the world's ``stop`` callback returns it.
+
+The laws themselves live in :mod:`planner.control` (the reference implementations, used by
+the plain controller of ``benchmarks/naive_gait.py``); the replay test
+(tests/test_gait_controller.py) checks torques, trace and events against the controller as
+first written, on observations recorded from ``ball_with_ridge``.
 """
 
 from __future__ import annotations
