@@ -18,7 +18,7 @@ import time
 
 import numpy as np
 
-from planner.control.grasp_layout import N_REF, REF, pack
+from planner.control.grasp_layout import N_REF, PAR, REF, pack
 from planner.control.grasp_reference import reference_step
 from planner.control.internal_force import sensed_internal_force
 from planner.control.rolling_pd import rolling_moment
@@ -74,6 +74,22 @@ class NaiveGaitController(GaitController):
     def __init__(self, hand, settings, radius, gravity) -> None:
         super().__init__(hand, settings, radius, gravity)
         self._data = hand.model.createData()
+        self._f_n_tip = PAR["f_n_tip"].start
+        self._theta = 0.0
+
+    @property
+    def theta(self) -> float:
+        return self._theta
+
+    def start(self, segment, t: float) -> None:
+        super().start(segment, t)
+        e = self.sensing.est
+        self._theta = segment.theta0
+        self._u0, self._beta0 = e.u, e.beta[0]
+        self._holder = 0 if segment.kind == 2 else 1
+        self._hold_tip = e.tips[self._holder].copy()
+        self._weak, self._trigger = 0.0, None
+        self.pi.reset()
 
     def __call__(self, t: float, obs) -> np.ndarray:  # noqa: C901 (the plain version)
         seg, s, st = self.segment, self.s, self.step
@@ -83,7 +99,7 @@ class NaiveGaitController(GaitController):
         e = self.sensing.est
         tl, R = t - self.t0, self.sensing.radius
         if seg.kind == 1 and e.pad_touch:
-            self.theta = seg.theta0 + (e.beta[0] - self._beta0) - (e.u - self._u0) / R
+            self._theta = seg.theta0 + (e.beta[0] - self._beta0) - (e.u - self._u0) / R
         f_des = seg.hold_force(tl)
         if seg.kind == 1:
             sensed = sensed_internal_force(e.p[0], e.p[1], e.forces[0], e.forces[1])
@@ -151,6 +167,9 @@ class NaiveGaitController(GaitController):
         self._naive_events(tl, obs, e)
         self.step_times.append(time.perf_counter() - t_start)
         return tau
+
+    def _set(self, kind: str, **data) -> None:
+        self.event, self.event_data = kind, data
 
     def _naive_events(self, tl, obs, e) -> None:
         if self.event is not None:

@@ -136,3 +136,20 @@ def test_controller_interface_kept(recording):
     events = [(c, e) for c, _, _, e in gait_replay.replay(ctrl, recording) if e is not None]
     assert events and all(isinstance(e, str) for _, e in events)
     assert ctrl.images and ctrl.images[0][1].shape == (8, 8)
+
+
+def test_plain_numpy_controller_gives_the_same_torques(recording):
+    """The benchmark's naive controller (numpy + Pinocchio + qpsolvers) on the recording."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from naive_gait import NaiveGaitController
+
+    ctrl = gait_replay.make_controller(recording, NaiveGaitController)
+    calls = [w["calls"][:40] for w in recording["windows"]]
+    short = {**recording, "windows": [{**w, "calls": c} for w, c in
+                                      zip(recording["windows"], calls, strict=True)]}  # fmt: skip
+    for call, tau, _, event in gait_replay.replay(ctrl, short):
+        np.testing.assert_allclose(tau, call["tau"], rtol=0, atol=1e-7)
+        assert event == call["event"]
