@@ -154,3 +154,19 @@ def test_plain_numpy_controller_gives_the_same_torques(recording):
     for call, tau, _, event in gait_replay.replay(ctrl, short):
         np.testing.assert_allclose(tau, call["tau"], rtol=0, atol=1e-7)
         assert event == call["event"]
+
+
+def test_replay_with_the_step_run_from_python(recording):
+    """Without the C entry (a DAQP build the step cannot bind) Python runs the step."""
+    from planner.exploration.planar import controller_kernel as ck
+
+    ctrl = gait_replay.make_controller(recording)
+    assert ctrl.step.c_entry is not None
+    ctrl._ks[ck.K_STEP_FN] = 0.0
+    ctrl._python_step = True
+    calls = [w["calls"][:30] for w in recording["windows"]]
+    short = {**recording, "windows": [{**w, "calls": c} for w, c in
+                                      zip(recording["windows"], calls, strict=True)]}  # fmt: skip
+    for call, tau, _, event in gait_replay.replay(ctrl, short):
+        np.testing.assert_allclose(tau, call["tau"], rtol=0, atol=1e-9)
+        assert event == call["event"]
