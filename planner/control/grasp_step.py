@@ -230,8 +230,9 @@ class GraspStep:
     @property
     def c_entry(self) -> tuple[int, int] | None:
         """``(address of int hx_run(void*), its argument)`` for compiled callers that run
-        the step themselves (it reads and writes the arrays of this object); ``None``
-        without the C backend."""
+        the step themselves (it reads and writes the arrays of this object; :attr:`flag` is
+        then not updated, the caller gets it as the return value); ``None`` without the C
+        backend."""
         if self.backend != "c-daqp":
             return None
         return ctypes.cast(self._run, ctypes.c_void_p).value, int(self._bound)

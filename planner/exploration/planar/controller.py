@@ -4,11 +4,12 @@ Per control step it (1) evaluates the phase's references (plan of phase 1, or th
 finger's path of phases 2/3, with the startup ramps of §2.2.3: the segment's callables),
 (2) runs one compiled kernel (:func:`.controller_kernel.gait_kernel`): the sensed grasp of
 :mod:`.sensing`, the object rotation estimate, the internal-force PI and the rolling PD
-(eq. 2.8), the step's inputs, the trace row and the checks of the events that end a phase
-(workspace limit, contact lost, grasp stability lost, path finished), (3) runs the compiled
-step (:class:`planner.control.grasp_step.GraspStep`: kinematics, Jacobians, object impedance
-eq. 2.7, fingertip impedance and the QP, one C call) and (4) rejects a command beyond
-:data:`FALLBACK_RATIO` torque limits. The first event is kept in
+(eq. 2.8), the step's inputs, the compiled step itself
+(:class:`planner.control.grasp_step.GraspStep`: kinematics, Jacobians, object impedance
+eq. 2.7, fingertip impedance and the QP, called through its C entry point), the check of
+its command (a command beyond :data:`FALLBACK_RATIO` torque limits is replaced), the trace
+row and the checks of the events that end a phase (workspace limit, contact lost, grasp
+stability lost, path finished). The first event is kept in
 :attr:`GaitController.event`; the world's ``stop`` callback returns it.
 
 The laws themselves live in :mod:`planner.control` (the reference implementations, used by
