@@ -1,12 +1,14 @@
-"""The compiled body of one gait-controller call (numba): everything between the phase's
-reference values and the compiled grasp step (:class:`planner.control.grasp_step.GraspStep`).
+"""The compiled body of one gait-controller call (numba): everything after the phase's
+reference values, the compiled grasp step (:class:`planner.control.grasp_step.GraspStep`,
+called through its C entry point) included.
 
 :func:`gait_kernel` does, on flat arrays and without allocating: the sensing of
 :mod:`.sensing` (:func:`~.sensing.sense_kernel`), the rolling integration of the object
 rotation (eq. 2.4), the sensed internal force and its PI servo
 (:mod:`planner.control.internal_force`), the rolling PD of eq. 2.8 and the fingertip
 orientation moments (:mod:`planner.control.rolling_pd`), the step's inputs ``q, qd, geo,
-ref`` (layout :mod:`planner.control.grasp_layout`), the trace row
+ref`` (layout :mod:`planner.control.grasp_layout`), the step and the check of its command,
+the trace row
 (:data:`~.controller.TRACE_NAMES`) and the event checks that end a phase. The laws are the
 library's Python functions, transcribed with the same operation order (the replay test
 compares the torques, the trace and the events with the recorded Python controller).
