@@ -84,6 +84,7 @@ def explore_surface(
     tilt: float = 0.0,
     goal=None,
     sensors=None,
+    control: str = "open_loop",
     **options,
 ) -> ExplorationResult:
     """Explore ``surface`` with the 3GM: search, identify, trace, model (thesis ch. 4).
@@ -101,6 +102,9 @@ def explore_surface(
         tilt: tilt of the plate about the WCS y axis [rad].
         goal: (2,) bug-2 goal in the plate frame [m].
         sensors: :class:`planner.sim.SensorSettings` (default: the world's).
+        control: normal-force variant of the hybrid law: ``"open_loop"`` (eq. 4.12),
+            ``"closed_loop"`` (PI on the sensed normal force) or ``"qp"`` (torque limits by a
+            QP that keeps the normal force), see :mod:`planner.control.hybrid_variants`.
         **options: further :class:`ExplorationSettings` fields (``trace_speed``,
             ``line_spacing``, ``boundary_rise``, ``friction``, ``kp``, ``kv``, ...).
 
@@ -119,6 +123,13 @@ def explore_surface(
         goal=None if goal is None else tuple(goal),
         **options,
     )
+    hs = HybridSettings(
+        kp=cfg.kp,
+        kv=cfg.kv,
+        normal_force=cfg.normal_force,
+        tip_radius=tip_radius,
+        control=control,
+    )
     reg = region_box(((-0.02, 0.02), (-0.02, 0.02)) if region is None else region)
     dur = 120.0 if duration is None else checks.positive("duration", duration, "s")
     if not hasattr(surface, "features"):
@@ -126,7 +137,6 @@ def explore_surface(
             f"surface: expected a planner.sim.spatial.Plate, got {type(surface).__name__}"
         )
     world, gm, T = build_world(surface, cfg, reg, tilt, seed, sensors)
-    hs = HybridSettings(kp=cfg.kp, kv=cfg.kv, normal_force=cfg.normal_force, tip_radius=tip_radius)
     ex = ExplorerController(gm, hs, T, int(dur * 1000) + 2)
     state = ProgramState()
     ex.program = exploration_program(ex, cfg, reg, np.random.default_rng(seed), state)

@@ -21,7 +21,12 @@ import numpy as np
 from numba import njit
 
 from planner.control import hybrid_kernel as hk
-from planner.control.hybrid_law import HybridController, HybridSettings, owts_voltages
+from planner.control.hybrid_law import (
+    HybridController,
+    HybridSettings,
+    owts_voltages,
+    tip_force,
+)
 from planner.errors import HapexError
 from planner.sim import SimEvent
 
@@ -125,9 +130,7 @@ def _plate(R, o, x, i0, dst, k):
 
 
 @njit(cache=True)
-def explorer_step(
-    q, qd, samples, avg, volts, vel, R, o, state, target, par, out, rec, k, t, phase, feature
-):
+def explorer_step(q, qd, samples, avg, volts, vel, R, o, law, rec, k, t, phase, feature):
     """One explorer step after the program: OWTS mean, hybrid law, estimates, recorder row.
 
     Args:
@@ -137,17 +140,23 @@ def explorer_step(
         volts: (4,) voltages the law reads [V].
         vel: (3,) desired velocity in the plate frame [m/s] (z ignored).
         R, o: plate rotation (3, 3) and origin (3,) in the WCS.
-        state, target, par, out: the arrays of :func:`~planner.control.hybrid_kernel.
-            hybrid_step`.
+        law: ``(state, target, par, out, force, fstate, fpar, closed)``: the arrays of
+            :func:`~planner.control.hybrid_kernel.hybrid_step_closed_loop` and whether to
+            close the normal-force loop (False: :func:`~planner.control.hybrid_kernel.
+            hybrid_step`, the open-loop law).
         rec: tuple of the recorder's arrays (t, centre, contact, normal, in_contact, phase,
             feature, normal_force, saturated); row ``k`` is written.
         t: time [s]; phase, feature: codes of the row.
     """
     if avg:
         owts_mean(samples, OWTS_ON, volts)
+    state, target, par, out, force, fstate, fpar, closed = law
     for i in range(3):
         target[i] = R[i, 0] * vel[0] + R[i, 1] * vel[1]
-    hk.hybrid_step(q, qd, volts, state, target, par, out)
+    if closed:
+        hk.hybrid_step_closed_loop(q, qd, volts, force, state, fstate, target, par, fpar, out)
+    else:
+        hk.hybrid_step(q, qd, volts, state, target, par, out)
     r_t, r_centre, r_contact, r_normal, r_on, r_phase, r_feat, r_fn, r_sat = rec
     r_t[k] = t
     _plate(R, o, out, 6, r_centre, k)
@@ -202,6 +211,9 @@ class ExplorerController:
             r.normal_force, r.saturated,
         )  # fmt: skip
         self._none = np.zeros((0, 4))
+        c = self.ctl
+        self._closed = c.mode == "closed_loop"
+        self._law = (c.state, c.target, c.par, c.out, c._force, c.fstate, c.fpar, self._closed)
 
     def event(self, etype: str, message: str, **data) -> None:
         """Record an explorer event of type ``etype`` at the current time."""
@@ -216,10 +228,15 @@ class ExplorerController:
             scratch.phase, scratch.feature, scratch.normal_force, scratch.saturated,
         )  # fmt: skip
         th = c.finger.center_theta.astype(float)
-        explorer_step(
-            th, np.zeros(3), self._none, True, np.zeros(4), np.zeros(3), self.R, self.o,
-            c.state.copy(), np.zeros(3), c.par, np.zeros(hk.NOUT), rows, 0, 0.0, 0, -1,
-        )  # fmt: skip
+        for closed in (False, True):
+            law = (
+                c.state.copy(), np.zeros(3), c.par.copy(), np.zeros(hk.NOUT), np.zeros(3),
+                np.zeros(hk.NFSTATE), c.fpar, closed,
+            )  # fmt: skip
+            explorer_step(
+                th, np.zeros(3), self._none, True, np.zeros(4), np.zeros(3), self.R, self.o,
+                law, rows, 0, 0.0, 0, -1,
+            )  # fmt: skip
 
     def _advance(self) -> None:
         """Next velocity of the program into ``self._v`` (zero once it has finished)."""
@@ -251,10 +268,14 @@ class ExplorerController:
         avg = isinstance(a, np.ndarray) and a.ndim == 2 and a.dtype == np.float64
         if not avg:
             owts_voltages(obs, c._volts)
+        if self._closed:
+            tip_force(obs, c._force)
         explorer_step(
             q, qd, a if avg else self._none, avg, c._volts, self._v, self.R, self.o,
-            c.state, c.target, c.par, c.out, self._rows, k, t, self.phase, self.feature,
+            self._law, self._rows, k, t, self.phase, self.feature,
         )  # fmt: skip
+        if c.qp is not None and c.qp.apply(c.out, c.state[:3]):
+            rec.normal_force[k] = c.out[18]
         rec.n = k + 1
         sat = c.out[13] != 0.0
         if sat:
