@@ -18,8 +18,9 @@ The QP, in the coordinates ``s = (s_x, s_y, s_n)`` of ``f = s_x x_S + s_y y_S + 
     subject to  -τ_max <= τ_g + Jᵀ [x_S y_S n_W] s <= τ_max,   s_n >= 0
 
 with ``w = (w_t, w_t, w_n)``, ``w_n >> w_t``. Its rows depend on the Jacobian, which changes
-every step, and :class:`planner.optim.QPWorkspace` updates vectors only: the workspace is
-built afresh on each saturated step (DAQP, a few tens of µs), never on the others.
+every step, and :class:`planner.optim.QPWorkspace` updates vectors only (``q``, ``h``, ``b``,
+bounds): the problem and its workspace are built afresh on each saturated step (~0.15 ms with
+``planner.optim``'s validation, of which DAQP's solve is a few µs), never on the others.
 """
 
 from __future__ import annotations
@@ -64,7 +65,7 @@ class TorqueLimitQP:
         :mod:`~planner.control.hybrid_kernel`) and filtered normal ``normal`` (3,); None when
         gravity alone exceeds a limit or the solver fails (the law's scaled torques stand)."""
         from planner.errors import HapexError
-        from planner.optim import solve_qp
+        from planner.optim import QPProblem, QPWorkspace
 
         J = out[hk.O_J : hk.O_J + 9].reshape(3, 3)
         tg = np.array([out[hk.O_TG], out[hk.O_TG + 1], 0.0])
@@ -75,20 +76,20 @@ class TorqueLimitQP:
         M = J.T @ B
         self.solves += 1
         try:
-            sol = solve_qp(
+            problem = QPProblem(
                 self.P,
                 -self.w * s_law,
                 np.vstack([M, -M]),
                 np.concatenate([room_hi, room_lo]),
                 lb=self.lb,
                 ub=self.ub,
-                solver=self.solver,
             )
+            x = QPWorkspace(problem, solver=self.solver).solve_primal()
         except HapexError:
             self.failures += 1
             return None
-        self.last = sol.x
-        return np.clip(tg + M @ sol.x, -self.limits, self.limits)
+        self.last = np.array(x, float)
+        return np.clip(tg + M @ self.last, -self.limits, self.limits)
 
     def apply(self, out: np.ndarray, normal: np.ndarray) -> bool:
         """Replace the law's scaled torques ``out[0:3]`` and normal-force command ``out[18]``
