@@ -96,3 +96,20 @@ def test_control_variants_explore_and_press(control):
 def test_unknown_control_is_invalid_parameter():
     with pytest.raises(InvalidParameter, match="control"):
         explore_surface(Plate(()), duration=0.1, control="pid")
+
+
+@pytest.mark.parametrize("d", [-0.004, -0.002, 0.0, 0.001, 0.003])
+def test_start_height_rests_the_ball_on_the_plate(d):
+    """The finger starts GAP above the ball resting on the plate: never in penetration, even
+    next to a cusp crest (slope 1); on a flat spot exactly H + r."""
+    from planner.exploration.surface.explorer import _start_height
+    from planner.exploration.surface.plates import plate_height
+
+    r = 0.008
+    H = plate_height(Plate((PlateFeature("cusp", 3e-3, 3e-3, (d, 0.0), 0.0),)))
+    z = _start_height(H, np.array([0.0, 0.0]), r)
+    xs = np.linspace(-0.02, 0.02, 200001)
+    clearance = np.min(np.hypot(xs, H(xs, np.zeros_like(xs)) - z)) - r
+    assert -1e-5 < clearance < 1e-4  # resting: touching within the sampling grid
+    flat = plate_height(Plate(()))
+    assert _start_height(flat, np.array([0.003, -0.002]), r) == r

@@ -44,6 +44,18 @@ def _corners(region: np.ndarray) -> np.ndarray:
     return np.array([[u0, v0], [u1, v0], [u1, v1], [u0, v1], [(u0 + u1) / 2, (v0 + v1) / 2]])
 
 
+def _start_height(H, point, r: float) -> float:
+    """Height [m] of the centre of a ball of radius ``r`` resting on ``H`` above ``point``:
+    ``H + r`` on a flat spot; on a slope or near a crest the ball rests on the highest point
+    under it (:func:`~planner.exploration.surface.kinematic.ball_trace`), so the finger never
+    starts in penetration."""
+    from planner.exploration.surface.kinematic import ball_trace
+
+    flat = float(H(point[0], point[1])) + r
+    rest = float(ball_trace(H, np.asarray(point, float)[None, :2], r, grid=r / 80).centers[0, 2])
+    return max(flat, rest)
+
+
 def build_world(plate, cfg: ExplorationSettings, region, tilt: float, seed: int, sensors=None):
     """World, finger and plate pose for an exploration; validates reach, goal and force."""
     from planner.sim import SpatialWorld
@@ -60,7 +72,7 @@ def build_world(plate, cfg: ExplorationSettings, region, tilt: float, seed: int,
         g = np.array([cfg.goal])
         check_reachable(gm, T, g, H(g[:, 0], g[:, 1]), r, "goal")
     _, first = segments(cfg, region, np.random.default_rng(seed))
-    x0 = to_world(T, [first[0], first[1], float(H(first[0], first[1])) + r + GAP])
+    x0 = to_world(T, [first[0], first[1], _start_height(H, first, r) + GAP])
     theta = gm.inverse_kinematics(x0)
     for p in corners:
         x = to_world(T, [p[0], p[1], float(H(p[0], p[1])) + r])
