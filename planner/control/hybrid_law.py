@@ -252,8 +252,7 @@ class HybridController:
             volts: (4,) OWTS voltages [V].
             force: (3,) sensed fingertip force on the surface [N] (closed loop only).
         """
-        if not self._anchored:
-            self._anchor(theta, theta_dot, volts)
+        self.anchor(theta)
         if self.mode == "closed_loop":
             f = self._force if force is None else np.asarray(force, dtype=float)
             hk.hybrid_step_closed_loop(
@@ -274,7 +273,14 @@ class HybridController:
         volts = owts_voltages(obs, self._volts)
         return self.step(q, qd, volts, tip_force(obs, self._force)).copy()
 
-    def _anchor(self, theta, theta_dot, volts) -> None:
+    def anchor(self, theta) -> None:
+        """Put the desired point on the contact point at ``theta`` (3,) [rad] when a
+        :meth:`reanchor` (or the first step) asks for it; the compiled step's callers call
+        this before :func:`~planner.control.hybrid_kernel.hybrid_step`."""
+        if not self._anchored:
+            self._anchor(theta)
+
+    def _anchor(self, theta) -> None:
         st = self.finger.state(theta)
         from planner.control.hybrid_frames import tcs_rotation
 
