@@ -5,6 +5,9 @@ compensation and ``τ = Jᵀ f`` within the motor limits - the law of eqs. 4.1-4
 controller callable ``controller(t, observation) -> τ`` for :mod:`planner.sim`. The step
 itself is compiled (:func:`planner.control.hybrid_kernel.hybrid_step`);
 :mod:`planner.control.hybrid_reference` is the same law in plain numpy.
+``HybridSettings.control`` selects the normal-force variant: the open loop of the thesis, a PI
+loop on the sensed normal force, or a QP that respects the torque limits keeping the normal
+force first (:mod:`planner.control.hybrid_variants`).
 
 Usage::
 
