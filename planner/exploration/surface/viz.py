@@ -98,6 +98,36 @@ def _split(rows: np.ndarray) -> list[np.ndarray]:
     return [rows[ids == i, 1:3] for i in range(int(ids.max()) + 1)]
 
 
+def _read_scenario(path: Path) -> tuple:
+    """``(name, plate, region (2, 2) [m], tip_radius [m])`` of the resolved scenario a run
+    directory holds (every key written by ``hapex run``; read as plain YAML: the library
+    does not import the scenario machinery)."""
+    import math
+
+    import yaml
+
+    from planner.sim.spatial.plate import Plate, PlateFeature
+
+    doc = yaml.safe_load(path.read_text())
+    if not isinstance(doc, dict) or doc.get("kind") != "explore":
+        kind = doc.get("kind") if isinstance(doc, dict) else None
+        raise InvalidParameter(f"run_dir: expected an explore run, got kind {kind!r}")
+    feats = tuple(
+        PlateFeature(
+            f["kind"],
+            float(f["height"]),
+            float(f["width"]),
+            tuple(f["position"]),
+            math.radians(float(f["across_deg"])),
+            f.get("rounding"),
+            path=None if f.get("path") is None else tuple(map(tuple, f["path"])),
+        )
+        for f in doc["plate"]["features"]
+    )
+    plate = Plate(feats, name=doc["name"])
+    return doc["name"], plate, np.asarray(doc["region"], float), float(doc["tip_radius"])
+
+
 def build_scene(
     run_dir, *, grid: int = 60, max_path: int = 5000, frames: int = 200, lift: float = 2e-4
 ) -> Scene:
@@ -116,7 +146,6 @@ def build_scene(
     from planner.exploration.surface.placement import to_world
     from planner.exploration.surface.plates import plate_height
     from planner.exploration.surface.plots import _finger_points
-    from planner.scenario import load_scenario
     from robots.three_gm import ThreeGM
 
     d = Path(run_dir)
@@ -128,14 +157,10 @@ def build_scene(
             f"run_dir: expected an explore run directory with scenario.yaml and "
             f"trajectory.npz, got {str(d)!r}"
         )
-    config = load_scenario(d / "scenario.yaml")
-    if getattr(config, "kind", None) != "explore":
-        raise InvalidParameter(f"run_dir: expected an explore run, got kind {config.kind!r}")
+    name, plate, region, tip_radius = _read_scenario(d / "scenario.yaml")
     arr = np.load(d / "trajectory.npz")
-    plate = config.plate.build(config.name)
     H = plate_height(plate)
     T = arr["pose"]
-    region = np.asarray(config.region, float)
     verts, faces = _grid_mesh(H, region, grid)
     path, phase = arr["path"], arr["phase"].astype(int)
     keep = np.unique(np.linspace(0, len(path) - 1, min(len(path), max_path)).astype(int))
@@ -148,7 +173,7 @@ def build_scene(
     fingers = np.array([_finger_points(gm, q[k]) for k in idx]).reshape(len(idx), 8, 3)
     tips = np.array([gm.forward_kinematics(q[k]) for k in idx]).reshape(len(idx), 3)
     return Scene(
-        name=config.name,
+        name=name,
         plate_vertices=to_world(T, verts),
         plate_faces=faces,
         path=to_world(T, path[keep]) if len(keep) else np.zeros((0, 3)),
@@ -158,7 +183,7 @@ def build_scene(
         times=t[idx],
         fingers=fingers,
         tips=tips,
-        tip_radius=float(config.tip_radius),
+        tip_radius=tip_radius,
     )
 
 
