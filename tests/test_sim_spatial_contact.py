@@ -198,3 +198,34 @@ def test_path_features_are_finite_and_bent():
         assert d[1] == pytest.approx(gx, abs=1e-6) and d[2] == pytest.approx(gy, abs=1e-6)
     with pytest.raises(InvalidParameter, match="path"):
         PlateFeature("step", 1e-3, path=path)
+
+
+@pytest.mark.parametrize("warm", [False, True])
+def test_foot_near_a_sharp_crest_is_the_nearest_point(warm):
+    """A ball beside a cusp crest: Newton from the centre's (x, y) does not converge there
+    (it used to return a point 0.9 mm *inside* the ball); the foot is the crest, found from
+    the nearest grid sample, by the reference and by the kernel, cold or warm."""
+    from planner.sim.spatial import step_kernel as sk
+    from planner.sim.spatial.kernel import pack_plate
+
+    plate = Plate((PlateFeature("cusp", 3e-3, 3e-3, (-0.014, 0.0), 0.0),))
+    r, cx = 0.008, -0.012
+    xs = np.linspace(-0.03, 0.01, 400001)
+    hs = plate.height(xs, 0.0)
+    z = 0.00826993588513399
+    clearance = float(np.min(np.hypot(xs - cx, hs - z))) - r  # dense sampling: ~0.5 mm
+    c = np.array([cx, 0.0, z])
+    hint = (cx, 0.0) if warm else None
+    foot = PlacedSurface(plate).foot(c, hint)
+    assert foot.distance - r == pytest.approx(clearance, abs=1e-9)
+    assert foot.point[0] == pytest.approx(xs[np.argmin(np.hypot(xs - cx, hs - z))], abs=1e-6)
+    F, P = pack_plate(plate)
+    prm = np.zeros(sk.PARAM_SIZE)
+    prm[sk.P_ROT : sk.P_ROT + 9] = np.eye(3).ravel()
+    x = np.zeros(sk.STATE_SIZE)
+    if warm:
+        x[sk.HINT], x[sk.HINT + 1], x[sk.HINT_OK] = cx, 0.0, 1.0
+    out = np.zeros(6)
+    dist = sk._foot(F, P, plate.base, prm, x, *c, out)
+    assert dist == pytest.approx(foot.distance, abs=1e-12)
+    np.testing.assert_allclose(out[:3], foot.point, atol=1e-12)

@@ -132,6 +132,9 @@ class FingerBody:
         self.x = np.zeros(sk.STATE_SIZE)
         self.x[sk.TH : sk.TH + 3] = theta
         self.x[sk.THD : sk.THD + 3] = theta_dot
+        #: views of x: (θ, θ̇) (6,) and θ̇ (3,) (read-only use: the run loop's guards)
+        self.state_view = self.x[sk.TH : sk.THD + 3]
+        self.rate_view = self.x[sk.THD : sk.THD + 3]
         self.limits = np.asarray(gm.joint_limits, float)
         self._zero = np.zeros(3)
         self._eval(np.zeros(3), 0.0)

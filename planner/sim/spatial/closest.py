@@ -10,7 +10,9 @@ penetration). ``c`` lies on the offset surface ``S + r n`` exactly when ``g = 0`
   Newton on ``D(x, y) = ½|(x, y, h) - c|²`` with exact derivatives (closed-form profiles;
   the spline's derivatives), warm-started from the previous foot point and converged to
   a last step ``|Δ| <= 1e-13 m`` (quadratic convergence: the error after it is ~1e-26 m;
-  2-3 iterations per step when sliding).
+  2-3 iterations per step when sliding). A cold start, or a warm one that does not converge
+  (a sharp crest crossed), starts from the nearest sample of a grid under the sphere
+  (:func:`graph_seed`).
 * :class:`~planner.geometry.surfaces.ParametricSurface` (any catalogue surface): Newton on
   ``(u, v)`` with CasADi's exact gradient and Hessian of ``D``.
 
@@ -60,7 +62,8 @@ def _newton_graph(hd, c: np.ndarray, x: float, y: float):
 
     Newton on ``D = ½|(x, y, h) - c|²``; it stops after a step below ``1e-13 m`` (the next
     one would be ~1e-26 m: quadratic convergence) and updates ``h`` to first order over
-    that last step instead of evaluating the surface once more."""
+    that last step instead of evaluating the surface once more. Returns ``(p, n, (x, y),
+    converged)``."""
     cx, cy, cz = float(c[0]), float(c[1]), float(c[2])
     for _ in range(_MAX_IT):
         h, hx, hy, hxx, hxy, hyy = hd(x, y)
@@ -82,13 +85,41 @@ def _newton_graph(hd, c: np.ndarray, x: float, y: float):
         y -= dy
         if abs(dx) + abs(dy) <= _TOL:
             h -= hx * dx + hy * dy
+            converged = True
             break
     else:
         h, hx, hy, *_ = hd(x, y)
+        converged = False
     nrm = math.sqrt(1.0 + hx * hx + hy * hy)
     n = np.array([-hx / nrm, -hy / nrm, 1.0 / nrm])
     p = np.array([x, y, h])
-    return p, n, (x, y)
+    return p, n, (x, y), converged
+
+
+def graph_seed(height, c: np.ndarray, radius: float, k: int = 33) -> tuple[float, float]:
+    """``(x, y)`` of the sample of ``z = height(x, y)`` nearest ``c`` on a ``k x k`` grid over
+    the square of half-side ``radius`` [m] around ``(c_x, c_y)`` (the foot lies within
+    ``radius = |c_z - h(c_x, c_y)|``): the start of a cold Newton, in the basin of the nearest
+    foot (a start at ``(c_x, c_y)`` can land beyond a sharp crest and not converge)."""
+    g = np.linspace(-radius, radius, k)
+    X, Y = np.meshgrid(c[0] + g, c[1] + g)
+    Z = np.asarray(height(X, Y), float)
+    d2 = (X - c[0]) ** 2 + (Y - c[1]) ** 2 + (Z - c[2]) ** 2
+    i = int(np.nanargmin(d2))
+    return float(X.flat[i]), float(Y.flat[i])
+
+
+def _graph_foot(hd, height, c: np.ndarray, hint):
+    """Warm Newton from ``hint``; from :func:`graph_seed` on a cold start or when the warm
+    one does not converge."""
+    if hint is not None:
+        p, n, h, ok = _newton_graph(hd, c, *hint)
+        if ok:
+            return p, n, h
+    radius = max(abs(float(c[2]) - hd(float(c[0]), float(c[1]))[0]), 1e-6)
+    x, y = graph_seed(height, c, radius)
+    p, n, h, _ = _newton_graph(hd, c, x, y)
+    return p, n, h
 
 
 class _PlaneQuery:
@@ -104,10 +135,10 @@ class _PlaneQuery:
 class _PlateQuery:
     def __init__(self, plate: Plate) -> None:
         self.hd = plate.height_derivatives
+        self.height = plate.height
 
     def foot(self, c: np.ndarray, hint):
-        x, y = hint if hint is not None else (float(c[0]), float(c[1]))
-        return _newton_graph(self.hd, c, x, y)
+        return _graph_foot(self.hd, self.height, c, hint)
 
 
 class _HeightFieldQuery:
@@ -124,8 +155,7 @@ class _HeightFieldQuery:
         self.hd = hd
 
     def foot(self, c: np.ndarray, hint):
-        x, y = hint if hint is not None else (float(c[0]), float(c[1]))
-        p, n, h = _newton_graph(self.hd, c, x, y)
+        p, n, h = _graph_foot(self.hd, self.field.height, c, hint)
         if not bool(self.field.contains(h[0], h[1])):
             return p, n, None  # outside the sampled rectangle: flagged by the caller
         return p, n, h

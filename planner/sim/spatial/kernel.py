@@ -42,7 +42,7 @@ __all__ = [
     "pack_plate",
     "plate_eval",
     "plate_foot",
-    "plate_foot_world",
+    "plate_seed",
 ]
 
 _KINDS = {"ridge": 0, "ravine": 1, "step": 2, "bump": 3, "pit": 4, "cusp": 5, "wire": 6}
@@ -176,7 +176,7 @@ def plate_eval(F, P, base, x, y):
 @_jit
 def plate_foot(F, P, base, cx, cy, cz, x, y):
     """Foot of ``(cx, cy, cz)`` on the plate (plate frame), Newton from ``(x, y)``:
-    ``(x, y, h, n_x, n_y, n_z, distance)`` (as :func:`.closest._newton_graph`)."""
+    ``(x, y, h, n_x, n_y, n_z, distance, converged)`` (as :func:`.closest._newton_graph`)."""
     h, hx, hy = 0.0, 0.0, 0.0
     done = False
     for _ in range(50):
@@ -205,22 +205,25 @@ def plate_foot(F, P, base, cx, cy, cz, x, y):
     nrm = math.sqrt(1.0 + hx * hx + hy * hy)
     nx, ny, nz = -hx / nrm, -hy / nrm, 1.0 / nrm
     dist = (cx - x) * nx + (cy - y) * ny + (cz - h) * nz
-    return x, y, h, nx, ny, nz, dist
+    return x, y, h, nx, ny, nz, dist, done
 
 
 @_jit
-def plate_foot_world(F, P, base, R, t, c, x, y, out):
-    """:func:`plate_foot` of a WCS point ``c`` (3,) for the plate placed by ``(R, t)``:
-    ``out`` (9,) = foot point (3) and normal (3) in the WCS, distance, plate-frame hint (2)."""
-    d0, d1, d2 = c[0] - t[0], c[1] - t[1], c[2] - t[2]
-    cx = R[0, 0] * d0 + R[1, 0] * d1 + R[2, 0] * d2
-    cy = R[0, 1] * d0 + R[1, 1] * d1 + R[2, 1] * d2
-    cz = R[0, 2] * d0 + R[1, 2] * d1 + R[2, 2] * d2
-    x, y, h, nx, ny, nz, dist = plate_foot(F, P, base, cx, cy, cz, x, y)
-    for i in range(3):
-        out[i] = R[i, 0] * x + R[i, 1] * y + R[i, 2] * h + t[i]
-        out[3 + i] = R[i, 0] * nx + R[i, 1] * ny + R[i, 2] * nz
-    out[6], out[7], out[8] = dist, x, y
+def plate_seed(F, P, base, cx, cy, cz):
+    """:func:`planner.sim.spatial.closest.graph_seed` on the packed plate: ``(x, y)`` of the
+    grid sample nearest ``(cx, cy, cz)`` (plate frame) under the sphere."""
+    radius = max(abs(cz - plate_eval(F, P, base, cx, cy)[0]), 1e-6)
+    k = 33
+    best, bx, by = 1e300, cx, cy
+    for i in range(k):
+        y = cy - radius + 2.0 * radius * i / (k - 1)
+        for j in range(k):
+            x = cx - radius + 2.0 * radius * j / (k - 1)
+            z = plate_eval(F, P, base, x, y)[0]
+            d2 = (x - cx) ** 2 + (y - cy) ** 2 + (z - cz) ** 2
+            if d2 < best:
+                best, bx, by = d2, x, y
+    return bx, by
 
 
 @_jit

@@ -9,7 +9,8 @@ path stays the reference; the tests compare both on random states):
    :mod:`planner.sim.spatial.finger_codegen`, called through its address by
    :func:`call_compiled`): ``c, J, J_ω, M_r⁻¹`` and ``θ̇_free``;
 2. torque clipping at the App. C limits, the foot point on the plate (Newton of
-   :func:`planner.sim.spatial.kernel.plate_foot`, warm-started);
+   :func:`planner.sim.spatial.kernel.plate_foot`, warm-started; from the nearest grid sample
+   on a cold start or when it does not converge);
 3. the contact problem: the exact circular cone of
    :mod:`planner.sim.spatial.friction_cone` (separate / stick / slide by Newton on
    ``g(φ)``), coupled with the joint limits (unilateral rows ``±e_i``,
@@ -47,7 +48,8 @@ except ImportError:  # pragma: no cover - depends on the environment
         return f
 
 
-from planner.sim.spatial.kernel import plate_foot
+from planner.sim.spatial.cone_kernel import cone_impulse
+from planner.sim.spatial.kernel import plate_foot, plate_seed
 
 __all__ = ["FALLBACK", "SINGULAR_END", "SINGULAR_START", "STATE_SIZE", "finger_step"]
 
@@ -97,84 +99,18 @@ def _foot(F, P, base, prm, x, cx, cy, cz, out):
     px = R[0] * d0 + R[3] * d1 + R[6] * d2
     py = R[1] * d0 + R[4] * d1 + R[7] * d2
     pz = R[2] * d0 + R[5] * d1 + R[8] * d2
-    if x[HINT_OK] == 0.0:
-        x[HINT], x[HINT + 1], x[HINT_OK] = px, py, 1.0
-    fx, fy, fz, nx, ny, nz, dist = plate_foot(F, P, base, px, py, pz, x[HINT], x[HINT + 1])
+    if x[HINT_OK] == 0.0:  # cold start: the nearest sample under the sphere
+        x[HINT], x[HINT + 1] = plate_seed(F, P, base, px, py, pz)
+        x[HINT_OK] = 1.0
+    fx, fy, fz, nx, ny, nz, dist, done = plate_foot(F, P, base, px, py, pz, x[HINT], x[HINT + 1])
+    if not done:  # a sharp crest crossed: restart from the nearest sample
+        sx, sy = plate_seed(F, P, base, px, py, pz)
+        fx, fy, fz, nx, ny, nz, dist, done = plate_foot(F, P, base, px, py, pz, sx, sy)
     x[HINT], x[HINT + 1] = fx, fy
     for i in range(3):
         out[i] = R[3 * i] * fx + R[3 * i + 1] * fy + R[3 * i + 2] * fz + t[i]
         out[3 + i] = R[3 * i] * nx + R[3 * i + 1] * ny + R[3 * i + 2] * nz
     return dist
-
-
-@njit(cache=True)
-def _slide(W, ut0, ut1, un, mu, phi, lam):
-    """Newton on ``g(φ)`` (:func:`.friction_cone._slide_newton`); False: no valid root."""
-    a, w1, w2 = W[0, 0], W[1, 0], W[2, 0]
-    t11, t12, t22 = W[1, 1], W[1, 2], W[2, 2]
-    dt_ = t22 - t11
-    ok = False
-    for _ in range(30):
-        c, s = math.cos(phi), math.sin(phi)
-        A = a - mu * (w1 * c + w2 * s)
-        B = -s * ut0 + c * ut1
-        Pp = dt_ * c * s + t12 * (c * c - s * s)
-        Q = -s * w1 + c * w2
-        g = A * B + un * (mu * Pp - Q)
-        dA = -mu * (-w1 * s + w2 * c)
-        dB = -c * ut0 - s * ut1
-        dP = dt_ * (c * c - s * s) - 4.0 * t12 * c * s
-        dQ = -c * w1 - s * w2
-        dg = dA * B + A * dB + un * (mu * dP - dQ)
-        if dg == 0.0:
-            break
-        step = g / dg
-        phi -= step
-        if abs(step) <= 1e-15:
-            ok = True
-            break
-    c, s = math.cos(phi), math.sin(phi)
-    den = a - mu * (w1 * c + w2 * s)
-    if not ok or den <= 0.0:
-        return False
-    lam_n = -un / den
-    u0 = ut0 + lam_n * (w1 - mu * (t11 * c + t12 * s))
-    u1 = ut1 + lam_n * (w2 - mu * (t12 * c + t22 * s))
-    slip = c * u0 + s * u1
-    if lam_n < 0.0 or slip < 0.0 or abs(-s * u0 + c * u1) > 1e-12 * abs(slip) + 1e-15:
-        return False
-    lam[0], lam[1], lam[2] = lam_n, -mu * lam_n * c, -mu * lam_n * s
-    return True
-
-
-@njit(cache=True)
-def _cone(W, un, u1, u2, mu, lam):
-    """One contact with the exact circular cone (:func:`.friction_cone.solve_impulse`):
-    ``lam`` (3,) [N s]; returns 1 separate, 2 stick, 3 slide, -1 (no valid sliding root)."""
-    lam[0], lam[1], lam[2] = 0.0, 0.0, 0.0
-    if un >= 0.0:
-        return 1
-    A_ = W[1, 1] * W[2, 2] - W[1, 2] * W[2, 1]
-    B_ = W[1, 2] * W[2, 0] - W[1, 0] * W[2, 2]
-    C_ = W[1, 0] * W[2, 1] - W[1, 1] * W[2, 0]
-    det = W[0, 0] * A_ + W[0, 1] * B_ + W[0, 2] * C_
-    D_ = W[0, 2] * W[2, 1] - W[0, 1] * W[2, 2]
-    E_ = W[0, 0] * W[2, 2] - W[0, 2] * W[2, 0]
-    F_ = W[0, 1] * W[2, 0] - W[0, 0] * W[2, 1]
-    G_ = W[0, 1] * W[1, 2] - W[0, 2] * W[1, 1]
-    H_ = W[0, 2] * W[1, 0] - W[0, 0] * W[1, 2]
-    I_ = W[0, 0] * W[1, 1] - W[0, 1] * W[1, 0]
-    l0 = -(A_ * un + D_ * u1 + G_ * u2) / det
-    l1 = -(B_ * un + E_ * u1 + H_ * u2) / det
-    l2 = -(C_ * un + F_ * u1 + I_ * u2) / det
-    if l0 >= 0.0 and math.hypot(l1, l2) <= mu * l0:
-        lam[0], lam[1], lam[2] = l0, l1, l2
-        return 2
-    if mu <= 1e-14:
-        lam[0] = -un / W[0, 0]
-        return 3
-    phi = math.atan2(-l2, -l1) if (l1 != 0.0 or l2 != 0.0) else math.atan2(u2, u1)
-    return 3 if _slide(W, u1, u2, un, mu, phi, lam) else -1
 
 
 @njit(cache=True)
@@ -216,7 +152,7 @@ def _limit_rows(x, prm, thd_f, reach, idx, sgn, rate):
 def _solve(W, MJt, Jc, Minv, thd_f, has_c, gap_rate, mu, m, idx, sgn, rate, lam, lim, v):
     """Contact and limit impulses (block Gauss-Seidel over the exact cone and the scalar
     limit rows; one exact solve without limits). ``v`` (3,): ``θ̇⁺``. Returns the contact
-    status (0: no candidate, 1-3 as :func:`_cone`, -1 fall back)."""
+    status (0: no candidate, 1-3 as :func:`.cone_kernel.cone_impulse`, -1 fall back)."""
     for i in range(3):
         v[i] = thd_f[i]
         lam[i] = 0.0
@@ -230,7 +166,7 @@ def _solve(W, MJt, Jc, Minv, thd_f, has_c, gap_rate, mu, m, idx, sgn, rate, lam,
             for i in range(3):
                 ub[i] = Jc[i, 0] * v[0] + Jc[i, 1] * v[1] + Jc[i, 2] * v[2]
                 ub[i] -= W[i, 0] * lam[0] + W[i, 1] * lam[1] + W[i, 2] * lam[2]
-            status = _cone(W, ub[0] + gap_rate, ub[1], ub[2], mu, new)
+            status = cone_impulse(W, ub[0] + gap_rate, ub[1], ub[2], mu, new)
             if status < 0:
                 return -1
             d0, d1, d2 = new[0] - lam[0], new[1] - lam[1], new[2] - lam[2]
@@ -412,33 +348,3 @@ def _contact_operator(x, foot, r, Minv, Cf, Jc, MJt, W):
     MJt[:, :] = Minv @ Jc.T
     Wt = Jc @ MJt
     W[:, :] = 0.5 * (Wt + Wt.T)
-
-
-@njit(cache=True)
-def record_row(
-    x, k, time, tau, pair, t, pose, vel, q, qd, taus, count, cpair, pt, nrm, fn, ft, sl, gap
-):
-    """Row ``k`` of a :class:`~planner.sim.log.SimLog` from the state ``x`` (the finger's
-    pose, velocity, joints, torque and its contact; ``pair``: the log's pair index)."""
-    t[k] = time
-    a, b = 0.5 * x[TH + 2], 0.5 * (math.pi / 2 - x[G1])
-    ca, sa, cb, sb = math.cos(a), math.sin(a), math.cos(b), math.sin(b)
-    for i in range(3):
-        pose[k, i] = x[C + i]
-        vel[k, i] = (
-            x[J + 3 * i] * x[THD] + x[J + 3 * i + 1] * x[THD + 1] + x[J + 3 * i + 2] * x[THD + 2]
-        )
-        vel[k, 3 + i] = (
-            x[JW + 3 * i] * x[THD] + x[JW + 3 * i + 1] * x[THD + 1] + x[JW + 3 * i + 2] * x[THD + 2]
-        )
-        q[k, i], qd[k, i], taus[k, i] = x[TH + i], x[THD + i], tau[i]
-    pose[k, 3], pose[k, 4], pose[k, 5], pose[k, 6] = ca * cb, -sa * sb, ca * sb, sa * cb
-    if x[ACT] > 0.0:
-        count[k] = 1
-        cpair[k, 0] = pair
-        fn[k, 0], gap[k, 0] = x[FN], x[GAP]
-        for i in range(3):
-            pt[k, 0, i], nrm[k, 0, i] = x[PT + i], x[NRM + i]
-            ft[k, 0, i], sl[k, 0, i] = x[FT + i], x[SLIP + i]
-    else:
-        count[k] = 0

@@ -66,11 +66,12 @@ from planner.sim.spatial.bodies import FingerBody, SphereBody
 from planner.sim.spatial.closest import PlacedSurface
 from planner.sim.spatial.fast_step import KernelContact, fast_plate
 from planner.sim.spatial.observing import observe, record_owts
+from planner.sim.spatial.recording import record
 from planner.sim.spatial.sensing import (
     SAMPLE_RATE,
     OWTSRecorder,
 )
-from planner.sim.spatial.step_kernel import FALLBACK, record_row
+from planner.sim.spatial.step_kernel import FALLBACK
 from planner.sim.spatial.stepping import step_body
 from planner.sim.world import WorldBase
 
@@ -292,7 +293,7 @@ class SpatialWorld(WorldBase):
         """Every position and velocity (for the run loop's NaN guard; a view of the state
         when the world holds the finger alone: read it, do not keep it)."""
         if not self.spheres and self.finger is not None:
-            return self.finger.x[sk.TH : sk.THD + 3]
+            return self.finger.state_view
         parts = [np.concatenate([b.pose(), b.velocity()]) for b in self.spheres.values()]
         if self.finger:
             parts.append(np.concatenate([self.finger.th, self.finger.thd]))
@@ -301,55 +302,16 @@ class SpatialWorld(WorldBase):
     def velocity_vector(self) -> np.ndarray:
         """Every velocity (for the runaway guard; a view as :meth:`state_vector`)."""
         if not self.spheres and self.finger is not None:
-            return self.finger.x[sk.THD : sk.THD + 3]
+            return self.finger.rate_view
         parts = [b.velocity() for b in self.spheres.values()]
         if self.finger:
             parts.append(self.finger.thd)
         return np.concatenate(parts) if parts else np.zeros(0)
 
     def record(self, log, k: int, tau: np.ndarray) -> None:
-        """Write the current state into row ``k`` of ``log`` (a faster
-        :meth:`WorldBase.record`: same rows; one compiled call after a kernel step)."""
-        if self._from_kernel and self.finger.name in log.poses and len(log.poses) == 1:
-            self._record_kernel(log, k, tau)
-            return
-        log.t[k] = self.time
-        for b in self._bodies():
-            log.poses[b.name][k] = b.pose()
-            log.velocities[b.name][k] = b.velocity()
-        if self.finger is not None:
-            log.q[k], log.qd[k], log.tau[k] = self.finger.th, self.finger.thd, tau
-        contacts = self.contacts()
-        log.contact_count[k] = len(contacts)
-        for i, c in enumerate(contacts[: log.max_contacts]):
-            log.contact_pair[k, i] = log.pair_index(*c.bodies)
-            log.contact_point[k, i] = c.point
-            log.contact_normal[k, i] = c.normal
-            log.normal_force[k, i] = c.normal_force
-            log.tangential_force[k, i] = c.tangential_force
-            log.slip_velocity[k, i] = c.slip_velocity
-            log.gap[k, i] = c.gap
-
-    def _record_kernel(self, log, k: int, tau: np.ndarray) -> None:
-        f = self.finger
-        x = f.x
-        rec = self._rec
-        if rec is None or rec[0] is not log:
-            name = f.name
-            arrays = (
-                log.t, log.poses[name], log.velocities[name], log.q, log.qd, log.tau,
-                log.contact_count, log.contact_pair, log.contact_point, log.contact_normal,
-                log.normal_force, log.tangential_force, log.slip_velocity, log.gap,
-            )  # fmt: skip
-            rec = self._rec = [log, arrays, -1]
-        if rec[2] < 0 and x[sk.ACT] > 0.0:
-            rec[2] = log.pair_index(f.name, self._fast.name)
-        t = (
-            tau
-            if isinstance(tau, np.ndarray) and tau.dtype == np.float64
-            else np.asarray(tau, float)
-        )
-        record_row(x, k, self.time, t, rec[2], *rec[1])
+        """Write the current state into row ``k`` of ``log`` (the rows of
+        :meth:`WorldBase.record`, faster: :func:`planner.sim.spatial.recording.record`)."""
+        record(self, log, k, tau)
 
     # ------------------------------------------------------------------ stepping
     def step(self, tau=None) -> None:
@@ -406,6 +368,13 @@ class SpatialWorld(WorldBase):
         if held != self._held_mask:
             self._limit_events(f, [i for i in range(3) if held >> i & 1])
         return code
+
+    def drain_events(self) -> list[SimEvent]:
+        """The world events since the last call (and forget them)."""
+        if not self._events:
+            return []
+        out, self._events = self._events, []
+        return out
 
     def _limit_events(self, f, held: list[int]) -> None:
         """A ``joint_limit`` event for every joint that starts to be held at a limit."""
