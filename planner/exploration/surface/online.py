@@ -6,7 +6,10 @@ fingertip-centre path (subsampled to about ``r_f/100``). A macro feature (curvat
 within ``r_f`` of each other, Definition 2) is reported once the finger is more than
 ``1.25 r_f`` past its last curvature feature, i.e. when the whole pattern has been crossed;
 the **latency** is the time from crossing the peak of that last feature to the report.
-Features inside the known area of already explored features are ignored.
+Features inside the known area of already explored features are ignored, and so are
+features whose peak lies within :data:`EDGE` ``r_f`` (two smoothing scales of the detector)
+of either end of the analysed path: there the Gaussian smoothing runs off the data and the
+finger accelerates from rest over steps of the quantized encoders, which reads as curvature.
 """
 
 from __future__ import annotations
@@ -17,7 +20,10 @@ import numpy as np
 
 from planner.exploration.surface.detection_adapter import analyse_path, collapse_pattern
 
-__all__ = ["Detection", "OnlineDetector"]
+__all__ = ["EDGE", "Detection", "OnlineDetector"]
+
+#: margin at the ends of the analysed path where curvature features are not trusted [r_f]
+EDGE = 0.2
 
 
 @dataclass(frozen=True)
@@ -80,8 +86,12 @@ class OnlineDetector:
         if not a.features:
             return None
         s_now = a.s[-1]
-        groups, cur = [], [a.features[0]]
-        for f in a.features[1:]:
+        edge = EDGE * self.r
+        feats = [f for f in a.features if edge <= f.s <= s_now - edge]
+        if not feats:
+            return None
+        groups, cur = [], [feats[0]]
+        for f in feats[1:]:
             if f.start - cur[-1].end <= self.r:
                 cur.append(f)
             else:

@@ -142,6 +142,11 @@ def _remember(ex, state: ProgramState, rec_f: FeatureRecord, r: float) -> None:
 
 def exploration_program(ex, cfg, region: np.ndarray, rng, state: ProgramState):
     """The generator driving :class:`ExplorerController` (see the module doc)."""
+    if cfg.identify == "raster":
+        from planner.exploration.surface.raster_program import raster_program
+
+        yield from raster_program(ex, cfg, region, rng, state)
+        return
     r = cfg.tip_radius
     yield from approach(ex)
     detector = OnlineDetector(ex, r, cfg.window, state.is_known)

@@ -27,7 +27,7 @@ import numpy as np
 from planner.exploration.surface.motions import move_to
 from planner.exploration.surface.runtime import PHASE
 
-__all__ = ["Outline", "TraceResult", "find_outline", "trace_boundary"]
+__all__ = ["Outline", "TraceResult", "find_outline", "level_distance", "trace_boundary"]
 
 
 @dataclass(frozen=True)
@@ -90,15 +90,51 @@ def find_outline(ex, cfg, start, inward, limit: float, rise: float | None = None
     return Outline(w0 + sigma * rise, sigma, inward, rise)
 
 
+#: a sample is kept when the centre is within this distance of the level line [m] (the
+#: height error over the flank slope under the contact: a first-order distance) ...
+ACCEPT_LATERAL = 1.5e-4
+#: ... and has stayed within ``SETTLED_LATERAL`` [m] of it for ``SETTLE`` servo steps (the
+#: approach overshoot and the servo's transient after a re-approach are dropped)
+SETTLE, SETTLED_LATERAL = 60, 3e-4
+#: the height error is low-pass filtered over this many servo steps (the encoders' height
+#: noise, ~15 um, over a flank slope of 0.1 is 0.15 mm of distance) [-]
+SMOOTH = 20
+#: lateral servo gain on the distance to the level line [1/s]
+LATERAL_GAIN = 10.0
+#: flattest flank slope used to turn a height error into a distance [-]
+MIN_SLOPE = 0.05
+
+
+def level_distance(ex, outline: Outline, w: float | None = None) -> tuple[float, float]:
+    """``(err, dist)``: the height error ``sigma (level - w)`` [m] (``w``: the centre height,
+    default the current one) and its first-order distance to the level line, ``err /
+    slope`` with the slope of the traced surface under the contact (tan of the contact
+    normal's tilt, at least :data:`MIN_SLOPE`) [m]; positive towards the feature."""
+    n = ex.est.normal
+    tilt = float(np.hypot(n[0], n[1]))
+    slope = max(tilt / max(float(n[2]), 1e-6), MIN_SLOPE)
+    w = float(ex.est.centre[2]) if w is None else w
+    err = outline.sigma * (outline.level - w)
+    return err, err / slope
+
+
 def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float = 1.0):
     """Trace the level line ``outline.level`` of the centre from where the finger is.
+
+    The lateral servo drives the first-order distance to the level line
+    (:func:`level_distance`) to zero; a sample is kept once it has settled (module constants
+    ``ACCEPT_LATERAL``, ``SETTLE``, ``SETTLED_LATERAL``); the loop closes when the finger
+    comes back to the first kept sample, so the outline is made of settled samples only.
 
     Returns:
         :class:`TraceResult`.
     """
-    r, rise = cfg.tip_radius, outline.rise
+    r = cfg.tip_radius
     k_start, t_start = ex.rec.n, ex.est.t
     start_uv = ex.est.uv.copy()
+    first_uv = None  # where the first settled sample was taken
+    near = None  # closest approach to it once back within 0.1 r
+    steady, w = 0, float(ex.est.centre[2])
     samples: list[int] = []
     tangent = None
     into = outline.inward.copy()  # direction towards the feature (2,)
@@ -107,26 +143,28 @@ def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float 
     reason = "trace budget spent"
     while ex.est.t - t_start < cfg.trace_time:
         n = ex.est.normal
-        g = np.array([n[0], n[1]])
-        tilt = float(np.hypot(*g))
-        travelled += float(np.hypot(*(ex.est.uv - prev)))
-        prev = ex.est.uv.copy()
+        tilt = float(np.hypot(n[0], n[1]))
+        c = ex.est.uv
+        travelled += float(np.hypot(c[0] - prev[0], c[1] - prev[1]))
+        prev = c.copy()
         if tilt > 0.03:  # the contact is on the feature: the uphill direction is known
-            up = -g / tilt
-            into = outline.sigma * up
+            into = (-outline.sigma / tilt) * np.array([n[0], n[1]])
         t = orient * np.array([-into[1], into[0]])
         if tangent is not None and float(t @ tangent) < -0.2:
             t = -t  # keep the sense of travel through saddles of the tilt field
         tangent = t
-        err = outline.sigma * (outline.level - ex.est.centre[2]) / rise
-        lateral = float(np.clip(0.8 * err, -0.7, 0.7))
-        on = abs(err) < 0.5
-        ex.phase = PHASE["trace"] if abs(err) < 2.0 else PHASE["reapproach"]
-        if on:
+        w += (float(ex.est.centre[2]) - w) / SMOOTH
+        err, dist = level_distance(ex, outline, w)
+        steady = steady + 1 if abs(dist) < SETTLED_LATERAL else 0
+        lost = abs(err) > 2.0 * outline.rise
+        ex.phase = PHASE["reapproach"] if lost else PHASE["trace"]
+        if steady >= SETTLE and abs(dist) < ACCEPT_LATERAL:
             samples.append(ex.rec.n - 1)
-        v = cfg.trace_speed * ((t if abs(err) < 2.0 else 0.3 * t) + lateral * into)
-        c = ex.est.uv
-        farthest = max(farthest, float(np.hypot(*(c - start_uv))))
+            if first_uv is None:
+                first_uv = ex.rec.centre[ex.rec.n - 1, :2].copy()
+        lateral = min(max(LATERAL_GAIN * dist / cfg.trace_speed, -0.7), 0.7)
+        v = cfg.trace_speed * ((0.3 * t if lost else t) + lateral * into)
+        farthest = max(farthest, float(np.hypot(c[0] - start_uv[0], c[1] - start_uv[1])))
         if not _inside(c, region, 0.25 * r):
             ends += 1
             ex.event("end_reached", "the outline leaves the region", point=c.tolist())
@@ -134,18 +172,31 @@ def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float 
                 reason = "both ends reached"
                 break
             yield from move_to(ex, ex.rec.centre[k_start, :2], cfg.speed)
-            orient, tangent = -orient, None
+            orient, tangent, steady = -orient, None, 0
             continue
         if farthest > 0.2 * r and travelled > max(2.5 * farthest, 0.5 * r):
-            if float(np.hypot(*(c - start_uv))) < 0.1 * r:
+            home = start_uv if first_uv is None else first_uv
+            near = _closing(c, home, 0.1 * r, near)
+            if near is not None and near < 0:
                 reason = "loop closed"
                 break
-            if ex.est.k % 25 == 0 and _decision(ex, cfg, samples, t_start) < 0:
+            if near is None and ex.est.k % 25 == 0 and _decision(ex, cfg, samples, t_start) < 0:
                 reason = "decision parameter < 0 (no new boundary)"
                 break
         yield v
     closed = reason == "loop closed" or reason.startswith("decision")
     return TraceResult(np.array(samples, int), closed and ends == 0, ends, reason)
+
+
+def _closing(c, home, zone: float, near: float | None, slack: float = 2e-4):
+    """Closest distance [m] to ``home`` since entering the ``zone`` around it (None: not in
+    it yet); -1 once the finger has passed its closest approach (or is on ``home``): the
+    loop closes with the first samples overlapped, not a ``zone``-wide gap."""
+    d = float(np.hypot(*(c - home)))
+    if d >= zone and near is None:
+        return None
+    near = d if near is None else min(near, d)
+    return -1.0 if d > near + slack or d < 1e-4 else near
 
 
 def _decision(ex, cfg, samples: list[int], t_start: float) -> float:
@@ -156,7 +207,8 @@ def _decision(ex, cfg, samples: list[int], t_start: float) -> float:
     if len(samples) < 80:
         return 1.0
     recent = np.array(samples[-40:])
-    old = np.array([k for k in samples if rec.t[k] < rec.t[recent[0]] - 0.5])
+    s = np.asarray(samples)
+    old = s[rec.t[s] < rec.t[recent[0]] - 0.5]
     if len(old) < 10:
         return 1.0
     d, _ = cKDTree(rec.centre[old, :2]).query(rec.centre[recent, :2])
