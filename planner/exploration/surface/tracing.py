@@ -27,7 +27,14 @@ import numpy as np
 from planner.exploration.surface.motions import move_to
 from planner.exploration.surface.runtime import PHASE
 
-__all__ = ["Outline", "TraceResult", "find_outline", "level_distance", "trace_boundary"]
+__all__ = [
+    "Outline",
+    "TraceResult",
+    "find_outline",
+    "level_distance",
+    "plate_level",
+    "trace_boundary",
+]
 
 
 @dataclass(frozen=True)
@@ -69,9 +76,38 @@ def _inside(p: np.ndarray, region: np.ndarray, margin: float) -> bool:
     )
 
 
+def plate_level(ex, local: float, rise: float, ends: int = 40) -> float:
+    """The plate level [m] (centre height on the bare plate) next to the feature.
+
+    ``local`` [m] is the height where the approach starts, a few millimetres from the
+    feature: on the long tails of a wide bump or pit it is off the plate by a good part of
+    ``rise``, which would move the traced level line. The last across crossing ran through
+    the feature about twice as far out; the level at its end nearer to the finger (the same
+    side: a step's other level is never mixed in) is used when it is within ``rise`` of
+    ``local`` (raster identification has no across crossing: ``local``).
+    """
+    rec = ex.rec
+    idx = np.flatnonzero(rec.phase[: rec.n] == PHASE["across"])
+    if idx.size < 4 * ends:
+        return local
+    cut = np.flatnonzero(np.diff(idx) > 1)
+    run = idx[cut[-1] + 1 :] if cut.size else idx
+    if run.size < 4 * ends:
+        return local
+    here = ex.est.uv
+    heads = (run[:ends], run[-ends:])
+    near = min(heads, key=lambda k: float(np.hypot(*(rec.centre[k, :2].mean(axis=0) - here))))
+    w = float(np.mean(rec.centre[near, 2]))
+    return w if abs(w - local) < rise else local
+
+
 def find_outline(ex, cfg, start, inward, limit: float, rise: float | None = None):
     """Slide from ``start`` along ``inward`` until the centre leaves the plate level by
-    ``boundary_rise``; returns an :class:`Outline` or None (not met within ``limit`` [m])."""
+    ``boundary_rise``; returns an :class:`Outline` or None (not met within ``limit`` [m]).
+
+    Once the contact is tilted (on the feature's flank) the finger slides along the slope
+    (up a raised feature, down a sunken one: the sense that agrees with ``inward``), so it
+    meets the outline even when ``inward`` misses the feature's centre."""
     yield from move_to(ex, start, cfg.speed)
     ex.phase = PHASE["reapproach"]
     inward = np.asarray(inward, float) / np.linalg.norm(inward)
@@ -79,15 +115,21 @@ def find_outline(ex, cfg, start, inward, limit: float, rise: float | None = None
     for _ in range(30):  # the plate level here
         ref.append(ex.est.centre[2])
         yield np.zeros(2)
-    w0 = float(np.mean(ref))
-    p0 = ex.est.uv.copy()
     rise = cfg.boundary_rise if rise is None else rise
+    w0 = plate_level(ex, float(np.mean(ref)), rise)
+    p0 = ex.est.uv.copy()
+    heading = inward
     while abs(ex.est.centre[2] - w0) < rise:
         if float(np.hypot(*(ex.est.uv - p0))) > limit:
             return None
-        yield cfg.trace_speed * inward
+        n = ex.est.normal
+        tilt = float(np.hypot(n[0], n[1]))
+        if tilt > 0.03:  # the slope's direction (2,), in the sense of the approach
+            g = np.array([n[0], n[1]]) / tilt
+            heading = g if float(g @ inward) > 0 else -g
+        yield cfg.trace_speed * heading
     sigma = 1.0 if ex.est.centre[2] > w0 else -1.0
-    return Outline(w0 + sigma * rise, sigma, inward, rise)
+    return Outline(w0 + sigma * rise, sigma, heading, rise)
 
 
 #: a sample is kept when the centre is within this distance of the level line [m] (the
@@ -99,8 +141,12 @@ SETTLE, SETTLED_LATERAL = 60, 3e-4
 #: the height error is low-pass filtered over this many servo steps (the encoders' height
 #: noise, ~15 um, over a flank slope of 0.1 is 0.15 mm of distance) [-]
 SMOOTH = 20
-#: lateral servo gain on the distance to the level line [1/s]
-LATERAL_GAIN = 10.0
+#: lateral servo gains on the distance to the level line, proportional [1/s] and integral
+#: [1/s^2]: on a curved outline the finger's lag makes it drift outwards, which a purely
+#: proportional servo would balance with a steady offset from the level line
+LATERAL_GAIN, LATERAL_INTEGRAL = 10.0, 20.0
+#: the explorer's servo period (the 1 kHz control rate) [s]
+SERVO_DT = 1e-3
 #: flattest flank slope used to turn a height error into a distance [-]
 MIN_SLOPE = 0.05
 
@@ -134,7 +180,7 @@ def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float 
     start_uv = ex.est.uv.copy()
     first_uv = None  # where the first settled sample was taken
     near = None  # closest approach to it once back within 0.1 r
-    steady, w = 0, float(ex.est.centre[2])
+    steady, w, held = 0, float(ex.est.centre[2]), 0.0  # held: the integral term [-]
     samples: list[int] = []
     tangent = None
     into = outline.inward.copy()  # direction towards the feature (2,)
@@ -162,7 +208,9 @@ def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float 
             samples.append(ex.rec.n - 1)
             if first_uv is None:
                 first_uv = ex.rec.centre[ex.rec.n - 1, :2].copy()
-        lateral = min(max(LATERAL_GAIN * dist / cfg.trace_speed, -0.7), 0.7)
+        if not lost:
+            held = min(max(held + LATERAL_INTEGRAL * dist * SERVO_DT / cfg.trace_speed, -0.5), 0.5)
+        lateral = min(max(LATERAL_GAIN * dist / cfg.trace_speed + held, -0.7), 0.7)
         v = cfg.trace_speed * ((0.3 * t if lost else t) + lateral * into)
         farthest = max(farthest, float(np.hypot(c[0] - start_uv[0], c[1] - start_uv[1])))
         if not _inside(c, region, 0.25 * r):
@@ -171,7 +219,10 @@ def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float 
             if ends == 2:
                 reason = "both ends reached"
                 break
-            yield from move_to(ex, ex.rec.centre[k_start, :2], cfg.speed)
+            # back past the first kept sample by the settling distance, then the other way:
+            # the samples of both ways meet without a gap
+            back = samples[min(len(samples) - 1, SETTLE)] if samples else k_start
+            yield from move_to(ex, ex.rec.centre[back, :2], cfg.speed)
             orient, tangent, steady = -orient, None, 0
             continue
         if farthest > 0.2 * r and travelled > max(2.5 * farthest, 0.5 * r):
