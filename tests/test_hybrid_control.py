@@ -20,9 +20,15 @@ from planner.control.hybrid_law import (
     HybridController,
     HybridSettings,
     check_force_feasible,
+    force_parameters,
     kernel_parameters,
 )
-from planner.control.hybrid_reference import gravity_torque, reference_step
+from planner.control.hybrid_reference import (
+    gravity_torque,
+    reference_closed_loop_step,
+    reference_step,
+)
+from planner.control.hybrid_variants import TorqueLimitQP
 from planner.errors import InvalidParameter
 from robots.sensors import OWTS
 from robots.three_gm import ThreeGM, rotation_tcs_to_wcs
@@ -278,5 +284,168 @@ def test_torque_limits_flag_saturation_and_keep_gravity():
     [{"kp": -1.0}, {"alpha": 0.0}, {"alpha": 1.5}, {"gravity": "full"}, {"tip_radius": 0.0}],
 )
 def test_settings_reject_bad_values(kw):
+    with pytest.raises(InvalidParameter):
+        HybridSettings(**kw)
+
+
+# ---------------------------------------------------------------- appended outputs
+def test_appended_outputs_are_the_jacobian_gravity_force_and_frame():
+    owts = OWTS(radius=0.008)
+    for th in _random_thetas(5, seed=4):
+        volts = owts.voltages_from_contact(np.array([0.2, -0.1, 1.0]))
+        out, stt, par = _kernel(th, np.full(3, 0.1), volts, np.array([0.01, 0.0, 0.0]))
+        np.testing.assert_allclose(out[hk.O_J : hk.O_J + 9].reshape(3, 3), FINGER.jacobian(th))
+        tg = gravity_torque(FINGER, th, par)
+        np.testing.assert_allclose(out[hk.O_TG : hk.O_TG + 2], tg[:2], atol=1e-12)
+        R, _ = surface_frame(-stt[:3])
+        np.testing.assert_allclose(out[hk.O_XS : hk.O_XS + 3], R[:, 0], atol=1e-12)
+        np.testing.assert_allclose(out[hk.O_YS : hk.O_YS + 3], R[:, 1], atol=1e-12)
+        f = out[hk.O_F : hk.O_F + 3]
+        assert f @ stt[:3] == pytest.approx(par[hk.P_FN], abs=1e-12)  # eq. 4.12: f_des along n
+        assert not out[13]
+        np.testing.assert_allclose(out[:3], tg + FINGER.jacobian(th).T @ f, atol=1e-12)
+
+
+# ---------------------------------------------------------------- closed-loop variant
+def _pi(force, volts, fd=0.3, integral=0.0, saturated=False, **kw):
+    s = HybridSettings(normal_force=fd, control="closed_loop", **kw)
+    par = kernel_parameters(FINGER, s)
+    fpar = force_parameters(s)
+    state = np.zeros(12)
+    state[:3] = [0.0, 0.0, -1.0]
+    fstate = np.array([integral, 0.0])
+    cmd = hk.normal_force_pi(np.asarray(force, float), volts, state, fstate, fpar, par, saturated)
+    return cmd, fstate, s
+
+
+def test_pi_command_is_f_des_plus_proportional_and_integral_terms():
+    on = np.full(4, 1.0)
+    # pressing 0.1 N too little along n = -z: the tip force on the surface is (0, 0, -0.2)
+    cmd, fst, s = _pi([0.0, 0.0, -0.2], on, integral=0.002)
+    assert fst[hk.S_MEAS] == pytest.approx(0.2)
+    e = 0.1
+    integral = 0.002 + e / s.rate
+    assert fst[hk.S_INT] == pytest.approx(integral)
+    assert cmd == pytest.approx(0.3 + s.force_kp * e + s.force_ki * integral)
+    # no contact: integral reset, open-loop force
+    cmd, fst, _ = _pi([0.0, 0.0, -0.2], np.zeros(4), integral=0.002)
+    assert cmd == 0.3 and fst[hk.S_INT] == 0.0
+    # torque limited at the previous step: the integral is frozen (no wind-up)
+    _, fst, _ = _pi([0.0, 0.0, -0.2], on, integral=0.002, saturated=True)
+    assert fst[hk.S_INT] == 0.002
+    # bounds: integral within +-force_imax, command within [0, force_max]
+    cmd, fst, s = _pi([0.0, 0.0, -5.0], on, integral=-0.0099)
+    assert fst[hk.S_INT] == -s.force_imax and cmd == 0.0
+    cmd, _, s = _pi([0.0, 0.0, 0.0], on, integral=0.01, force_kp=10.0)
+    assert cmd == s.force_max == pytest.approx(0.9)
+
+
+def test_closed_loop_with_zero_gains_is_the_open_loop_law():
+    owts = OWTS(radius=0.008)
+    s = HybridSettings(control="closed_loop", force_kp=0.0, force_ki=0.0)
+    par, fpar = kernel_parameters(FINGER, s, owts), force_parameters(s)
+    th = CENTER + 0.05
+    volts = owts.voltages_from_contact(np.array([0.1, 0.1, 1.0]))
+    a, b = np.zeros(12), np.zeros(12)
+    a[:3] = b[:3] = tcs_rotation(FINGER.state(th).gamma1, th[2])[:, 2]
+    out_a, out_b = np.zeros(hk.NOUT), np.zeros(hk.NOUT)
+    target = np.array([0.01, 0.0, 0.0])
+    hk.hybrid_step(th, np.full(3, 0.1), volts, a, target, par, out_a)
+    force = np.array([0.3, -0.2, 1.0])
+    fst = np.zeros(hk.NFSTATE)
+    hk.hybrid_step_closed_loop(th, np.full(3, 0.1), volts, force, b, fst, target, par, fpar, out_b)
+    np.testing.assert_array_equal(out_a, out_b)
+    np.testing.assert_array_equal(a, b)
+
+
+def test_closed_loop_kernel_equals_numpy_reference_over_a_random_run():
+    rng = np.random.default_rng(5)
+    owts = OWTS(radius=0.008)
+    s = HybridSettings(normal_force=0.4, control="closed_loop", force_kp=0.3, force_ki=80.0)
+    par, fpar = kernel_parameters(FINGER, s, owts), force_parameters(s)
+    st_k, st_r = np.zeros(12), np.zeros(12)
+    st_k[:3] = st_r[:3] = tcs_rotation(FINGER.state(CENTER).gamma1, CENTER[2])[:, 2]
+    st_k[3:6] = st_r[3:6] = FINGER.forward_kinematics(CENTER) + 0.008 * st_k[:3]
+    fs_k, fs_r = np.zeros(hk.NFSTATE), np.zeros(hk.NFSTATE)
+    out = np.zeros(hk.NOUT)
+    for k in range(300):
+        th = CENTER + 0.02 * np.sin(0.01 * k + np.arange(3))
+        thd = rng.normal(0, 0.2, 3)
+        n = np.array([rng.normal(0, 0.3), rng.normal(0, 0.3), 1.0])
+        volts = owts.voltages_from_contact(n) if k % 7 else np.zeros(4)
+        force = np.array([0.0, 0.0, -0.4]) + rng.normal(0, 0.05, 3)
+        target = np.array([0.02, 0.01 * np.cos(0.02 * k), 0.0])
+        sat = bool(out[13])
+        hk.hybrid_step_closed_loop(th, thd, volts, force, st_k, fs_k, target, par, fpar, out)
+        tau_r = reference_closed_loop_step(
+            FINGER, owts, th, thd, volts, force, st_r, fs_r, target, par, fpar, sat
+        )
+        np.testing.assert_allclose(out[:3], tau_r, atol=1e-10)
+        np.testing.assert_allclose(fs_k, fs_r, atol=1e-15)
+        np.testing.assert_allclose(st_k, st_r, atol=1e-12)
+
+
+# ---------------------------------------------------------------- QP variant
+def _saturated_step(fd=16.0, seed=0):
+    owts = OWTS(radius=0.008)
+    rng = np.random.default_rng(seed)
+    th = _random_thetas(1, seed=seed)[0]
+    volts = owts.voltages_from_contact(np.array([*rng.normal(0, 0.2, 2), 1.0]))
+    s = HybridSettings(normal_force=fd, control="qp", max_error=0.003)
+    out, stt, par = _kernel(th, np.zeros(3), volts, np.array([0.03, 0.0, 0.0]), settings_=s)
+    stt[3:6] += 0.003 * out[hk.O_XS : hk.O_XS + 3]  # a tracking error: tangential force too
+    out, stt, par = _kernel(th, rng.normal(0, 0.5, 3), volts, None, stt, s)
+    return out, stt, s
+
+
+def _qp_objective(w, s, s_law):
+    return 0.5 * float(np.sum(w * (s - s_law) ** 2))
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_qp_keeps_the_limits_and_beats_the_uniform_scaling(seed):
+    out, stt, s = _saturated_step(seed=seed)
+    assert out[13], "the open-loop law must be torque limited here"
+    qp = TorqueLimitQP(FINGER.torque_limits, s.qp_weights)
+    B, s_law = qp.force_coordinates(out, stt[:3])
+    scale = out[18] / s_law[2]  # the law's uniform scale
+    tau = qp.solve(out, stt[:3])
+    assert tau is not None
+    assert np.all(np.abs(tau) <= FINGER.torque_limits + 1e-6)
+    # the uniformly scaled force is feasible for the QP: the QP's optimum is at least as good
+    assert _qp_objective(qp.w, qp.last, s_law) <= _qp_objective(qp.w, scale * s_law, s_law) + 1e-9
+    assert qp.last[2] >= scale * s_law[2] - 1e-6  # the normal force goes first
+    # the same QP through another solver of planner.optim gives the same optimum
+    other = TorqueLimitQP(FINGER.torque_limits, s.qp_weights, solver="clarabel")
+    other.solve(out, stt[:3])
+    np.testing.assert_allclose(other.last, qp.last, atol=1e-5)
+    tg = np.array([*out[hk.O_TG : hk.O_TG + 2], 0.0])
+    J = out[hk.O_J : hk.O_J + 9].reshape(3, 3)
+    np.testing.assert_allclose(tau, tg + J.T @ B @ qp.last, atol=1e-9)
+
+
+def test_qp_variant_is_the_open_loop_law_when_not_saturated():
+    owts = OWTS(radius=0.008)
+    volts = owts.voltages_from_contact(np.array([0.1, 0.0, 1.0]))
+    th = CENTER + 0.03
+    a = HybridController(FINGER, HybridSettings(control="qp"))
+    b = HybridController(FINGER, HybridSettings())
+    for k in range(20):
+        ta = a.step(th, np.full(3, 0.01 * k), volts).copy()
+        tb = b.step(th, np.full(3, 0.01 * k), volts).copy()
+        np.testing.assert_array_equal(ta, tb)
+    assert a.qp.solves == 0
+    c = HybridController(FINGER, HybridSettings(normal_force=50.0, control="qp"))
+    tau = c.step(CENTER, np.zeros(3), volts)
+    assert c.saturated and c.qp.solves == 1
+    assert np.all(np.abs(tau) <= FINGER.torque_limits + 1e-6)
+    assert c.out[18] > 0.0
+
+
+@pytest.mark.parametrize(
+    "kw",
+    [{"control": "pid"}, {"force_kp": -1.0}, {"force_imax": -0.1}, {"qp_weights": (0.0, 1.0)}],
+)
+def test_variant_settings_reject_bad_values(kw):
     with pytest.raises(InvalidParameter):
         HybridSettings(**kw)

@@ -245,8 +245,7 @@ def test_owts_kernel_equals_robots_sampler_and_decoder(sheath):
         for _ in range(2)
     ]
     for r in rows:
-        rec[0]._t.append(0.0)
-        rec[0]._rows.append(r)
+        rec[0].push(0.0, r)
     got = rec[0].read()
     v, p, n = rec[1].read_reference(rows)
     np.testing.assert_array_equal(got.voltages, v)

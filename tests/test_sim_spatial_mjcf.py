@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 
+from planner.errors import HapexError
 from planner.sim.spatial import Plane, SpatialWorld
 from planner.sim.spatial.mjcf import spatial_to_mjcf
 from planner.sim.spatial.scenes import ridge_slide_scene
@@ -49,3 +50,21 @@ def test_ball_on_exported_incline_rolls_like_ours():
     s = (d.qpos[:3] - n * 0.01) @ down
     expected = 0.5 * 5 / 7 * 9.81 * math.sin(a) * 0.25
     assert s == pytest.approx(expected, rel=0.03)  # MuJoCo's soft contact: a few percent
+
+
+def test_mujoco_ridge_rollout_measures_the_same_quantities():
+    """The peer runs the same scene and controller; its path is measured like ours."""
+    from planner.sim.spatial.mujoco_peer import mujoco_ridge_rollout
+    from planner.sim.spatial.scenes import centre_path_error, path_error
+
+    r = mujoco_ridge_rollout(ridge_slide_scene(speed=0.02, travel=0.004), "best")
+    assert r["status"] in ("ok", "did not cross the ridge")
+    assert r["steps_per_s"] > 0 and r["rms"] > 0 and r["max"] >= r["rms"]
+    assert r["penetration_max"] > 0  # soft contact: MuJoCo lets the tip sink in
+    sc = ridge_slide_scene(speed=0.02, travel=0.004)
+    log = sc.world.run(sc.duration, sc.controller)
+    a = centre_path_error(sc, log)
+    b = path_error(sc, log.poses["finger"][:, :3], log.normal_force[:, 0] > 0)
+    assert (a.rms, a.max, a.lost_steps) == (b.rms, b.max, b.lost_steps)
+    with pytest.raises(HapexError, match="settings"):
+        mujoco_ridge_rollout(sc, "fastest")

@@ -16,7 +16,14 @@ Layout of the flat arrays (indices are module constants so the Python side never
 * ``par`` (``NPAR``,): see ``P_*``.
 * ``out`` (``NOUT``,): τ (0:3), contact point x (3:6), fingertip centre (6:9), ẋ (9:12),
   contact flag (12), saturation flag (13), OWTS intensity (14), alternative-SCS flag (15),
-  γ1 (16), singular flag (17), normal-force command (18).
+  γ1 (16), singular flag (17), normal-force command after saturation (18); the parts the
+  variants of :mod:`planner.control.hybrid_variants` build on: the Jacobian ``J`` row-major
+  (19:28), gravity torques τ_g of θ1, θ2 (28:30), the Cartesian force ``f`` before
+  saturation (30:33), the SCS axes x_S (33:36) and y_S (36:39).
+
+:func:`hybrid_step` presses with ``par[P_FN]`` (open loop, eq. 4.12);
+:func:`hybrid_step_closed_loop` first runs a PI loop on the sensed normal force
+(:func:`normal_force_pi`) and presses with its command.
 """
 
 from __future__ import annotations
@@ -37,11 +44,17 @@ P_SWITCH, P_EMAX = 29, 30
 #: gamma2 in their joint frames [m]
 P_C1X, P_C1Y, P_C5X, P_C5Y, P_C2X, P_C2Y, P_C3X, P_C3Y = range(31, 39)
 NPAR = 39
-NOUT = 19
+NOUT = 39
+O_J, O_TG, O_F, O_XS, O_YS = 19, 28, 30, 33, 36
+#: closed-loop normal force: gains and state of :func:`normal_force_pi` (``fpar``, ``fstate``)
+F_KP, F_KI, F_IMAX, F_FMAX = range(4)
+NFPAR = 4
+S_INT, S_MEAS = range(2)
+NFSTATE = 2
 
 
 @njit(cache=True, fastmath=False)
-def hybrid_step(theta, thd, volts, state, target, par, out):  # noqa: C901, PLR0915
+def hybrid_step(theta, thd, volts, state, target, par, out):
     """Advance the law one servo period and write the torques into ``out[0:3]``.
 
     Args:
@@ -52,6 +65,56 @@ def hybrid_step(theta, thd, volts, state, target, par, out):  # noqa: C901, PLR0
         par: (NPAR,) parameters.
         out: (NOUT,) outputs (written).
     """
+    _law(theta, thd, volts, state, target, par, out, par[P_FN])
+
+
+@njit(cache=True, fastmath=False)
+def normal_force_pi(force, volts, state, fstate, fpar, par, saturated):
+    """Normal-force command [N] of the closed-loop variant: PI on the sensed normal force.
+
+    ``f_meas = f_tip · n_W`` (the force the tip applies on the surface along the filtered
+    normal of the previous step), ``e = f_des - f_meas``,
+    ``f_cmd = clip(f_des + k_P e + k_I ∫e dt, 0, f_max)``. The integral runs only in contact
+    and while the previous step was not torque limited (conditional integration, no wind-up);
+    it is bounded by ``F_IMAX`` [N s] and reset when the contact is lost.
+
+    Args:
+        force: (3,) sensed fingertip force on the surface in the WCS [N].
+        volts: (4,) OWTS voltages (contact: total above the sensor's threshold) [V].
+        state: (12,) law state (reads the filtered normal n_W, 0:3).
+        fstate: (NFSTATE,) integral [N s] and last measured normal force [N] (updated).
+        fpar: (NFPAR,) ``k_P`` [-], ``k_I`` [1/s], integral bound [N s], ``f_max`` [N].
+        par: (NPAR,) law parameters (``P_FN``: f_des, ``P_RATE``: servo rate).
+        saturated: whether the previous step was torque limited.
+    """
+    fd = par[P_FN]
+    meas = force[0] * state[0] + force[1] * state[1] + force[2] * state[2]
+    fstate[S_MEAS] = meas
+    contact = volts[0] + volts[1] + volts[2] + volts[3] > par[P_OWTS_THR]
+    if not contact:
+        fstate[S_INT] = 0.0
+        return fd
+    e = fd - meas
+    if not saturated:
+        lim = fpar[F_IMAX]
+        fstate[S_INT] = min(lim, max(-lim, fstate[S_INT] + e / par[P_RATE]))
+    return min(fpar[F_FMAX], max(0.0, fd + fpar[F_KP] * e + fpar[F_KI] * fstate[S_INT]))
+
+
+@njit(cache=True, fastmath=False)
+def hybrid_step_closed_loop(theta, thd, volts, force, state, fstate, target, par, fpar, out):
+    """:func:`hybrid_step` pressing with the PI command of :func:`normal_force_pi`.
+
+    Args: as :func:`hybrid_step`, plus ``force`` (3,) the sensed tip force [N] and the PI's
+    ``fstate`` and ``fpar``. ``out[18]`` is the command after saturation.
+    """
+    fn = normal_force_pi(force, volts, state, fstate, fpar, par, out[13] != 0.0)
+    _law(theta, thd, volts, state, target, par, out, fn)
+
+
+@njit(cache=True, fastmath=False)
+def _law(theta, thd, volts, state, target, par, out, fn):  # noqa: C901, PLR0915
+    """The law of eqs. 4.1-4.13 pressing with the normal force ``fn`` [N]."""
     l1, l2, l3, l4, l5 = par[P_L1], par[P_L2], par[P_L3], par[P_L4], par[P_L5]
     t1, t2, t3 = theta[0], theta[1], theta[2]
     # ---- OWTS, eqs. C.1-C.3 ------------------------------------------------------------
@@ -181,7 +244,6 @@ def hybrid_step(theta, thd, volts, state, target, par, out):  # noqa: C901, PLR0
     kp, kv = par[P_KP], par[P_KV]
     fx = kp * ex + kv * ux
     fy = kp * ey + kv * uy
-    fn = par[P_FN]
     f0 = fx * x0 + fy * y0 + fn * n0
     f1 = fx * x1 + fy * y1 + fn * n1
     f2 = fx * x2 + fy * y2 + fn * n2
@@ -232,3 +294,10 @@ def hybrid_step(theta, thd, volts, state, target, par, out):  # noqa: C901, PLR0
     out[16] = g1
     out[17] = 1.0 if singular else 0.0
     out[18] = fn * scale
+    for i in range(3):
+        for j in range(3):
+            out[O_J + 3 * i + j] = J[i, j]
+    out[O_TG], out[O_TG + 1] = tg0, tg1
+    out[O_F], out[O_F + 1], out[O_F + 2] = f0, f1, f2
+    out[O_XS], out[O_XS + 1], out[O_XS + 2] = x0, x1, x2
+    out[O_YS], out[O_YS + 1], out[O_YS + 2] = y0, y1, y2

@@ -22,9 +22,17 @@ import numpy as np
 from planner import checks
 from planner.control import hybrid_kernel as hk
 from planner.control.hybrid_frames import SWITCH_SIN2
+from planner.control.hybrid_variants import FORCE_CONTROLS, TorqueLimitQP
 from planner.errors import InvalidParameter
 
-__all__ = ["GRAVITY_MODES", "HybridController", "HybridSettings", "owts_voltages"]
+__all__ = [
+    "GRAVITY_MODES",
+    "HybridController",
+    "HybridSettings",
+    "force_parameters",
+    "owts_voltages",
+    "tip_force",
+]
 
 GRAVITY_MODES = ("model", "c11", "none")
 G = 9.81  # [m/s^2]
@@ -49,6 +57,15 @@ class HybridSettings:
         c11_mass: ``M`` of eq. C.11 [kg] (used when ``gravity == "c11"``).
         max_error: bound of the tangential tracking error; the desired point is dragged
             along beyond it (wind-up guard) [m].
+        control: normal-force variant, one of :data:`~planner.control.hybrid_variants.
+            FORCE_CONTROLS`: ``"open_loop"`` (eq. 4.12), ``"closed_loop"`` (PI on the sensed
+            normal force) or ``"qp"`` (torque limits by a QP that keeps the normal force).
+        force_kp: proportional gain of the closed-loop variant [-] (N per N of error).
+        force_ki: integral gain of the closed-loop variant [1/s].
+        force_imax: bound of the closed-loop integral [N s].
+        force_max: largest normal force the closed loop may command [N] (None: 3 f_des).
+        qp_weights: ``(w_t, w_n)`` weights of the tangential and normal force errors of the
+            QP variant [1/N²] (``w_n >> w_t``: the normal force goes first).
     """
 
     kp: float = 300.0
@@ -62,6 +79,12 @@ class HybridSettings:
     tip_mass: float = 0.0
     c11_mass: float = 0.1
     max_error: float = 0.003
+    control: str = "open_loop"
+    force_kp: float = 0.2
+    force_ki: float = 50.0
+    force_imax: float = 0.01
+    force_max: float | None = None
+    qp_weights: tuple[float, float] = (1.0, 100.0)
 
     def __post_init__(self) -> None:
         checks.nonnegative("kp", self.kp, "N/m")
@@ -75,6 +98,17 @@ class HybridSettings:
         checks.nonnegative("tip_mass", self.tip_mass, "kg")
         checks.nonnegative("c11_mass", self.c11_mass, "kg")
         checks.positive("max_error", self.max_error, "m")
+        checks.choice("control", self.control, FORCE_CONTROLS)
+        checks.nonnegative("force_kp", self.force_kp)
+        checks.nonnegative("force_ki", self.force_ki, "1/s")
+        checks.nonnegative("force_imax", self.force_imax, "N s")
+        if self.force_max is None:
+            object.__setattr__(self, "force_max", 3.0 * self.normal_force)
+        checks.nonnegative("force_max", self.force_max, "N")
+        w = checks.vector("qp_weights", self.qp_weights, 2)
+        checks.positive("qp_weights[0]", w[0])
+        checks.positive("qp_weights[1]", w[1])
+        object.__setattr__(self, "qp_weights", (float(w[0]), float(w[1])))
 
 
 def body_weights(finger) -> tuple[np.ndarray, np.ndarray]:
@@ -117,6 +151,25 @@ def kernel_parameters(finger, settings: HybridSettings, owts=None) -> np.ndarray
     return par
 
 
+def force_parameters(settings: HybridSettings) -> np.ndarray:
+    """The (NFPAR,) gains of :func:`~planner.control.hybrid_kernel.normal_force_pi`."""
+    f = np.zeros(hk.NFPAR)
+    f[hk.F_KP], f[hk.F_KI] = settings.force_kp, settings.force_ki
+    f[hk.F_IMAX], f[hk.F_FMAX] = settings.force_imax, settings.force_max
+    return f
+
+
+def tip_force(obs, out: np.ndarray) -> np.ndarray:
+    """Write the sensed fingertip force (3,) [N] of an observation into ``out`` (the first
+    row of ``obs.tip_forces``: force the tip applies on the surface; zeros without one)."""
+    f = getattr(obs, "tip_forces", None)
+    if f is None or len(f) == 0 or np.shape(f)[-1] != 3:
+        out[:] = 0.0
+    else:
+        out[:] = f[0]
+    return out
+
+
 def owts_voltages(obs, out: np.ndarray, threshold: float = 1e-3) -> np.ndarray:
     """Write the OWTS voltages (4,) [V] of an observation into ``out`` (zeros: no contact).
 
@@ -148,7 +201,8 @@ class HybridController:
             (default ``OWTS(radius=settings.tip_radius)``).
 
     After each call, :attr:`out` holds the step's outputs (see :mod:`hybrid_kernel`); the
-    properties below read them.
+    properties below read them. ``settings.control`` selects the normal-force variant
+    (:mod:`planner.control.hybrid_variants`).
     """
 
     def __init__(self, finger, settings: HybridSettings | None = None, owts=None) -> None:
@@ -158,6 +212,15 @@ class HybridController:
         self.state = np.zeros(12)
         self.target = np.zeros(3)
         self.out = np.zeros(hk.NOUT)
+        self.mode = self.settings.control
+        self.fpar = force_parameters(self.settings)
+        self.fstate = np.zeros(hk.NFSTATE)
+        self.qp = (
+            TorqueLimitQP(finger.torque_limits, self.settings.qp_weights)
+            if self.mode == "qp"
+            else None
+        )
+        self._force = np.zeros(3)
         self._volts = np.zeros(4)
         self._anchored = False
         self.saturated_steps = 0
@@ -181,11 +244,26 @@ class HybridController:
         self.state[6:12] = 0.0
 
     # ------------------------------------------------------------------ the step
-    def step(self, theta, theta_dot, volts) -> np.ndarray:
-        """One servo period from raw readings; returns τ (3,) [N m] (a view of ``out``)."""
+    def step(self, theta, theta_dot, volts, force=None) -> np.ndarray:
+        """One servo period from raw readings; returns τ (3,) [N m] (a view of ``out``).
+
+        Args:
+            theta, theta_dot: (3,) encoder angles [rad] and rates [rad/s].
+            volts: (4,) OWTS voltages [V].
+            force: (3,) sensed fingertip force on the surface [N] (closed loop only).
+        """
         if not self._anchored:
             self._anchor(theta, theta_dot, volts)
-        hk.hybrid_step(theta, theta_dot, volts, self.state, self.target, self.par, self.out)
+        if self.mode == "closed_loop":
+            f = self._force if force is None else np.asarray(force, dtype=float)
+            hk.hybrid_step_closed_loop(
+                theta, theta_dot, volts, f, self.state, self.fstate, self.target, self.par,
+                self.fpar, self.out,
+            )  # fmt: skip
+        else:
+            hk.hybrid_step(theta, theta_dot, volts, self.state, self.target, self.par, self.out)
+            if self.qp is not None:
+                self.qp.apply(self.out, self.state[:3])
         if self.out[13]:
             self.saturated_steps += 1
         return self.out[:3]
@@ -193,7 +271,8 @@ class HybridController:
     def __call__(self, t: float, obs) -> np.ndarray:
         q = np.asarray(obs.q, dtype=float)
         qd = np.asarray(obs.qd, dtype=float)
-        return self.step(q, qd, owts_voltages(obs, self._volts)).copy()
+        volts = owts_voltages(obs, self._volts)
+        return self.step(q, qd, volts, tip_force(obs, self._force)).copy()
 
     def _anchor(self, theta, theta_dot, volts) -> None:
         st = self.finger.state(theta)

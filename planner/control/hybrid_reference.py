@@ -14,7 +14,12 @@ import numpy as np
 from planner.control import hybrid_kernel as hk
 from planner.control.hybrid_frames import filter_normal, gain_matrix, surface_frame, tcs_rotation
 
-__all__ = ["gravity_torque", "reference_step"]
+__all__ = [
+    "gravity_torque",
+    "reference_closed_loop_step",
+    "reference_normal_force_pi",
+    "reference_step",
+]
 
 
 def gravity_torque(finger, theta: np.ndarray, par: np.ndarray) -> np.ndarray:
@@ -94,3 +99,28 @@ def reference_step(finger, owts, theta, thd, volts, state, target, par) -> np.nd
     tg = gravity_torque(finger, theta, par)
     tau, _ = _saturate(J.T @ f, tg, par[hk.P_TAU1 : hk.P_TAU3 + 1])
     return tau
+
+
+def reference_normal_force_pi(force, volts, state, fstate, fpar, par, saturated: bool) -> float:
+    """:func:`planner.control.hybrid_kernel.normal_force_pi` in numpy: the PI's command [N]."""
+    fd = par[hk.P_FN]
+    meas = float(np.dot(force, state[:3]))
+    fstate[hk.S_MEAS] = meas
+    if float(np.sum(volts)) <= par[hk.P_OWTS_THR]:  # no contact: reset, press with f_des
+        fstate[hk.S_INT] = 0.0
+        return float(fd)
+    e = fd - meas
+    if not saturated:
+        lim = fpar[hk.F_IMAX]
+        fstate[hk.S_INT] = np.clip(fstate[hk.S_INT] + e / par[hk.P_RATE], -lim, lim)
+    cmd = fd + fpar[hk.F_KP] * e + fpar[hk.F_KI] * fstate[hk.S_INT]
+    return float(np.clip(cmd, 0.0, fpar[hk.F_FMAX]))
+
+
+def reference_closed_loop_step(
+    finger, owts, theta, thd, volts, force, state, fstate, target, par, fpar, saturated
+) -> np.ndarray:
+    """The closed-loop variant in numpy: the PI's command, then :func:`reference_step`."""
+    p = par.copy()
+    p[hk.P_FN] = reference_normal_force_pi(force, volts, state, fstate, fpar, par, saturated)
+    return reference_step(finger, owts, theta, thd, volts, state, target, p)

@@ -44,6 +44,18 @@ def _corners(region: np.ndarray) -> np.ndarray:
     return np.array([[u0, v0], [u1, v0], [u1, v1], [u0, v1], [(u0 + u1) / 2, (v0 + v1) / 2]])
 
 
+def _start_height(H, point, r: float) -> float:
+    """Height [m] of the centre of a ball of radius ``r`` resting on ``H`` above ``point``:
+    ``H + r`` on a flat spot; on a slope or near a crest the ball rests on the highest point
+    under it (:func:`~planner.exploration.surface.kinematic.ball_trace`), so the finger never
+    starts in penetration."""
+    from planner.exploration.surface.kinematic import ball_trace
+
+    flat = float(H(point[0], point[1])) + r
+    rest = float(ball_trace(H, np.asarray(point, float)[None, :2], r, grid=r / 80).centers[0, 2])
+    return max(flat, rest)
+
+
 def build_world(plate, cfg: ExplorationSettings, region, tilt: float, seed: int, sensors=None):
     """World, finger and plate pose for an exploration; validates reach, goal and force."""
     from planner.sim import SpatialWorld
@@ -60,7 +72,7 @@ def build_world(plate, cfg: ExplorationSettings, region, tilt: float, seed: int,
         g = np.array([cfg.goal])
         check_reachable(gm, T, g, H(g[:, 0], g[:, 1]), r, "goal")
     _, first = segments(cfg, region, np.random.default_rng(seed))
-    x0 = to_world(T, [first[0], first[1], float(H(first[0], first[1])) + r + GAP])
+    x0 = to_world(T, [first[0], first[1], _start_height(H, first, r) + GAP])
     theta = gm.inverse_kinematics(x0)
     for p in corners:
         x = to_world(T, [p[0], p[1], float(H(p[0], p[1])) + r])
@@ -84,6 +96,7 @@ def explore_surface(
     tilt: float = 0.0,
     goal=None,
     sensors=None,
+    control: str = "open_loop",
     **options,
 ) -> ExplorationResult:
     """Explore ``surface`` with the 3GM: search, identify, trace, model (thesis ch. 4).
@@ -101,6 +114,9 @@ def explore_surface(
         tilt: tilt of the plate about the WCS y axis [rad].
         goal: (2,) bug-2 goal in the plate frame [m].
         sensors: :class:`planner.sim.SensorSettings` (default: the world's).
+        control: normal-force variant of the hybrid law: ``"open_loop"`` (eq. 4.12),
+            ``"closed_loop"`` (PI on the sensed normal force) or ``"qp"`` (torque limits by a
+            QP that keeps the normal force), see :mod:`planner.control.hybrid_variants`.
         **options: further :class:`ExplorationSettings` fields (``trace_speed``,
             ``line_spacing``, ``boundary_rise``, ``friction``, ``kp``, ``kv``, ...).
 
@@ -119,6 +135,13 @@ def explore_surface(
         goal=None if goal is None else tuple(goal),
         **options,
     )
+    hs = HybridSettings(
+        kp=cfg.kp,
+        kv=cfg.kv,
+        normal_force=cfg.normal_force,
+        tip_radius=tip_radius,
+        control=control,
+    )
     reg = region_box(((-0.02, 0.02), (-0.02, 0.02)) if region is None else region)
     dur = 120.0 if duration is None else checks.positive("duration", duration, "s")
     if not hasattr(surface, "features"):
@@ -126,14 +149,25 @@ def explore_surface(
             f"surface: expected a planner.sim.spatial.Plate, got {type(surface).__name__}"
         )
     world, gm, T = build_world(surface, cfg, reg, tilt, seed, sensors)
-    hs = HybridSettings(kp=cfg.kp, kv=cfg.kv, normal_force=cfg.normal_force, tip_radius=tip_radius)
     ex = ExplorerController(gm, hs, T, int(dur * 1000) + 2)
     state = ProgramState()
     ex.program = exploration_program(ex, cfg, reg, np.random.default_rng(seed), state)
+    _warm_up(ex)
     t0 = time.perf_counter()
     log = world.run(dur, controller=ex, stop=ex.stop)
     wall = time.perf_counter() - t0
     return _result(ex, state, log, cfg, T, wall)
+
+
+def _warm_up(ex) -> None:
+    """Import what the program imports on first use and load the compiled step, so that the
+    measured wall time (the real-time factor) is the control loop's, not the start-up's."""
+    import scipy.spatial  # noqa: F401 - the decision parameter's nearest neighbours
+    import shapely  # noqa: F401 - known areas
+
+    import planner.detection  # noqa: F401 - online detection (algorithm 3)
+
+    ex.warm_up()
 
 
 def _refine(dec, boundary: np.ndarray, closed: bool, elongation: float = 2.0):

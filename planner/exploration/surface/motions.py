@@ -2,9 +2,11 @@
 
 Each primitive is a generator that reads ``ex.est`` (the latest estimate of
 :class:`~planner.exploration.surface.runtime.ExplorerController`) and yields the desired
-contact-point velocity (2,) in the plate plane [m/s] once per servo period; it returns its
-result through ``StopIteration`` (``res = yield from move_to(...)``). The hybrid law turns the
-velocity into the desired position of eq. 4.9 and presses with the normal force.
+contact-point velocity in the plate plane [m/s] (a (2,) array or a pair of floats) once per
+servo period; it returns its result through ``StopIteration`` (``res = yield from
+move_to(...)``). The hybrid law turns the velocity into the desired position of eq. 4.9 and
+presses with the normal force. The loops run once per millisecond of simulated time: they work
+on Python floats, not on small numpy arrays.
 """
 
 from __future__ import annotations
@@ -49,15 +51,19 @@ def move_to(ex, target, speed: float, tol: float = 4e-4, phase: str = "move", ti
     ex.phase = PHASE[phase]
     target = np.asarray(target, float)
     t_end = ex.est.t + (timeout if timeout is not None else 3.0 + 3.0 * _dist(ex, target) / speed)
+    gu, gv = float(target[0]), float(target[1])
     while True:
-        d = target - ex.est.uv
-        n = float(np.hypot(d[0], d[1]))
+        est = ex.est
+        c = est.centre
+        du, dv = gu - float(c[0]), gv - float(c[1])
+        n = float(np.hypot(du, dv))  # not math.hypot: it rounds differently
         if n < tol:
             return True
-        if ex.est.t > t_end:
+        if est.t > t_end:
             ex.event("move_timeout", f"could not reach {target.round(4).tolist()} m", gap=n)
             return False
-        yield d / n * min(speed, GAIN * n)
+        m = min(speed, GAIN * n)
+        yield du / n * m, dv / n * m
 
 
 def _dist(ex, target) -> float:
@@ -81,12 +87,18 @@ def sweep(ex, a, b, speed: float, phase: str = "search", detector=None, every: i
     if L < 1e-9:
         return ex.rec.n, ex.rec.n, None
     d = (b - a) / L
-    p = np.array([-d[1], d[0]])
+    du, dv = float(d[0]), float(d[1])  # along; the cross-track direction is (-dv, du)
+    au, av, bu, bv = float(a[0]), float(a[1]), float(b[0]), float(b[1])
     k0, i = ex.rec.n, 0
     t_end = ex.est.t + 3.0 + 2.0 * L / speed
-    while float((b - ex.est.uv) @ d) > 2e-4 and ex.est.t < t_end:
-        e = float((ex.est.uv - a) @ p)
-        yield speed * d - GAIN * e * p
+    while True:
+        est = ex.est
+        c = est.centre
+        cu, cv = float(c[0]), float(c[1])
+        if not ((bu - cu) * du + (bv - cv) * dv > 2e-4 and est.t < t_end):
+            break
+        e = GAIN * ((cu - au) * -dv + (cv - av) * du)
+        yield speed * du + e * dv, speed * dv - e * du
         i += 1
         if detector is not None and i % every == 0:
             hit = detector(k0, ex.rec.n)

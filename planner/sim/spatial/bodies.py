@@ -12,6 +12,7 @@ import math
 import numpy as np
 
 from planner.errors import SingularConfiguration
+from planner.sim.spatial import step_kernel as sk
 from planner.sim.spatial.finger import tcs_rotation
 from planner.sim.spatial.finger_codegen import reduced_dynamics_function
 
@@ -113,23 +114,64 @@ class SphereBody:
 
 class FingerBody:
     """The 3GM: motor angles ``θ`` and rates ``θ̇`` (3,); reduced dynamics per step from the
-    generated function of :mod:`planner.sim.spatial.finger_codegen` (equal to the Pinocchio
-    path of :class:`~planner.sim.spatial.finger.FingerDynamics`, tested)."""
+    generated functions of :mod:`planner.sim.spatial.finger_codegen` (equal to the Pinocchio
+    path of :class:`~planner.sim.spatial.finger.FingerDynamics`, tested).
+
+    The whole state (angles, rates, centre, Jacobians, ``M_r⁻¹``, the last contact) lives in
+    one vector :attr:`x` (layout of :mod:`planner.sim.spatial.step_kernel`), stepped in
+    place by the kernel; the attributes below read (copies) and write it."""
 
     #: |sin(γ2 - γ1)| below which the 3GM is reported singular (links l3, l4 aligned).
     SINGULAR_SIN = 1e-6
 
     def __init__(self, name, gm, theta, theta_dot, tip_radius, friction, gravity):
         self.name, self.gm, self.radius, self.friction = name, gm, tip_radius, friction
-        self.fn = reduced_dynamics_function(gm, gravity)
-        self.th = np.array(theta, float)
-        self.thd = np.array(theta_dot, float)
-        self.minv = None
+        # own copies of the generated functions: their buffers belong to this body
+        self.fn = reduced_dynamics_function(gm, gravity).clone()
+        self.kin = reduced_dynamics_function(gm, gravity, kinematics=True).clone()
+        self.x = np.zeros(sk.STATE_SIZE)
+        self.x[sk.TH : sk.TH + 3] = theta
+        self.x[sk.THD : sk.THD + 3] = theta_dot
+        self.limits = np.asarray(gm.joint_limits, float)
         self._zero = np.zeros(3)
-        self.J = self.Jw = None
-        self.gamma1 = 0.0
-        self._center = np.zeros(3)
         self._eval(np.zeros(3), 0.0)
+
+    def _get(i: int, n: int):  # noqa: N805 - property factory
+        def get(self):
+            return self.x[i : i + n].copy()
+
+        def set_(self, value):
+            self.x[i : i + n] = value
+
+        return property(get, set_)
+
+    th = _get(sk.TH, 3)
+    thd = _get(sk.THD, 3)
+
+    def _mat(i: int):  # noqa: N805 - property factory
+        def get(self):
+            return self.x[i : i + 9].reshape(3, 3).copy()
+
+        def set_(self, value):
+            self.x[i : i + 9] = np.asarray(value, float).ravel()
+
+        return property(get, set_)
+
+    J = _mat(sk.J)
+    Jw = _mat(sk.JW)
+    minv = _mat(sk.MINV)
+    del _get, _mat
+
+    @property
+    def gamma1(self) -> float:
+        return float(self.x[sk.G1])
+
+    def _singular(self, sin_c: float) -> SingularConfiguration:
+        return SingularConfiguration(
+            f"3GM singular at theta = {np.round(self.th, 6).tolist()} rad: the five-bar loop "
+            f"cannot close or links l3 and l4 align (sin(gamma2 - gamma1) = {sin_c:.3g})",
+            value=float(sin_c),
+        )
 
     def _eval(self, tau, h: float) -> np.ndarray:
         c, J, Jw, Minv, thd_f, g1, _, _, sin_c = self.fn(self.th, self.thd, tau, h)
@@ -137,20 +179,16 @@ class FingerBody:
             not (np.isfinite(c[0]) and np.isfinite(thd_f).all())
             or abs(sin_c[0]) < self.SINGULAR_SIN
         ):
-            raise SingularConfiguration(
-                f"3GM singular at theta = {np.round(self.th, 6).tolist()} rad: the five-bar loop "
-                f"cannot close or links l3 and l4 align (sin(gamma2 - gamma1) = {sin_c[0]:.3g})",
-                value=float(sin_c[0]),
-            )
-        self._center = c.copy()
-        self._quat = None
-        self.J, self.Jw, self.minv = J.copy(), Jw.copy(), Minv.copy()
-        self.gamma1 = float(g1[0])
+            raise self._singular(sin_c[0])
+        x = self.x
+        x[sk.C : sk.C + 3] = c
+        self.J, self.Jw, self.minv = J, Jw, Minv
+        x[sk.G1], x[sk.SIN] = g1[0], sin_c[0]
         return thd_f.copy()
 
     @property
     def center(self) -> np.ndarray:
-        return self._center
+        return self.x[sk.C : sk.C + 3].copy()
 
     def free_velocity(self, h: float, gravity: np.ndarray, tau) -> np.ndarray:
         return self._eval(tau, h)
@@ -163,7 +201,7 @@ class FingerBody:
         return self.J
 
     def apply(self, nu: np.ndarray) -> None:
-        self.thd = nu.copy()
+        self.thd = nu
 
     def integrate(self, h: float) -> None:
         self.th = self.th + h * self.thd
@@ -179,30 +217,30 @@ class FingerBody:
 
     def _refresh_center(self) -> None:
         """Kinematics at the new angles (centre, J, J_ω, γ1; M_r⁻¹ is left for the step)."""
-        c, J, Jw, _, _, g1, _, _, sin_c = self.fn(self.th, self.thd, self._zero, 0.0)
+        c, J, Jw, g1, sin_c, _ = self.kin(self.th)
         if not np.isfinite(c[0]) or abs(sin_c[0]) < self.SINGULAR_SIN:
-            raise SingularConfiguration(
-                f"3GM singular at theta = {np.round(self.th, 6).tolist()} rad "
-                f"(sin(gamma2 - gamma1) = {sin_c[0]:.3g})",
-                value=float(sin_c[0]),
-            )
-        self._center = c.copy()
-        self.J, self.Jw, self.gamma1 = J.copy(), Jw.copy(), float(g1[0])
-        self._quat = None
+            raise self._singular(sin_c[0])
+        self.x[sk.C : sk.C + 3] = c
+        self.J, self.Jw = J, Jw
+        self.x[sk.G1], self.x[sk.SIN] = g1[0], sin_c[0]
 
     def shift_center(self, dc: np.ndarray) -> None:
         """Move the cached centre by ``dc`` [m] (first-order update after a tiny projection)."""
-        self._center = self._center + dc
+        self.x[sk.C : sk.C + 3] += dc
 
     def tcs(self) -> np.ndarray:
-        return tcs_rotation(self.gamma1, float(self.th[2]))
+        return tcs_rotation(self.gamma1, float(self.x[sk.TH + 2]))
 
     def pose(self) -> np.ndarray:
-        if self._quat is None:  # R_z(θ3) R_y(π/2 - γ1) as a quaternion (wxyz)
-            a, b = 0.5 * float(self.th[2]), 0.5 * (math.pi / 2 - self.gamma1)
-            ca, sa, cb, sb = math.cos(a), math.sin(a), math.cos(b), math.sin(b)
-            self._quat = np.array([ca * cb, -sa * sb, ca * sb, sa * cb])
-        return np.concatenate([self._center, self._quat])
+        """(7,) tip centre [m] and the TCS as a quaternion (wxyz): R_z(θ3) R_y(π/2 - γ1)."""
+        x = self.x
+        a, b = 0.5 * float(x[sk.TH + 2]), 0.5 * (math.pi / 2 - float(x[sk.G1]))
+        ca, sa, cb, sb = math.cos(a), math.sin(a), math.cos(b), math.sin(b)
+        return np.array([x[sk.C], x[sk.C + 1], x[sk.C + 2], ca * cb, -sa * sb, ca * sb, sa * cb])
 
     def velocity(self) -> np.ndarray:
-        return np.concatenate([self.J @ self.thd, self.Jw @ self.thd])
+        x = self.x
+        thd = x[sk.THD : sk.THD + 3]
+        return np.concatenate(
+            [x[sk.J : sk.J + 9].reshape(3, 3) @ thd, x[sk.JW : sk.JW + 9].reshape(3, 3) @ thd]
+        )

@@ -1,11 +1,11 @@
-"""The 3GM's step on one plate or plane through the scalar kernels (the hot path).
+"""The 3GM's step on one plate or plane through :func:`.step_kernel.finger_step` (the hot
+path: one numba call per step).
 
-Same scheme and results as :func:`planner.sim.spatial.stepping.step_body` (tested equal),
-for the case that matters for speed: the finger alone over one :class:`Plate` or
-:class:`Plane`. The free step uses the generated reduced dynamics; the contact problem and
-the foot points run in :mod:`planner.sim.spatial.kernel`; the projection onto the offset
-surface is the same mass-weighted Gauss-Newton step. Anything the kernel does not resolve
-(status -1: a sliding root it could not certify) goes through the general path.
+Same scheme and results as :func:`planner.sim.spatial.stepping.step_body` (tested equal on
+random states), for the case that matters for speed: the finger alone over one
+:class:`Plate` or :class:`Plane`, numba installed and the generated dynamics compiled to C.
+Anything the kernel does not resolve (a sliding root it could not certify) goes through the
+general path.
 """
 
 from __future__ import annotations
@@ -13,19 +13,29 @@ from __future__ import annotations
 import numpy as np
 
 from planner.sim.records import Contact
-from planner.sim.spatial.kernel import finger_contact, pack_plate, plate_foot_world
+from planner.sim.spatial import step_kernel as sk
+from planner.sim.spatial.finger_codegen import CompiledFunction
+from planner.sim.spatial.kernel import HAVE_NUMBA, pack_plate
 from planner.sim.spatial.plate import Plane, Plate
 
-__all__ = ["FastPlate", "fast_plate"]
+__all__ = ["FingerKernel", "KernelContact", "fast_plate"]
 
-_PROJ_TOL = 1e-12  # [m]
-_MARGIN = 1e-5  # [m]
+_SINGULAR_SIN = 1e-6  # as FingerBody.SINGULAR_SIN
 
 
-class FastPlate:
-    """A plate (or plane) packed for the kernels: features, base, pose ``T_WS``."""
+class FingerKernel:
+    """Everything :func:`.step_kernel.finger_step` needs, packed once: the plate (or plane)
+    with its pose, μ, the tip radius, joint and torque limits, the generated functions.
 
-    def __init__(self, name, placed, mu) -> None:
+    Args:
+        name: the surface's handle; placed: its :class:`.closest.PlacedSurface`; mu: μ.
+        finger: the :class:`.bodies.FingerBody` (its state vector is stepped in place).
+        dt: time step [s].
+    """
+
+    def __init__(self, name, placed, mu, finger, dt) -> None:
+        from planner.sim.spatial.sensing import FULL_INTENSITY_FORCE, SAMPLE_RATE
+
         s = placed.surface
         self.name, self.mu = name, mu
         if isinstance(s, Plane):
@@ -33,94 +43,74 @@ class FastPlate:
             a = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
             t1 = a - (a @ n) * n
             t1 /= np.linalg.norm(t1)
-            Rn = np.column_stack([t1, np.cross(n, t1), n])
-            self.R = placed.R @ Rn
-            self.t = placed.R @ np.array(s.point) + placed.t
-            self.F, self.P, self.base = np.zeros((0, 10)), np.zeros((0, 2)), 0.0
+            R = placed.R @ np.column_stack([t1, np.cross(n, t1), n])
+            t = placed.R @ np.array(s.point) + placed.t
+            self.F, self.P, base = np.zeros((0, 10)), np.zeros((0, 2)), 0.0
         else:
-            self.R, self.t = placed.R.copy(), placed.t.copy()
-            (self.F, self.P), self.base = pack_plate(s), float(s.base)
-        self.R = np.ascontiguousarray(self.R)
-        self.hint: tuple[float, float] | None = None
-        self.out = np.zeros(26)
-        self._foot = np.zeros(9)
+            R, t = placed.R, placed.t
+            (self.F, self.P), base = pack_plate(s), float(s.base)
+        prm = np.zeros(sk.PARAM_SIZE)
+        prm[sk.P_H], prm[sk.P_MU], prm[sk.P_R], prm[sk.P_BASE] = dt, mu, finger.radius, base
+        prm[sk.P_ROT : sk.P_ROT + 9] = np.asarray(R, float).ravel()
+        prm[sk.P_T : sk.P_T + 3] = t
+        prm[sk.P_LIM : sk.P_LIM + 6] = np.asarray(finger.gm.joint_limits, float).ravel()
+        prm[sk.P_TAU : sk.P_TAU + 3] = finger.gm.torque_limits
+        prm[sk.P_RATE], prm[sk.P_FULL], prm[sk.P_SIN] = (
+            SAMPLE_RATE,
+            FULL_INTENSITY_FORCE,
+            _SINGULAR_SIN,
+        )
+        self.prm = prm
+        self.dyn, self.kin = finger.fn, finger.kin
+        _check_layout(self.dyn, self.kin)
 
-    def foot(self, c: np.ndarray):
-        """(point (3,), normal (3,), distance) of ``c`` [m, WCS]; updates the warm start."""
-        if self.hint is None:
-            cs = self.R.T @ (c - self.t)
-            self.hint = (cs[0], cs[1])
-        o = self._foot
-        plate_foot_world(self.F, self.P, self.base, self.R, self.t, c, *self.hint, o)
-        self.hint = (o[7], o[8])
-        return o[0:3].copy(), o[3:6].copy(), o[6]
+    def step(self, x, tau, t_end, owts) -> int:
+        """:func:`.step_kernel.finger_step` on the state ``x``; returns its code."""
+        d, k = self.dyn, self.kin
+        return sk.finger_step(
+            x, tau, t_end, self.prm, self.F, self.P, d.buffer, d.pointers, k.buffer,
+            k.pointers, owts.rows, owts.times, owts.state,
+        )  # fmt: skip
 
 
-def fast_plate(world) -> FastPlate | None:
-    """The packed surface when the world is one finger over one Plate/Plane, else None."""
-    if world.spheres or world.finger is None or len(world.surfaces) != 1:
+def _check_layout(dyn, kin) -> None:
+    """The buffer offsets the kernel hard-codes equal the generated functions' ones."""
+    want_d = [sk.D_C, sk.D_J, sk.D_JW, sk.D_MINV, sk.D_THDF, sk.D_G1]
+    want_k = [sk.K_C, sk.K_J, sk.K_JW, sk.K_G1, sk.K_SIN]
+    if list(dyn.output_offsets[:6]) != want_d or dyn.output_offsets[8] != sk.D_SIN:
+        raise RuntimeError(f"dynamics buffer layout changed: {dyn.output_offsets}")
+    if list(kin.output_offsets[:5]) != want_k:
+        raise RuntimeError(f"kinematics buffer layout changed: {kin.output_offsets}")
+
+
+def fast_plate(world) -> FingerKernel | None:
+    """The packed kernel when the world is one finger over one Plate/Plane (numba installed,
+    dynamics compiled), else None."""
+    if world.spheres or world.finger is None or len(world.surfaces) != 1 or not HAVE_NUMBA:
+        return None
+    f = world.finger
+    if not (isinstance(f.fn, CompiledFunction) and isinstance(f.kin, CompiledFunction)):
         return None
     ((name, (placed, mu)),) = world.surfaces.items()
     if not isinstance(placed.surface, Plate | Plane):
         return None
-    f = world.finger
     mu = mu if f.friction is None else min(mu, f.friction)
-    return FastPlate(name, placed, mu)
+    f.x[sk.HINT_OK] = 0.0  # the warm start of the foot belongs to the previous surface
+    return FingerKernel(name, placed, mu, f, world.dt)
 
 
-def _project(f, fp: FastPlate):
-    """Mass-weighted Gauss-Newton onto the offset surface; ``(point, normal, gap)``."""
-    for _ in range(20):
-        p, n, d = fp.foot(f.center)
-        gap = d - f.radius
-        if abs(gap) <= _PROJ_TOL:
-            break
-        jn = n @ f.J
-        mj = f.minv @ jn
-        f.project(None, -gap * mj / (jn @ mj))
-    return p, n, gap
+class KernelContact(Contact):
+    """The :class:`~planner.sim.records.Contact` of a kernel step, read lazily from a snapshot
+    ``s`` = ``(f_n, point (3), normal (3), tangential force (3), slip (3), gap)`` of the
+    state vector (same fields and values as the general path's records)."""
 
+    def __init__(self, bodies: tuple[str, str], s: np.ndarray) -> None:  # noqa: D107
+        object.__setattr__(self, "bodies", bodies)
+        object.__setattr__(self, "_s", s)
 
-def step_finger(world, f, tau, fp: FastPlate) -> list[Contact] | None:
-    """One step of the finger on ``fp``; None when the kernel asks for the general path
-    (nothing has been changed then)."""
-    h = world.dt
-    thd_f = f.free_velocity(h, world.gravity, tau)
-    reach = 2.0 * h * float(np.max(np.abs(thd_f))) * 0.2 + _MARGIN
-    if fp.hint is None:
-        cs = fp.R.T @ (f.center - fp.t)
-        fp.hint = (cs[0], cs[1])
-    out = fp.out
-    finger_contact(
-        fp.F, fp.P, fp.base, fp.R, fp.t, f.center, fp.hint[0], fp.hint[1], f.radius,
-        f.J, f.Jw, f.minv, thd_f, h, fp.mu, reach, out,
-    )  # fmt: skip
-    status = out[0]
-    if status < 0:
-        return None
-    fp.hint = (out[24], out[25])
-    active = status >= 2.0 and out[1] > 0.0
-    f.thd = out[4:7].copy() if status > 0 else thd_f
-    f.th = f.th + h * f.thd
-    f._refresh_center()
-    if not active:
-        if status == 1.0:  # a candidate that separated: it must not end up penetrating
-            _, _, d = fp.foot(f.center)
-            if d - f.radius < -_PROJ_TOL:
-                _project(f, fp)
-        return []
-    p, n, gap = _project(f, fp)
-    lam = out[1:4]
-    t1, t2 = out[16:19], out[19:22]
-    u = out[13:16]
-    return [
-        Contact(
-            (f.name, fp.name),
-            p,
-            n,
-            float(lam[0] / h),
-            (lam[1] * t1 + lam[2] * t2) / h,
-            u[1] * t1 + u[2] * t2,
-            float(gap),
-        )
-    ]
+    normal_force = property(lambda self: float(self._s[0]))
+    point = property(lambda self: self._s[1:4])
+    normal = property(lambda self: self._s[4:7])
+    tangential_force = property(lambda self: self._s[7:10])
+    slip_velocity = property(lambda self: self._s[10:13])
+    gap = property(lambda self: float(self._s[13]))

@@ -91,12 +91,36 @@ class CompiledFunction:
         self._lib = ctypes.CDLL(str(so))
         self._fn = getattr(self._lib, fn.name())
         self._fn.restype = ctypes.c_int
-        self.inputs = [np.zeros(fn.nnz_in(i)) for i in range(fn.n_in())]
-        raw = [np.zeros(fn.nnz_out(i)) for i in range(fn.n_out())]
+        self.function = fn
+        self._bind()
+
+    def clone(self) -> CompiledFunction:
+        """The same compiled function with buffers of its own (for a second user: a world
+        and its controller, or two worlds in threads, must not share buffers)."""
+        new = object.__new__(CompiledFunction)
+        new._lib, new._fn, new.function = self._lib, self._fn, self.function
+        new._bind()
+        return new
+
+    def _bind(self) -> None:
+        """Allocate the buffers and the argument arrays of the C call."""
+        import ctypes
+
+        fn = self.function
+        n_in = [fn.nnz_in(i) for i in range(fn.n_in())]
+        n_out = [fn.nnz_out(i) for i in range(fn.n_out())]
+        #: one contiguous buffer: every input, then every output (the numba kernels use it)
+        self.buffer = np.zeros(sum(n_in) + sum(n_out))
+        offsets = np.concatenate([[0], np.cumsum(n_in + n_out)]).astype(int)
+        views = [self.buffer[offsets[i] : offsets[i + 1]] for i in range(len(n_in + n_out))]
+        self.inputs = views[: len(n_in)]
+        raw = views[len(n_in) :]
         self.outputs = []
         for i, r in enumerate(raw):
             n, m = fn.size_out(i)
             self.outputs.append(r if m == 1 else r.reshape(m, n).T)
+        #: offset of each output in :attr:`buffer`
+        self.output_offsets = offsets[len(n_in) : -1].copy()
         ptr = ctypes.c_void_p
         args = [a.ctypes.data for a in self.inputs] + [None] * (fn.sz_arg() - fn.n_in())
         ress = [r.ctypes.data for r in raw] + [None] * (fn.sz_res() - fn.n_out())
@@ -107,6 +131,18 @@ class CompiledFunction:
         self._w = np.zeros(max(fn.sz_w(), 1))
         self._iwp = ptr(self._iw.ctypes.data)
         self._wp = ptr(self._w.ctypes.data)
+        #: (5,) int64 addresses: the C symbol, its arg and res pointer arrays, iw, w (for
+        #: :func:`planner.sim.spatial.step_kernel.call_compiled`; valid while self lives)
+        self.pointers = np.array(
+            [
+                ctypes.cast(self._fn, ptr).value,
+                ctypes.addressof(self._arg),
+                ctypes.addressof(self._res),
+                self._iw.ctypes.data,
+                self._w.ctypes.data,
+            ],
+            dtype=np.int64,
+        )
 
     def __call__(self, *values) -> list[np.ndarray]:
         """Evaluate at ``values`` (one array or float per input); returns the outputs."""
@@ -131,22 +167,30 @@ def _closed_loop_q(cs, p, th):
     return cs.vertcat(t3, t1, g1 - t1, t2, g2 - t2), g1
 
 
-def _symbolic(model, params, gravity):
+def _symbolic_terms(model, params, gravity) -> dict:
+    """Symbolic ``θ, θ̇, τ, h`` and the terms of the reduced dynamics (module docstring).
+
+    ``M_r`` and ``b_r`` are assembled from the link Jacobians (Kane's form of Lagrange's
+    equations, equal to the derivatives of ``T`` and ``V`` above and ~4x cheaper):
+    ``M_r = Σ m Jvᵀ Jv + Jωᵀ I Jω + Jqᵀ A Jq`` and
+    ``b_r = Σ m Jvᵀ (J̇v θ̇ - g) + Jωᵀ (I J̇ω θ̇ + ω × I ω) + Jqᵀ A J̇q θ̇``.
+    """
     import casadi as cs
 
     from robots.casadi_kinematics import joint_transforms
 
     th = cs.SX.sym("theta", 3)
     thd = cs.SX.sym("theta_dot", 3)
-    tau = cs.SX.sym("tau", 3)
-    h = cs.SX.sym("h")
     q, g1 = _closed_loop_q(cs, params, th)
     closure_sin = cs.sin((q[4] + q[3]) - g1)  # sin(γ2 - γ1): 0 where l3 and l4 align
-    qd = cs.jtimes(q, th, thd)
+    Jq = cs.jacobian(q, th)
+    qd = Jq @ thd
     Rs, ts = joint_transforms(model, q)
     g = cs.DM(np.asarray(gravity, float))
     omegas = [cs.DM.zeros(3, 1)]
-    T, V = 0, 0
+    M = cs.SX.zeros(3, 3)
+    b = cs.SX.zeros(3, 1)
+    grav = cs.SX.zeros(3, 1)
     for i in range(1, model.njoints):
         qi = qd[model.idx_vs[i]]
         omegas.append(omegas[model.parents[i]] + Rs[i][:, 2] * qi)  # RZ joints
@@ -154,29 +198,64 @@ def _symbolic(model, params, gravity):
         if Y.mass <= 0 and np.all(Y.inertia == 0):
             continue
         c = ts[i] + Rs[i] @ cs.DM(Y.lever)
-        v = cs.jtimes(c, th, thd)
+        Jv = cs.jacobian(c, th)
+        Jw = cs.jacobian(omegas[i], thd)
         w = omegas[i]
         Iw = Rs[i] @ cs.DM(Y.inertia) @ Rs[i].T
-        T += 0.5 * Y.mass * cs.dot(v, v) + 0.5 * cs.dot(w, Iw @ w)
-        V -= Y.mass * cs.dot(g, c)
-    arm = np.asarray(model.armature, float)
-    T += 0.5 * cs.sum1(cs.DM(arm) * qd * qd)
-    M = cs.hessian(T, thd)[0]
-    b = cs.jtimes(M @ thd, th, thd) - cs.gradient(T, th) + cs.gradient(V, th)
+        M += Y.mass * (Jv.T @ Jv) + Jw.T @ Iw @ Jw
+        a_vp = cs.jtimes(Jv @ thd, th, thd)
+        dw_vp = cs.jtimes(w, th, thd)
+        b += Y.mass * (Jv.T @ a_vp) + Jw.T @ (Iw @ dw_vp + cs.cross(w, Iw @ w))
+        grav -= Y.mass * (Jv.T @ g)
+    arm = cs.DM(np.asarray(model.armature, float))
+    M += Jq.T @ cs.diag(arm) @ Jq
+    b += Jq.T @ (arm * cs.jtimes(qd, th, thd)) + grav
     fid = model.getFrameId("endpoint")
     fr = model.frames[fid]
     j = fr.parentJoint
     center = ts[j] + Rs[j] @ cs.DM(fr.placement.translation)
     J = cs.jacobian(center, th)
     Jw = cs.jacobian(omegas[j], thd)
-    Minv = cs.inv(M)
-    thd_free = thd + h * (Minv @ (tau - b))
+    return {
+        "theta": th, "theta_dot": thd, "center": center, "J": J, "Jw": Jw, "M": M,
+        "b": b, "gravity": grav, "gamma1": g1, "closure_sin": closure_sin,
+    }  # fmt: skip
+
+
+def _symbolic(model, params, gravity):
+    """The dynamics Function ``(θ, θ̇, τ, h) -> (c, J, J_ω, M_r⁻¹, θ̇_free, γ1, b_r, M_r,
+    sin(γ2 - γ1))`` (common subexpressions eliminated)."""
+    import casadi as cs
+
+    s = _symbolic_terms(model, params, gravity)
+    tau = cs.SX.sym("tau", 3)
+    h = cs.SX.sym("h")
+    Minv = cs.inv(s["M"])
+    thd_free = s["theta_dot"] + h * (Minv @ (tau - s["b"]))
+    outs = [s["center"], s["J"], s["Jw"], Minv, thd_free, s["gamma1"], s["b"], s["M"]]
+    outs.append(s["closure_sin"])
     return cs.Function(
         "three_gm_reduced",
-        [th, thd, tau, h],
-        [cs.densify(x) for x in (center, J, Jw, Minv, thd_free, g1, b, M, closure_sin)],
+        [s["theta"], s["theta_dot"], tau, h],
+        cs.cse([cs.densify(x) for x in outs]),
         ["theta", "theta_dot", "tau", "h"],
         ["center", "J", "Jw", "Minv", "theta_dot_free", "gamma1", "b", "M", "closure_sin"],
+    )
+
+
+def _symbolic_kinematics(model, params, gravity):
+    """The kinematics Function ``θ -> (c, J, J_ω, γ1, sin(γ2 - γ1), g_r)`` (``g_r``: the
+    gravity torques, ``b_r(θ, 0)``)."""
+    import casadi as cs
+
+    s = _symbolic_terms(model, params, gravity)
+    names = ["center", "J", "Jw", "gamma1", "closure_sin", "gravity"]
+    return cs.Function(
+        "three_gm_kinematics",
+        [s["theta"]],
+        cs.cse([cs.densify(s[n]) for n in names]),
+        ["theta"],
+        names,
     )
 
 
@@ -186,12 +265,18 @@ class _Uncompiled:
     def __init__(self, fn) -> None:
         self.fn = fn
 
+    def clone(self) -> _Uncompiled:
+        """Itself (no buffers to share)."""
+        return self
+
     def __call__(self, *values) -> list[np.ndarray]:
         out = self.fn(*values)
         return [np.array(o.full()).ravel() if o.shape[1] == 1 else np.array(o.full()) for o in out]
 
 
-def reduced_dynamics_function(gm, gravity=(0.0, 0.0, -9.81), compiled: bool = True):
+def reduced_dynamics_function(
+    gm, gravity=(0.0, 0.0, -9.81), compiled: bool = True, kinematics: bool = False
+):
     """The CasADi function of the module docstring for a :class:`~robots.three_gm.ThreeGM`.
 
     Args:
@@ -199,11 +284,14 @@ def reduced_dynamics_function(gm, gravity=(0.0, 0.0, -9.81), compiled: bool = Tr
         gravity: (3,) [m/s²] in the WCS.
         compiled: build C code with gcc (falls back to the SX virtual machine when no
             compiler is found).
+        kinematics: the cheaper kinematics Function ``θ -> (c, J, J_ω, γ1, sin(γ2 - γ1),
+            g_r)`` (gravity torques ``g_r = b_r(θ, 0)``) instead of the dynamics.
     """
-    key = (tuple(sorted(gm.params.items())), tuple(np.round(gravity, 12)), compiled)
+    key = (tuple(sorted(gm.params.items())), tuple(np.round(gravity, 12)), compiled, kinematics)
     if key in _CACHE:
         return _CACHE[key]
-    fn = _symbolic(gm.model, gm.params, gravity)
+    build = _symbolic_kinematics if kinematics else _symbolic
+    fn = build(gm.model, gm.params, gravity)
     if compiled:
         from planner.errors import HapexError
 

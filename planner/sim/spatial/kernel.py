@@ -8,12 +8,8 @@ computations in scalar arithmetic:
 * :func:`plate_eval` / :func:`plate_foot`: the plate's height and derivatives
   (:meth:`planner.sim.spatial.Plate.height_derivatives`, features packed by
   :func:`pack_plate`) and the Newton foot point of :mod:`planner.sim.spatial.closest`;
-* :func:`finger_contact`: the fingertip's candidate contact, its Delassus operator
-  ``W = J_c M_r⁻¹ J_cᵀ``, the exact circular-cone solution
-  (:mod:`planner.sim.spatial.friction_cone`: separate / stick / slide by Newton on ``g(φ)``)
-  and the post-contact velocities. When the sliding Newton does not return a valid root it
-  reports ``status = -1`` and the caller falls back to the general numpy path (roots of the
-  quartic).
+* :func:`owts_sample_decode` and :func:`joint_force_readings`: the sensors read from the
+  state (the contact step itself is :mod:`planner.sim.spatial.step_kernel`).
 
 Tests compare every kernel with the general path to round-off.
 """
@@ -40,7 +36,8 @@ except ImportError:  # pragma: no cover - depends on the environment
 
 __all__ = [
     "HAVE_NUMBA",
-    "finger_contact",
+    "finger_readings",
+    "joint_force_readings",
     "owts_sample_decode",
     "pack_plate",
     "plate_eval",
@@ -227,142 +224,52 @@ def plate_foot_world(F, P, base, R, t, c, x, y, out):
 
 
 @_jit
-def _slide(W, ut0, ut1, un, mu, phi):
-    a, w1, w2 = W[0, 0], W[1, 0], W[2, 0]
-    t11, t12, t22 = W[1, 1], W[1, 2], W[2, 2]
-    dt_ = t22 - t11
-    ok = False
-    for _ in range(30):
-        c, s = math.cos(phi), math.sin(phi)
-        A = a - mu * (w1 * c + w2 * s)
-        B = -s * ut0 + c * ut1
-        P = dt_ * c * s + t12 * (c * c - s * s)
-        Q = -s * w1 + c * w2
-        g = A * B + un * (mu * P - Q)
-        dA = -mu * (-w1 * s + w2 * c)
-        dB = -c * ut0 - s * ut1
-        dP = dt_ * (c * c - s * s) - 4.0 * t12 * c * s
-        dQ = -c * w1 - s * w2
-        dg = dA * B + A * dB + un * (mu * dP - dQ)
-        if dg == 0.0:
-            break
-        step = g / dg
-        phi -= step
-        if abs(step) <= 1e-15:
-            ok = True
-            break
-    c, s = math.cos(phi), math.sin(phi)
-    den = a - mu * (w1 * c + w2 * s)
-    if not ok or den <= 0.0:
-        return False, 0.0, 0.0, 0.0
-    lam_n = -un / den
-    u0 = ut0 + lam_n * (w1 - mu * (t11 * c + t12 * s))
-    u1 = ut1 + lam_n * (w2 - mu * (t12 * c + t22 * s))
-    slip = c * u0 + s * u1
-    if lam_n < 0.0 or slip < 0.0 or abs(-s * u0 + c * u1) > 1e-12 * abs(slip) + 1e-15:
-        return False, 0.0, 0.0, 0.0
-    return True, lam_n, -mu * lam_n * c, -mu * lam_n * s
+def joint_force_readings(x, noise, prm, out):
+    """Encoder angles, velocity estimate and strain-gauge force of the 3GM from its state
+    vector ``x`` (:mod:`planner.sim.spatial.step_kernel` layout), as
+    :func:`planner.sim.observation.read_joints` / :func:`~planner.sim.observation.read_forces`
+    compute them: ``out`` (9,) = ``q`` [rad], ``q̇`` [rad/s], force on the surface [N].
+    ``prm`` = (encoder resolution (0: exact), velocity resolution (0: exact), force resolution
+    (0: exact), has contact record); ``noise`` (3,): the force noise already drawn [N]."""
+    res, vres, fres = prm[0], prm[1], prm[2]
+    for i in range(3):
+        th, thd = x[i], x[3 + i]
+        out[i] = math.floor(th / res) * res if res > 0.0 else th
+        out[3 + i] = np.rint(thd / vres) * vres if vres > 0.0 else thd
+    active = x[40] > 0.0 and prm[3] > 0.0
+    for i in range(3):
+        f = -(x[41] * x[45 + i] + x[48 + i]) if active else 0.0
+        if fres > 0.0:
+            f = np.rint((f + noise[i]) / fres) * fres
+        out[6 + i] = f
 
 
 @_jit
-def finger_contact(F, P, base, R, t, center, hx0, hy0, radius, J, Jw, Minv, thd, h, mu, reach, out):
-    """Candidate contact of the fingertip with a placed plate and its exact solution.
+def finger_readings(x, z, nf, sprm, rows, times, k, oprm, sigma, out, on):
+    """Every reading of the 3GM in one call: :func:`joint_force_readings` and
+    :func:`owts_sample_decode` of the ``k`` pending OWTS ``rows`` (sample ``times``).
 
-    Args:
-        F, P, base: packed plate (:func:`pack_plate`); R, t: its pose ``T_WS``;
-        center: (3,) tip centre [m, WCS]; hx0, hy0: warm start of the foot (plate frame);
-        radius [m]; J, Jw, Minv (3, 3);
-        thd: (3,) free joint rates; h: time step [s]; mu; reach: candidate margin [m].
-        out: (26,) output buffer: ``status`` (0 no candidate, 1 separate, 2 stick, 3 slide,
-        -1 fall back), ``λ`` (3) [N s], ``θ̇⁺`` (3), normal (3), foot point (3), ``u⁺`` (3),
-        ``t1`` (3), ``t2`` (3), gap [m], foot hint (2).
-    """
-    cs0 = center[0] - t[0]
-    cs1 = center[1] - t[1]
-    cs2 = center[2] - t[2]
-    cx = R[0, 0] * cs0 + R[1, 0] * cs1 + R[2, 0] * cs2
-    cy = R[0, 1] * cs0 + R[1, 1] * cs1 + R[2, 1] * cs2
-    cz = R[0, 2] * cs0 + R[1, 2] * cs1 + R[2, 2] * cs2
-    x, y, hz, nx_, ny_, nz_, dist = plate_foot(F, P, base, cx, cy, cz, hx0, hy0)
-    gap = dist - radius
-    out[24], out[25], out[23] = x, y, gap
-    for i in range(3):
-        out[7 + i] = R[i, 0] * nx_ + R[i, 1] * ny_ + R[i, 2] * nz_
-        out[10 + i] = R[i, 0] * x + R[i, 1] * y + R[i, 2] * hz + t[i]
-    if gap > reach:
-        out[0] = 0.0
+    ``z``: standard normal draws, the force sensor's ``nf`` (3 or 0) first, then the OWTS'
+    ``2k`` (x then y offsets) — the same numbers as the separate ``rng.normal`` calls of the
+    numpy readers; ``sprm``: as :func:`joint_force_readings` plus the force noise σ [N] at 4;
+    ``sigma``: the OWTS noise σ. ``out`` (9 + 11k,) = ``q, q̇, force, t (k), voltages (k, 4),
+    point (k, 3), normal (k, 3)``; ``on`` (k,): in contact."""
+    noise = np.zeros(3)
+    if nf > 0:
+        for i in range(3):
+            noise[i] = sprm[4] * z[i]
+    joint_force_readings(x, noise, sprm, out[0:9])
+    for i in range(k):
+        out[9 + i] = times[i]
+    if k == 0:
         return
-    n0, n1, n2 = out[7], out[8], out[9]
-    if abs(n0) < 0.9:
-        a, b, c = 1.0 - n0 * n0, -n0 * n1, -n0 * n2
-    else:
-        a, b, c = -n1 * n0, 1.0 - n1 * n1, -n1 * n2
-    k = 1.0 / math.sqrt(a * a + b * b + c * c)
-    a, b, c = a * k, b * k, c * k
-    C = np.empty((3, 3))
-    C[0, 0], C[0, 1], C[0, 2] = n0, n1, n2
-    C[1, 0], C[1, 1], C[1, 2] = a, b, c
-    C[2, 0], C[2, 1], C[2, 2] = n1 * c - n2 * b, n2 * a - n0 * c, n0 * b - n1 * a
-    # contact-point Jacobian J + r [n]x Jw, in the contact frame
-    Jp = np.empty((3, 3))
-    for j in range(3):
-        w0, w1, w2 = Jw[0, j], Jw[1, j], Jw[2, j]
-        Jp[0, j] = J[0, j] + radius * (n1 * w2 - n2 * w1)
-        Jp[1, j] = J[1, j] + radius * (n2 * w0 - n0 * w2)
-        Jp[2, j] = J[2, j] + radius * (n0 * w1 - n1 * w0)
-    Jc = C @ Jp
-    MJt = Minv @ Jc.T
-    W = Jc @ MJt
-    W = 0.5 * (W + W.T)
-    u = Jc @ thd
-    un = u[0] + gap / h
-    lam0, lam1, lam2 = 0.0, 0.0, 0.0
-    status = 1.0
-    if un < 0.0:
-        # stick: -W^-1 (un, u1, u2)
-        A_, B_, C_ = (
-            W[1, 1] * W[2, 2] - W[1, 2] * W[2, 1],
-            W[1, 2] * W[2, 0] - W[1, 0] * W[2, 2],
-            W[1, 0] * W[2, 1] - W[1, 1] * W[2, 0],
-        )
-        det = W[0, 0] * A_ + W[0, 1] * B_ + W[0, 2] * C_
-        D_, E_, F_ = (
-            W[0, 2] * W[2, 1] - W[0, 1] * W[2, 2],
-            W[0, 0] * W[2, 2] - W[0, 2] * W[2, 0],
-            W[0, 1] * W[2, 0] - W[0, 0] * W[2, 1],
-        )
-        G_, H_, I_ = (
-            W[0, 1] * W[1, 2] - W[0, 2] * W[1, 1],
-            W[0, 2] * W[1, 0] - W[0, 0] * W[1, 2],
-            W[0, 0] * W[1, 1] - W[0, 1] * W[1, 0],
-        )
-        lam0 = -(A_ * un + D_ * u[1] + G_ * u[2]) / det
-        lam1 = -(B_ * un + E_ * u[1] + H_ * u[2]) / det
-        lam2 = -(C_ * un + F_ * u[1] + I_ * u[2]) / det
-        status = 2.0
-        if not (lam0 >= 0.0 and math.hypot(lam1, lam2) <= mu * lam0):
-            status = 3.0
-            if mu <= 1e-14:
-                lam0, lam1, lam2 = -un / W[0, 0], 0.0, 0.0
-            else:
-                if lam1 != 0.0 or lam2 != 0.0:
-                    phi = math.atan2(-lam2, -lam1)
-                else:
-                    phi = math.atan2(u[2], u[1])
-                ok, lam0, lam1, lam2 = _slide(W, u[1], u[2], un, mu, phi)
-                if not ok:
-                    out[0] = -1.0
-                    return
-    out[0] = status
-    out[1], out[2], out[3] = lam0, lam1, lam2
-    for i in range(3):
-        v = thd[i] + MJt[i, 0] * lam0 + MJt[i, 1] * lam1 + MJt[i, 2] * lam2
-        out[4 + i] = v
-    for i in range(3):
-        out[13 + i] = Jc[i, 0] * out[4] + Jc[i, 1] * out[5] + Jc[i, 2] * out[6]
-        out[16 + i] = C[1, i]
-        out[19 + i] = C[2, i]
-    out[22] = 0.0
+    on_noise = np.empty(2 * k)
+    for i in range(2 * k):
+        on_noise[i] = sigma * z[nf + i]
+    v = out[9 + k : 9 + 5 * k].reshape((k, 4))
+    p = out[9 + 5 * k : 9 + 8 * k].reshape((k, 3))
+    n = out[9 + 8 * k : 9 + 11 * k].reshape((k, 3))
+    owts_sample_decode(rows[:k], on_noise, oprm, v, p, n, on)
 
 
 @_jit

@@ -2,9 +2,9 @@
 
 :func:`ridge_slide_scene` builds the benchmark scene of issue 15: the 3GM's 8 mm fingertip
 pressed with 0.3 N on a plate carrying a 1 mm ridge and dragged across it at 10 mm/s
-(μ = 0.3), with :class:`TipForceVelocityController`, a Jacobian-transpose force/velocity
-controller local to this module (open-loop normal force along the OWTS normal, PD on the
-tangential position, gravity compensation). :func:`centre_path_error` measures the logged
+(μ = 0.3), with :class:`TipForceVelocityController`
+(:mod:`planner.sim.spatial.tip_controller`: open-loop normal force along the OWTS normal,
+PD on the tangential position, gravity compensation). :func:`centre_path_error` measures the logged
 tip-centre path against the exact offset surface, computed independently of the simulator's
 Newton iteration (bounded scalar minimization over the ridge's cross-section).
 """
@@ -17,9 +17,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from planner import checks
-from planner.sim.spatial.finger import tcs_rotation
-from planner.sim.spatial.finger_codegen import reduced_dynamics_function
 from planner.sim.spatial.plate import Plate, PlateFeature
+from planner.sim.spatial.tip_controller import TipForceVelocityController
 from planner.sim.spatial.world import SpatialWorld
 
 __all__ = [
@@ -27,60 +26,9 @@ __all__ = [
     "RidgeScene",
     "TipForceVelocityController",
     "centre_path_error",
+    "path_error",
     "ridge_slide_scene",
 ]
-
-
-class TipForceVelocityController:
-    """Jacobian-transpose fingertip controller: press along the sensed normal, slide at a speed.
-
-    The commanded tip force (WCS) is ``f = -f_n n_W + P_t (K_p (x_d - x) + K_v (v_d - v))``
-    with ``n_W`` the OWTS contact normal (TCS -> WCS with the encoders, low-pass filtered as
-    eq. 4.2; ``+z`` before the first contact), ``P_t = I - n_W n_Wᵀ`` (or ``I`` without
-    contact), ``x``, ``v`` the tip centre and velocity from the encoders, ``x_d = x_0 + v_d t``;
-    torques ``τ = Jᵀ f + g(θ)`` (gravity of the controller's own model).
-
-    Args:
-        gm: the :class:`~robots.three_gm.ThreeGM`.
-        start: (3,) tip-centre position at t = 0 [m]; velocity: (3,) desired velocity [m/s].
-        normal_force: pressing force [N]; kp [N/m]; kv [N s/m].
-        gravity: (3,) [m/s²] for the gravity compensation.
-    """
-
-    def __init__(
-        self, gm, start, velocity, normal_force=0.3, kp=300.0, kv=3.0, gravity=(0, 0, -9.81)
-    ):
-        self.gm = gm
-        self.start = checks.vector("start", start, 3, "m")
-        self.vd = checks.vector("velocity", velocity, 3, "m/s")
-        self.fn = checks.nonnegative("normal_force", normal_force, "N")
-        self.kp = checks.nonnegative("kp", kp, "N/m")
-        self.kv = checks.nonnegative("kv", kv, "N s/m")
-        self.model = reduced_dynamics_function(gm, gravity)  # the controller's own model
-        self.normal = np.array([0.0, 0.0, 1.0])
-        self.touched = False
-        self._zero = np.zeros(3)
-
-    def __call__(self, t: float, obs) -> np.ndarray:
-        th = obs.q
-        out = self.model(th, self._zero, self._zero, 0.0)
-        x, J, g1 = out[0], out[1], float(out[5][0])
-        tau_g = out[6].copy()  # gravity torques b_r(θ, 0)
-        v = J @ obs.qd
-        reading = obs.owts
-        if reading is not None and reading.in_contact.any():
-            n_t = reading.normal[reading.in_contact].sum(axis=0)
-            n_w = -(tcs_rotation(g1, float(th[2])) @ n_t)  # surface normal = -tip normal
-            self.normal = n_w / math.sqrt(n_w @ n_w)
-            self.touched = True
-        n = self.normal
-        if self.touched:
-            e = self.kp * (self.start + self.vd * t - x) + self.kv * (self.vd - v)
-            e -= n * (n @ e)  # tangential part only
-        else:  # approach: hold x, y, press down
-            e = self.kp * (self.start - x) + self.kv * (self.vd - v)
-            e[2] = -self.kv * v[2]
-        return J.T @ (e - self.fn * n) + tau_g
 
 
 @dataclass(frozen=True)
@@ -196,8 +144,14 @@ def _profile_distance(plate: Plate, c: np.ndarray, r: float) -> float:
 
 def centre_path_error(scene: RidgeScene, log) -> PathError:
     """:class:`PathError` of a run of ``scene`` (``log`` from ``scene.world.run``)."""
-    centres = log.poses[scene.finger][:, :3]
     active = (log.normal_force > 0).any(axis=1)
+    return path_error(scene, log.poses[scene.finger][:, :3], active)
+
+
+def path_error(scene: RidgeScene, centres: np.ndarray, active: np.ndarray) -> PathError:
+    """:class:`PathError` of tip ``centres`` (T, 3) [m] with ``active`` (T,) flags (the tip
+    carried a contact force at that row); for any engine (see
+    :func:`planner.sim.spatial.mujoco_peer.mujoco_ridge_rollout`)."""
     first = int(np.argmax(active)) if active.any() else len(active)
     rows = np.arange(first, len(active))
     errs = np.array(

@@ -85,31 +85,53 @@ class OWTSRecorder:
             self.sampler = OWTSSampler(sensor if sensor is not None else OWTS(), rng)
         self.sensor: OWTS = self.sampler.sensor
         self._params = _params(self.sampler)
-        self.next_index = 1  # sample k is taken at k / SAMPLE_RATE
-        self._t: list[float] = []
-        self._rows: list[list[float]] = []  # (normal_tcs (3), intensity, friction_tcs (3))
+        self._sigma = self.sampler.noise_angle / self.sensor.scale
+        #: pending samples: (cap, 7) rows ``(normal_tcs (3), intensity, friction_tcs (3))``,
+        #: their times [s] and ``state = (next sample index, count)`` (written in place by
+        #: :func:`planner.sim.spatial.step_kernel.finger_step`; preallocated, grown by
+        #: :meth:`reserve` when a slow controller leaves many samples pending)
+        self.rows = np.zeros((64, 7))
+        self.times = np.zeros(64)
+        self.state = np.array([1.0, 0.0])  # sample k is taken at k / SAMPLE_RATE
+
+    @property
+    def next_index(self) -> int:
+        return int(self.state[0])
+
+    def reserve(self, n: int) -> None:
+        """Make room for ``n`` more samples."""
+        k = int(self.state[1])
+        if k + n > len(self.times):
+            cap = 2 * (k + n)
+            rows, times = np.zeros((cap, 7)), np.zeros(cap)
+            rows[:k], times[:k] = self.rows[:k], self.times[:k]
+            self.rows, self.times = rows, times
 
     def advance(self, t_end: float, normal_tcs, intensity: float, friction_tcs) -> None:
         """Record the true contact for every sample time ``<= t_end`` [s]."""
-        row = None
-        while self.next_index / SAMPLE_RATE <= t_end + 1e-12:
-            if row is None:
-                row = [*normal_tcs, intensity, *friction_tcs]
-            self._t.append(self.next_index / SAMPLE_RATE)
-            self._rows.append(row)
-            self.next_index += 1
+        st = self.state
+        while st[0] / SAMPLE_RATE <= t_end + 1e-12:
+            self.push(st[0] / SAMPLE_RATE, [*normal_tcs, intensity, *friction_tcs])
+            st[0] += 1.0
+
+    def push(self, t: float, row) -> None:
+        """Append one pending sample: time [s] and row ``(normal_tcs (3), intensity,
+        friction_tcs (3))``."""
+        self.reserve(1)
+        k = int(self.state[1])
+        self.rows[k], self.times[k] = row, t
+        self.state[1] = k + 1
 
     def read(self) -> OWTSReading:
         """Sample the pending contacts into voltages and decode them (clears the buffer)."""
-        if not self._t:
+        k = int(self.state[1])
+        if k == 0:
             z = np.zeros((0, 3))
             return OWTSReading(np.zeros(0), np.zeros((0, 4)), z, z, np.zeros(0, bool))
-        rows = np.array(self._rows)
-        t = np.array(self._t)
-        self._t, self._rows = [], []
-        k = len(t)
-        sigma = self.sampler.noise_angle / self.sensor.scale
-        noise = self.sampler.rng.normal(0.0, sigma, 2 * k)  # x offsets, then y offsets
+        rows = self.rows[:k]
+        t = self.times[:k].copy()
+        self.state[1] = 0.0
+        noise = self.sampler.rng.normal(0.0, self._sigma, 2 * k)  # x offsets, then y offsets
         v, p, n = np.empty((k, 4)), np.empty((k, 3)), np.empty((k, 3))
         on = np.empty(k, np.bool_)
         owts_sample_decode(rows, noise, self._params, v, p, n, on)

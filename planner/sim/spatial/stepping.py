@@ -8,12 +8,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from planner.sim.records import Contact
-from planner.sim.spatial.friction_cone import solve_contacts
+from planner.sim.spatial.friction_cone import solve_contacts, solve_impulse
 
-__all__ = ["step_body"]
+__all__ = ["held_inverse_mass", "limit_rows", "solve_with_limits", "step_body"]
 
 _PROJ_TOL = 1e-12  # [m]
 _MARGIN = 1e-5  # [m] candidate margin beyond the distance travelled in a step
+_LIM_MARGIN = 1e-9  # [rad] candidate margin of a joint limit
 
 
 @dataclass
@@ -56,8 +57,9 @@ def _candidates(world, body, nu_free) -> list[_Candidate]:
     return out
 
 
-def _project(world, body, active: list[_Candidate]) -> list[float]:
-    """Project the centre onto the offset surfaces of the active contacts; final gaps."""
+def _project(world, body, active: list[_Candidate], minv=None) -> list[float]:
+    """Project the centre onto the offset surfaces of the active contacts; final gaps.
+    ``minv``: the finger's inverse mass conditioned on its held joints (default M_r⁻¹)."""
     gaps = [c.gap for c in active]
     for _ in range(20):
         worst = 0.0
@@ -78,31 +80,95 @@ def _project(world, body, active: list[_Candidate]) -> list[float]:
                 body.project(-g * n)
             else:  # finger: mass-weighted Gauss-Newton step on the motor angles
                 jn = n @ body.centre_jacobian()
-                mj = body.minv @ jn
-                body.project(None, -g * mj / (jn @ mj))
+                mj = (body.minv if minv is None else minv) @ jn
+                den = jn @ mj
+                if not den > 0.0:  # every joint held: nothing can move
+                    break
+                body.project(None, -g * mj / den)
         if worst <= _PROJ_TOL:
             break
     return gaps
 
 
-def _unpenetrate(world, body, idle: list[_Candidate]) -> None:
+def _unpenetrate(world, body, idle: list[_Candidate], minv=None) -> None:
     """Project candidates that did not carry force but end the step penetrating."""
     for c in idle:
         foot = c.placed.foot(body.center, world._hints.get((body.name, c.surface)))
         if foot is not None and foot.distance - body.radius < -_PROJ_TOL:
             c.gap = foot.distance - body.radius
-            _project(world, body, [c])
+            _project(world, body, [c], minv)
 
 
-def step_body(world, body, tau) -> list[Contact]:
-    """Advance one body by ``world.dt``; returns its contact records."""
+def limit_rows(body, nu_free, h: float) -> list[tuple[int, float, float]]:
+    """The finger's joint-limit rows within reach: ``(joint, sign, rate)`` with sign +1 for
+    the lower and -1 for the upper limit and ``rate = max(gap, 0) / h`` [rad/s] (a joint
+    already beyond its limit is held there, not pushed back). Spheres: none."""
+    lims = getattr(body, "limits", None)
+    if lims is None:
+        return []
+    reach = 2.0 * h * float(np.max(np.abs(nu_free))) + _LIM_MARGIN
+    out = []
+    for i, (th, (lo, hi)) in enumerate(zip(body.th.tolist(), lims.tolist(), strict=True)):
+        if th - lo <= reach:
+            out.append((i, 1.0, max(th - lo, 0.0) / h))
+        elif hi - th <= reach:
+            out.append((i, -1.0, max(hi - th, 0.0) / h))
+    return out
+
+
+def solve_with_limits(W, u_free, gap_rates, mus, rates, tol=1e-13, max_sweeps=200):
+    """Contacts (3x3 exact-cone blocks) and ``m`` scalar unilateral limit rows (last rows of
+    ``W``: ``0 <= λ ⊥ u + rate >= 0``) by block Gauss-Seidel; the impulse (3k + m,).
+    Without limit rows this is :func:`.friction_cone.solve_contacts`."""
+    k, m = len(gap_rates), len(rates)
+    if m == 0:
+        return solve_contacts(W, u_free, gap_rates, mus)[0]
+    lam = np.zeros(3 * k + m)
+    for _ in range(max_sweeps):
+        change = 0.0
+        for i in range(k):
+            s = slice(3 * i, 3 * i + 3)
+            u_i = u_free[s] + W[s] @ lam - W[s, s] @ lam[s]
+            new, _ = solve_impulse(W[s, s], u_i, gap_rates[i], mus[i])
+            change = max(change, float(np.max(np.abs(new - lam[s]))))
+            lam[s] = new
+        for j in range(m):
+            r = 3 * k + j
+            u = u_free[r] + W[r] @ lam + rates[j]
+            new = max(0.0, lam[r] - u / W[r, r])
+            change = max(change, abs(new - lam[r]))
+            lam[r] = new
+        if change <= tol * (1.0 + float(np.max(np.abs(lam)))):
+            break
+    return lam
+
+
+def held_inverse_mass(minv: np.ndarray, held: list[int]) -> np.ndarray:
+    """``M⁻¹`` conditioned on the joints ``held`` at their limits:
+    ``P = M⁻¹ - M⁻¹Eᵀ(E M⁻¹ Eᵀ)⁻¹E M⁻¹`` by successive rank-one downdates."""
+    P = np.array(minv, float)
+    for i in held:
+        if P[i, i] > 0.0:
+            P = P - np.outer(P[:, i], P[i, :]) / P[i, i]
+    return P
+
+
+def step_body(world, body, tau) -> tuple[list[Contact], np.ndarray]:
+    """Advance one body by ``world.dt``; returns its contact records and the joint-limit
+    impulses (3,) [N m s] (signed: + lower, - upper; spheres: empty)."""
     h = world.dt
     nu_f = body.free_velocity(h, world.gravity, tau)
     cands = _candidates(world, body, nu_f)
+    rows = limit_rows(body, nu_f, h)
     lam = np.zeros(0)
-    if cands:
+    held = np.zeros(3 if rows or getattr(body, "limits", None) is not None else 0)
+    if cands or rows:
         minv = body.minv if np.ndim(body.minv) == 2 else np.diag(body.minv)
         Js = [c.C @ body.point_jacobian(c.foot.normal) for c in cands]
+        for i, sign, _ in rows:
+            e = np.zeros((1, len(nu_f)))
+            e[0, i] = sign
+            Js.append(e)
         J = np.vstack(Js)
         MJt = minv @ J.T
         W = J @ MJt
@@ -110,17 +176,22 @@ def step_body(world, body, tau) -> list[Contact]:
         u_free = J @ nu_f
         gap_rates = np.array([c.gap / h for c in cands])
         mus = np.array([c.mu for c in cands])
-        lam, _ = solve_contacts(W, u_free, gap_rates, mus)
+        lam = solve_with_limits(W, u_free, gap_rates, mus, [r for _, _, r in rows])
         nu = nu_f + MJt @ lam
         u_after = J @ nu
+        for j, (i, sign, _) in enumerate(rows):
+            held[i] = sign * lam[3 * len(cands) + j]
     else:
         nu = nu_f
     body.apply(nu)
     body.integrate(h)
+    hold = [i for i in range(len(held)) if held[i] != 0.0]
+    pminv = held_inverse_mass(body.minv, hold) if hold else None
     active = [c for i, c in enumerate(cands) if lam[3 * i] > 0.0]
     idx = [i for i, c in enumerate(cands) if lam[3 * i] > 0.0]
-    gaps = _project(world, body, active) if active else []
-    _unpenetrate(world, body, [c for i, c in enumerate(cands) if not lam[3 * i] > 0.0])
+    gaps = _project(world, body, active, pminv) if active else []
+    idle = [c for i, c in enumerate(cands) if not lam[3 * i] > 0.0]
+    _unpenetrate(world, body, idle, pminv)
     out = []
     for c, i, g in zip(active, idx, gaps, strict=True):
         lam_i = lam[3 * i : 3 * i + 3]
@@ -137,4 +208,4 @@ def step_body(world, body, tau) -> list[Contact]:
                 float(g),
             )
         )
-    return out
+    return out, held

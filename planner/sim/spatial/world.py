@@ -43,6 +43,8 @@ enforced.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from planner import checks
@@ -50,10 +52,18 @@ from planner.errors import InvalidParameter
 from planner.sim.events import SimEvent
 from planner.sim.observation import Observation, SensorSettings, read_forces, read_joints
 from planner.sim.records import Contact
+from planner.sim.spatial import step_kernel as sk
 from planner.sim.spatial.bodies import FingerBody, SphereBody
 from planner.sim.spatial.closest import PlacedSurface
-from planner.sim.spatial.fast_step import fast_plate, step_finger
-from planner.sim.spatial.sensing import FULL_INTENSITY_FORCE, OWTSRecorder
+from planner.sim.spatial.fast_step import KernelContact, fast_plate
+from planner.sim.spatial.kernel import finger_readings
+from planner.sim.spatial.sensing import (
+    FULL_INTENSITY_FORCE,
+    SAMPLE_RATE,
+    OWTSReading,
+    OWTSRecorder,
+)
+from planner.sim.spatial.step_kernel import FALLBACK, record_row
 from planner.sim.spatial.stepping import step_body
 from planner.sim.world import WorldBase
 
@@ -90,7 +100,11 @@ class SpatialWorld(WorldBase):
         self._contacts: tuple[Contact, ...] = ()
         self._events: list[SimEvent] = []
         self._owts: OWTSRecorder | None = None
-        self._at_limit = False
+        self._held_mask = 0  # joints held at a limit after the last step (bits)
+        self._from_kernel = False  # the last step's contact lives in finger.x
+        self._zero3 = np.zeros(3)
+        self._rec = None  # (log, its arrays, pair index) of the compiled record
+        self._sense = False  # packed sensor settings (False: not built yet)
         self.steps = 0
         self._fast = False  # packed plate of the kernel path (False: not built yet)
         #: use the scalar kernels for one finger over one Plate/Plane (same results)
@@ -195,7 +209,9 @@ class SpatialWorld(WorldBase):
             self._check_clear(body, surf, sname)
         self.finger = body
         self._fast = False
-        self._tau_max = three_gm.torque_limits
+        self._tau_max = np.array(three_gm.torque_limits, float)
+        self._tau_max.flags.writeable = False
+        self._owts_per_step = int(math.ceil(self.dt * SAMPLE_RATE)) + 1
         from robots.sensors import OWTS, Encoder
 
         if self._user_sensors is None:
@@ -203,6 +219,7 @@ class SpatialWorld(WorldBase):
                 encoder=Encoder(three_gm.encoder_resolution), tactile=None, owts=OWTS(radius=r)
             )
         self._owts = OWTSRecorder(self.sensors.owts or OWTS(radius=r), self.rng)
+        self._sense = False
         return body.name
 
     def _check_clear(self, body, surf: PlacedSurface, sname: str) -> None:
@@ -228,7 +245,8 @@ class SpatialWorld(WorldBase):
 
     @property
     def torque_limits(self) -> np.ndarray | None:
-        return self._tau_max.copy() if self.finger else None
+        """(3,) motor torque limits [N m] (read-only) or None without a finger."""
+        return self._tau_max if self.finger else None
 
     def _body(self, handle: str):
         if handle in self.spheres:
@@ -253,30 +271,48 @@ class SpatialWorld(WorldBase):
         return self.finger.th.copy(), self.finger.thd.copy()
 
     def contacts(self) -> tuple[Contact, ...]:
+        """The contacts of the last step that carried force (records built on demand)."""
+        if self._contacts is None:  # the kernel's step: its contact lives in finger.x
+            x = self.finger.x
+            self._contacts = (
+                (KernelContact((self.finger.name, self._fast.name), x[sk.FN : sk.GAP + 1].copy()),)
+                if x[sk.ACT] > 0.0
+                else ()
+            )
         return self._contacts
 
     def state_vector(self) -> np.ndarray:
+        """Every position and velocity (for the run loop's NaN guard; a view of the state
+        when the world holds the finger alone: read it, do not keep it)."""
+        if not self.spheres and self.finger is not None:
+            return self.finger.x[sk.TH : sk.THD + 3]
         parts = [np.concatenate([b.pose(), b.velocity()]) for b in self.spheres.values()]
         if self.finger:
             parts.append(np.concatenate([self.finger.th, self.finger.thd]))
         return np.concatenate(parts) if parts else np.zeros(0)
 
     def velocity_vector(self) -> np.ndarray:
+        """Every velocity (for the runaway guard; a view as :meth:`state_vector`)."""
+        if not self.spheres and self.finger is not None:
+            return self.finger.x[sk.THD : sk.THD + 3]
         parts = [b.velocity() for b in self.spheres.values()]
         if self.finger:
             parts.append(self.finger.thd)
         return np.concatenate(parts) if parts else np.zeros(0)
 
     def record(self, log, k: int, tau: np.ndarray) -> None:
-        """Write the current state into row ``k`` of ``log`` (a leaner
-        :meth:`WorldBase.record`: same rows)."""
+        """Write the current state into row ``k`` of ``log`` (a faster
+        :meth:`WorldBase.record`: same rows; one compiled call after a kernel step)."""
+        if self._from_kernel and self.finger.name in log.poses and len(log.poses) == 1:
+            self._record_kernel(log, k, tau)
+            return
         log.t[k] = self.time
         for b in self._bodies():
             log.poses[b.name][k] = b.pose()
             log.velocities[b.name][k] = b.velocity()
         if self.finger is not None:
             log.q[k], log.qd[k], log.tau[k] = self.finger.th, self.finger.thd, tau
-        contacts = self._contacts
+        contacts = self.contacts()
         log.contact_count[k] = len(contacts)
         for i, c in enumerate(contacts[: log.max_contacts]):
             log.contact_pair[k, i] = log.pair_index(*c.bodies)
@@ -287,6 +323,27 @@ class SpatialWorld(WorldBase):
             log.slip_velocity[k, i] = c.slip_velocity
             log.gap[k, i] = c.gap
 
+    def _record_kernel(self, log, k: int, tau: np.ndarray) -> None:
+        f = self.finger
+        x = f.x
+        rec = self._rec
+        if rec is None or rec[0] is not log:
+            name = f.name
+            arrays = (
+                log.t, log.poses[name], log.velocities[name], log.q, log.qd, log.tau,
+                log.contact_count, log.contact_pair, log.contact_point, log.contact_normal,
+                log.normal_force, log.tangential_force, log.slip_velocity, log.gap,
+            )  # fmt: skip
+            rec = self._rec = [log, arrays, -1]
+        if rec[2] < 0 and x[sk.ACT] > 0.0:
+            rec[2] = log.pair_index(f.name, self._fast.name)
+        t = (
+            tau
+            if isinstance(tau, np.ndarray) and tau.dtype == np.float64
+            else np.asarray(tau, float)
+        )
+        record_row(x, k, self.time, t, rec[2], *rec[1])
+
     # ------------------------------------------------------------------ stepping
     def step(self, tau=None) -> None:
         """Advance by ``dt``. ``tau``: (3,) motor torques of the 3GM [N m] (None: zeros);
@@ -296,43 +353,70 @@ class SpatialWorld(WorldBase):
             SingularConfiguration: the 3GM reached a configuration where its loop cannot
                 close or its passive links align (the run loop makes it a "singular" event).
         """
-        contacts: list[Contact] = []
-        for body in self.spheres.values():
-            contacts += step_body(self, body, None)
-        if self.finger is not None:
-            t = np.zeros(3) if tau is None else np.asarray(tau, float)
+        f = self.finger
+        if f is not None:
+            t = self._zero3 if tau is None else tau
+            if not isinstance(t, np.ndarray) or t.dtype != np.float64:
+                t = np.asarray(t, float)
             if t.shape != (3,):
                 raise InvalidParameter(f"tau: expected 3 motor torques [N m], got shape {t.shape}")
-            t = np.clip(t, -self._tau_max, self._tau_max)
-            f = self.finger
             if self._fast is False:
                 self._fast = fast_plate(self) if self.use_kernels else None
-            got = step_finger(self, f, t, self._fast) if self._fast is not None else None
-            contacts += got if got is not None else step_body(self, f, t)
-            self._limit_event(f)
+            if self._fast is not None:
+                code = self._step_kernel(f, t)
+                if code >= 0:
+                    self.time += self.dt
+                    self.steps += 1
+                    return
+        contacts: list[Contact] = []
+        for body in self.spheres.values():
+            contacts += step_body(self, body, None)[0]
+        if f is not None:
+            t = np.clip(t, -self._tau_max, self._tau_max)
+            got, held = step_body(self, f, t)
+            f.x[sk.LIM : sk.LIM + 3] = held
+            contacts += got
+            self._limit_events(f, [int(i) for i in np.flatnonzero(held)])
         self.time += self.dt
         self.steps += 1
         self._contacts = tuple(contacts)
-        if self.finger is not None:
+        self._from_kernel = False
+        if f is not None:
             self._record_owts(contacts)
 
-    def _limit_event(self, f) -> None:
-        lim = f.gm.joint_limits
-        th = f.th.tolist()
-        beyond = any(not lo <= a <= hi for a, (lo, hi) in zip(th, lim.tolist(), strict=True))
-        if beyond == self._at_limit:
-            return
-        out = (f.th < lim[:, 0]) | (f.th > lim[:, 1])
-        if out.any() and not self._at_limit:
-            self._events.append(
-                SimEvent(
-                    self.time + self.dt,
-                    "joint_limit",
-                    f"3GM joint(s) {np.flatnonzero(out).tolist()} beyond their limits",
-                    {"theta": f.th.tolist()},
+    def _step_kernel(self, f, tau) -> int:
+        """One step through :class:`.fast_step.FingerKernel`; the kernel's code (< 0: the
+        general path must run, nothing has been changed)."""
+        self._owts.reserve(self._owts_per_step)
+        code = self._fast.step(f.x, tau, self.time + self.dt, self._owts)
+        if code == FALLBACK:
+            return code
+        if code < 0:
+            raise f._singular(f.x[sk.SIN])
+        self._from_kernel = True
+        self._contacts = None  # built on demand from f.x
+        held = code & 7
+        if held != self._held_mask:
+            self._limit_events(f, [i for i in range(3) if held >> i & 1])
+        return code
+
+    def _limit_events(self, f, held: list[int]) -> None:
+        """A ``joint_limit`` event for every joint that starts to be held at a limit."""
+        mask = sum(1 << i for i in held)
+        new = mask & ~self._held_mask
+        self._held_mask = mask
+        for i in range(3):
+            if new >> i & 1:
+                side = "lower" if f.x[sk.LIM + i] > 0 else "upper"
+                lim = float(f.limits[i, 0 if side == "lower" else 1])
+                self._events.append(
+                    SimEvent(
+                        self.time + self.dt,
+                        "joint_limit",
+                        f"3GM joint {i} held at its {side} limit {lim:.6g} rad",
+                        {"joint": i, "side": side, "limit": lim, "theta": f.th.tolist()},
+                    )
                 )
-            )
-        self._at_limit = bool(out.any())
 
     def _record_owts(self, contacts) -> None:
         f = self.finger
@@ -350,6 +434,38 @@ class SpatialWorld(WorldBase):
         self._owts.advance(self.time, n_t, inten, f_t)
 
     # ------------------------------------------------------------------ sensing
+    def _tip_force(self) -> np.ndarray:
+        """(3,) force the tip applies on what it touches [N] (WCS)."""
+        f = self.finger
+        force = np.zeros(3)
+        for c in self.contacts():
+            if c.bodies[0] == f.name:
+                force -= c.normal_force * c.normal + c.tangential_force
+        return force
+
+    def _sense_prm(self) -> np.ndarray | None:
+        """Packed sensor settings of :func:`.kernel.joint_force_readings` (None: sensors the
+        kernel does not model; the numpy readers run)."""
+        if self._sense is False:
+            from robots.sensors import Encoder, ForceSensor
+
+            s = self.sensors
+            enc, fs = s.encoder, s.force
+            ok = (enc is None or type(enc) is Encoder) and (fs is None or type(fs) is ForceSensor)
+            self._sense = None
+            if ok:
+                self._sense = np.array(
+                    [
+                        0.0 if enc is None else enc.resolution,
+                        s.velocity_resolution,
+                        0.0 if fs is None else fs.resolution,
+                        0.0,  # set per call: whether finger.x holds the contact
+                        0.0 if fs is None else fs.noise_std,
+                        1.0 if fs is not None and fs.noise_std > 0 else 0.0,
+                    ]
+                )
+        return self._sense
+
     def observe(self, oracle: bool = False) -> Observation:
         """Sensor readings: 3GM encoders (θ1, θ2, θ3) [rad] and rates [rad/s], the fingertip
         force sensor (``tip_forces`` (1, 3): force the tip applies on the surface, WCS [N]),
@@ -361,15 +477,31 @@ class SpatialWorld(WorldBase):
                 "poses": {b: self.pose(b) for b in self.body_names},
                 "velocities": {b: self.velocity(b) for b in self.body_names},
                 "joints": self.joint_state(),
-                "contacts": self._contacts,
+                "contacts": self.contacts(),
             }
         if self.finger is None:
             return Observation(self.time, np.zeros(0), np.zeros(0), truth=truth)
         f = self.finger
-        q, qd = read_joints(self.sensors, f.th, f.thd)
-        force = np.zeros(3)
-        for c in self._contacts:
-            if c.bodies[0] == f.name:
-                force -= c.normal_force * c.normal + c.tangential_force
-        tip = read_forces(self.sensors, force[None, :], self.rng)
-        return Observation(self.time, q, qd, (f.name,), tip, None, self._owts.read(), truth)
+        prm = self._sense_prm() if self._from_kernel or not self.contacts() else None
+        if prm is None:  # the numpy readers (general path, or sensors the kernel lacks)
+            q, qd = read_joints(self.sensors, f.th, f.thd)
+            tip = read_forces(self.sensors, self._tip_force()[None, :], self.rng)
+            return Observation(self.time, q, qd, (f.name,), tip, None, self._owts.read(), truth)
+        # one compiled call for encoders, force sensor and OWTS (same draws, same numbers)
+        rec = self._owts
+        k = int(rec.state[1])
+        nf = 3 if prm[5] else 0
+        z = self.rng.standard_normal(nf + 2 * k) if nf or k else self._zero3
+        prm[3] = 1.0 if self._from_kernel else 0.0
+        out, on = np.empty(9 + 11 * k), np.empty(k, np.bool_)
+        finger_readings(f.x, z, nf, prm, rec.rows, rec.times, k, rec._params, rec._sigma, out, on)
+        rec.state[1] = 0.0
+        owts = OWTSReading(
+            out[9 : 9 + k],
+            out[9 + k : 9 + 5 * k].reshape(k, 4),
+            out[9 + 5 * k : 9 + 8 * k].reshape(k, 3),
+            out[9 + 8 * k :].reshape(k, 3),
+            on,
+        )
+        q, qd, tip = out[0:3], out[3:6], out[6:9].reshape(1, 3)
+        return Observation(self.time, q, qd, (f.name,), tip, None, owts, truth)

@@ -1,0 +1,443 @@
+"""One step of the 3GM on one plate as ONE numba call: the hot path of the spatial world.
+
+:func:`finger_step` does, in compiled code and without a Python allocation, everything
+:func:`planner.sim.spatial.stepping.step_body` does for the finger alone over one
+:class:`~planner.sim.spatial.Plate` / :class:`~planner.sim.spatial.Plane` (the general
+path stays the reference; the tests compare both on random states):
+
+1. the reduced dynamics (the generated C function of
+   :mod:`planner.sim.spatial.finger_codegen`, called through its address by
+   :func:`call_compiled`): ``c, J, J_ω, M_r⁻¹`` and ``θ̇_free``;
+2. torque clipping at the App. C limits, the foot point on the plate (Newton of
+   :func:`planner.sim.spatial.kernel.plate_foot`, warm-started);
+3. the contact problem: the exact circular cone of
+   :mod:`planner.sim.spatial.friction_cone` (separate / stick / slide by Newton on
+   ``g(φ)``), coupled with the joint limits (unilateral rows ``±e_i``,
+   ``0 <= λ_i ⊥ (θ_i - θ_lim)/h ± θ̇_i⁺ >= 0``) by block Gauss-Seidel when a limit is
+   within reach (alone, the contact is solved in one exact 3x3 solve);
+4. ``θ⁺ = θ + h θ̇⁺``, the kinematics at ``θ⁺`` (second generated function), the
+   mass-weighted projection onto the offset surface (joints held at an active limit do
+   not move);
+5. the contact record and the OWTS rows of every 5 kHz sample time in the step.
+
+The state lives in one float vector (layout: the ``TH``... constants below) that
+:class:`planner.sim.spatial.bodies.FingerBody` exposes as attributes. Return codes: a
+bitmask (bits 0-2: joint ``i`` held at a limit, bit 3: the contact carried force), or
+``FALLBACK`` (the sliding Newton found no valid root: nothing was changed, the caller runs
+the general path), ``SINGULAR_START`` (the loop cannot close at ``θ``; nothing changed) or
+``SINGULAR_END`` (at ``θ⁺``; the angles were advanced, as in the general path).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+try:  # the hot path needs numba; without it the world runs the general path
+    from llvmlite import ir
+    from numba import njit, types
+    from numba.extending import intrinsic
+except ImportError:  # pragma: no cover - depends on the environment
+
+    def njit(**_):
+        return lambda f: f
+
+    def intrinsic(f):
+        return f
+
+
+from planner.sim.spatial.kernel import plate_foot
+
+__all__ = ["FALLBACK", "SINGULAR_END", "SINGULAR_START", "STATE_SIZE", "finger_step"]
+
+# state vector layout (float64)
+TH, THD, C, J, JW, MINV, G1, HINT, HINT_OK = 0, 3, 6, 9, 18, 27, 36, 37, 39
+ACT, FN, PT, NRM, FT, SLIP, GAP, LIM, SIN = 40, 41, 42, 45, 48, 51, 54, 55, 58
+STATE_SIZE = 60
+# parameter vector layout
+P_H, P_MU, P_R, P_BASE, P_ROT, P_T, P_LIM, P_TAU = 0, 1, 2, 3, 4, 13, 16, 22
+P_RATE, P_FULL, P_SIN = 25, 26, 27
+PARAM_SIZE = 28
+# buffers of the generated functions (inputs, then outputs; matrices column-major)
+D_C, D_J, D_JW, D_MINV, D_THDF, D_G1, D_SIN = 10, 13, 22, 31, 40, 43, 56
+K_C, K_J, K_JW, K_G1, K_SIN = 3, 6, 15, 24, 25
+
+FALLBACK, SINGULAR_START, SINGULAR_END = -1, -2, -3
+_PROJ_TOL = 1e-12  # [m]
+_MARGIN = 1e-5  # [m] candidate margin of the contact
+_LIM_MARGIN = 1e-9  # [rad] candidate margin of a joint limit
+_SWEEPS = 200
+
+
+@intrinsic
+def call_compiled(typingctx, fn, arg, res, iw, w):
+    """Call a CasADi-generated C function ``int f(const double** arg, double** res,
+    long long* iw, double* w, int mem)`` from its address ``fn`` (int64) and the int64
+    addresses of its buffers (see :attr:`~.finger_codegen.CompiledFunction.pointers`)."""
+    sig = types.int32(types.int64, types.int64, types.int64, types.int64, types.int64)
+
+    def codegen(context, builder, signature, args):
+        i8p = ir.IntType(8).as_pointer()
+        fnty = ir.FunctionType(ir.IntType(32), [i8p, i8p, i8p, i8p, ir.IntType(32)])
+        f = builder.inttoptr(args[0], fnty.as_pointer())
+        ptrs = [builder.inttoptr(a, i8p) for a in args[1:]]
+        return builder.call(f, [*ptrs, ir.Constant(ir.IntType(32), 0)])
+
+    return sig, codegen
+
+
+@njit(cache=True)
+def _foot(F, P, base, prm, x, cx, cy, cz, out):
+    """Foot of the WCS point ``c``: ``out`` = point (3), normal (3); returns the distance.
+    Warm start and update of the hint in ``x``."""
+    R = prm[P_ROT : P_ROT + 9]
+    t = prm[P_T : P_T + 3]
+    d0, d1, d2 = cx - t[0], cy - t[1], cz - t[2]
+    px = R[0] * d0 + R[3] * d1 + R[6] * d2
+    py = R[1] * d0 + R[4] * d1 + R[7] * d2
+    pz = R[2] * d0 + R[5] * d1 + R[8] * d2
+    if x[HINT_OK] == 0.0:
+        x[HINT], x[HINT + 1], x[HINT_OK] = px, py, 1.0
+    fx, fy, fz, nx, ny, nz, dist = plate_foot(F, P, base, px, py, pz, x[HINT], x[HINT + 1])
+    x[HINT], x[HINT + 1] = fx, fy
+    for i in range(3):
+        out[i] = R[3 * i] * fx + R[3 * i + 1] * fy + R[3 * i + 2] * fz + t[i]
+        out[3 + i] = R[3 * i] * nx + R[3 * i + 1] * ny + R[3 * i + 2] * nz
+    return dist
+
+
+@njit(cache=True)
+def _slide(W, ut0, ut1, un, mu, phi, lam):
+    """Newton on ``g(φ)`` (:func:`.friction_cone._slide_newton`); False: no valid root."""
+    a, w1, w2 = W[0, 0], W[1, 0], W[2, 0]
+    t11, t12, t22 = W[1, 1], W[1, 2], W[2, 2]
+    dt_ = t22 - t11
+    ok = False
+    for _ in range(30):
+        c, s = math.cos(phi), math.sin(phi)
+        A = a - mu * (w1 * c + w2 * s)
+        B = -s * ut0 + c * ut1
+        Pp = dt_ * c * s + t12 * (c * c - s * s)
+        Q = -s * w1 + c * w2
+        g = A * B + un * (mu * Pp - Q)
+        dA = -mu * (-w1 * s + w2 * c)
+        dB = -c * ut0 - s * ut1
+        dP = dt_ * (c * c - s * s) - 4.0 * t12 * c * s
+        dQ = -c * w1 - s * w2
+        dg = dA * B + A * dB + un * (mu * dP - dQ)
+        if dg == 0.0:
+            break
+        step = g / dg
+        phi -= step
+        if abs(step) <= 1e-15:
+            ok = True
+            break
+    c, s = math.cos(phi), math.sin(phi)
+    den = a - mu * (w1 * c + w2 * s)
+    if not ok or den <= 0.0:
+        return False
+    lam_n = -un / den
+    u0 = ut0 + lam_n * (w1 - mu * (t11 * c + t12 * s))
+    u1 = ut1 + lam_n * (w2 - mu * (t12 * c + t22 * s))
+    slip = c * u0 + s * u1
+    if lam_n < 0.0 or slip < 0.0 or abs(-s * u0 + c * u1) > 1e-12 * abs(slip) + 1e-15:
+        return False
+    lam[0], lam[1], lam[2] = lam_n, -mu * lam_n * c, -mu * lam_n * s
+    return True
+
+
+@njit(cache=True)
+def _cone(W, un, u1, u2, mu, lam):
+    """One contact with the exact circular cone (:func:`.friction_cone.solve_impulse`):
+    ``lam`` (3,) [N s]; returns 1 separate, 2 stick, 3 slide, -1 (no valid sliding root)."""
+    lam[0], lam[1], lam[2] = 0.0, 0.0, 0.0
+    if un >= 0.0:
+        return 1
+    A_ = W[1, 1] * W[2, 2] - W[1, 2] * W[2, 1]
+    B_ = W[1, 2] * W[2, 0] - W[1, 0] * W[2, 2]
+    C_ = W[1, 0] * W[2, 1] - W[1, 1] * W[2, 0]
+    det = W[0, 0] * A_ + W[0, 1] * B_ + W[0, 2] * C_
+    D_ = W[0, 2] * W[2, 1] - W[0, 1] * W[2, 2]
+    E_ = W[0, 0] * W[2, 2] - W[0, 2] * W[2, 0]
+    F_ = W[0, 1] * W[2, 0] - W[0, 0] * W[2, 1]
+    G_ = W[0, 1] * W[1, 2] - W[0, 2] * W[1, 1]
+    H_ = W[0, 2] * W[1, 0] - W[0, 0] * W[1, 2]
+    I_ = W[0, 0] * W[1, 1] - W[0, 1] * W[1, 0]
+    l0 = -(A_ * un + D_ * u1 + G_ * u2) / det
+    l1 = -(B_ * un + E_ * u1 + H_ * u2) / det
+    l2 = -(C_ * un + F_ * u1 + I_ * u2) / det
+    if l0 >= 0.0 and math.hypot(l1, l2) <= mu * l0:
+        lam[0], lam[1], lam[2] = l0, l1, l2
+        return 2
+    if mu <= 1e-14:
+        lam[0] = -un / W[0, 0]
+        return 3
+    phi = math.atan2(-l2, -l1) if (l1 != 0.0 or l2 != 0.0) else math.atan2(u2, u1)
+    return 3 if _slide(W, u1, u2, un, mu, phi, lam) else -1
+
+
+@njit(cache=True)
+def _kinematics(x, kin, kp):
+    """Centre, ``J``, ``J_ω``, γ1 at ``x[TH]`` (generated kinematics); False: singular."""
+    kin[0], kin[1], kin[2] = x[TH], x[TH + 1], x[TH + 2]
+    call_compiled(kp[0], kp[1], kp[2], kp[3], kp[4])
+    for i in range(3):
+        x[C + i] = kin[K_C + i]
+        for j in range(3):
+            x[J + 3 * i + j] = kin[K_J + 3 * j + i]
+            x[JW + 3 * i + j] = kin[K_JW + 3 * j + i]
+    x[G1] = kin[K_G1]
+    x[SIN] = kin[K_SIN]
+    return math.isfinite(kin[K_C])
+
+
+@njit(cache=True)
+def _limit_rows(x, prm, thd_f, reach, idx, sgn, rate):
+    """Joint-limit rows within reach: joint ``idx``, sign (+1 lower, -1 upper), ``gap/h``
+    (0 when already beyond: hold, do not push back); returns their number."""
+    h = prm[P_H]
+    m = 0
+    for i in range(3):
+        lo, hi = prm[P_LIM + 2 * i], prm[P_LIM + 2 * i + 1]
+        th = x[TH + i]
+        gl, gu = th - lo, hi - th
+        if gl <= reach:
+            idx[m], sgn[m], rate[m] = i, 1.0, max(gl, 0.0) / h
+            m += 1
+        elif gu <= reach:
+            idx[m], sgn[m], rate[m] = i, -1.0, max(gu, 0.0) / h
+            m += 1
+    return m
+
+
+@njit(cache=True)
+def _solve(W, MJt, Jc, Minv, thd_f, has_c, gap_rate, mu, m, idx, sgn, rate, lam, lim, v):
+    """Contact and limit impulses (block Gauss-Seidel over the exact cone and the scalar
+    limit rows; one exact solve without limits). ``v`` (3,): ``θ̇⁺``. Returns the contact
+    status (0: no candidate, 1-3 as :func:`_cone`, -1 fall back)."""
+    for i in range(3):
+        v[i] = thd_f[i]
+        lam[i] = 0.0
+        lim[i] = 0.0
+    status = 0
+    new = np.zeros(3)
+    for _ in range(_SWEEPS):
+        change, size = 0.0, 0.0
+        if has_c:
+            ub = np.zeros(3)
+            for i in range(3):
+                ub[i] = Jc[i, 0] * v[0] + Jc[i, 1] * v[1] + Jc[i, 2] * v[2]
+                ub[i] -= W[i, 0] * lam[0] + W[i, 1] * lam[1] + W[i, 2] * lam[2]
+            status = _cone(W, ub[0] + gap_rate, ub[1], ub[2], mu, new)
+            if status < 0:
+                return -1
+            d0, d1, d2 = new[0] - lam[0], new[1] - lam[1], new[2] - lam[2]
+            for i in range(3):
+                v[i] = v[i] + MJt[i, 0] * d0 + MJt[i, 1] * d1 + MJt[i, 2] * d2
+                lam[i] = new[i]
+                size = max(size, abs(new[i]))
+            change = max(abs(d0), abs(d1), abs(d2))
+        if m == 0:
+            break
+        for j in range(m):
+            i, s = idx[j], sgn[j]
+            old = lim[i] * s
+            nl = max(0.0, old - (s * v[i] + rate[j]) / Minv[i, i])
+            d = nl - old
+            for k in range(3):
+                v[k] += Minv[k, i] * s * d
+            lim[i] = s * nl
+            change = max(change, abs(d))
+            size = max(size, nl)
+        if change <= 1e-13 * (1.0 + size):
+            break
+    return status
+
+
+@njit(cache=True)
+def _project(F, P, base, prm, x, Minv, lim, foot):
+    """Mass-weighted Gauss-Newton of the centre onto the offset surface (joints with a
+    limit impulse held); returns the final gap [m]; ``foot`` = point, normal."""
+    Pm = Minv.copy()
+    for i in range(3):  # condition on the held joints: P = Z (Zᵀ M Z)⁻¹ Zᵀ
+        if lim[i] != 0.0 and Pm[i, i] > 0.0:
+            col = Pm[:, i].copy()
+            piv = col[i]
+            for a in range(3):
+                for b in range(3):
+                    Pm[a, b] -= col[a] * col[b] / piv
+    r = prm[P_R]
+    gap = 0.0
+    for _ in range(20):
+        d = _foot(F, P, base, prm, x, x[C], x[C + 1], x[C + 2], foot)
+        gap = d - r
+        if abs(gap) <= _PROJ_TOL:
+            break
+        jn = np.zeros(3)
+        for k in range(3):
+            jn[k] = foot[3] * x[J + k] + foot[4] * x[J + 3 + k] + foot[5] * x[J + 6 + k]
+        mj = Pm @ jn
+        den = jn[0] * mj[0] + jn[1] * mj[1] + jn[2] * mj[2]
+        if not den > 0.0:
+            break
+        dq = -gap * mj / den
+        for i in range(3):
+            x[TH + i] += dq[i]
+        for i in range(3):
+            x[C + i] += x[J + 3 * i] * dq[0] + x[J + 3 * i + 1] * dq[1] + x[J + 3 * i + 2] * dq[2]
+    return gap
+
+
+@njit(cache=True)
+def _owts_rows(x, prm, t_end, rows, times, ost):
+    """The OWTS row of the step (normal of the tip in the TCS, intensity, friction in the
+    TCS) at every 5 kHz sample time ``<= t_end`` (as :meth:`.sensing.OWTSRecorder.advance`)."""
+    row = np.zeros(7)
+    if x[ACT] > 0.0:
+        c3, s3 = math.cos(x[TH + 2]), math.sin(x[TH + 2])
+        cg, sg = math.cos(x[G1]), math.sin(x[G1])
+        R = np.array([[c3 * sg, -s3, c3 * cg], [s3 * sg, c3, s3 * cg], [-cg, 0.0, sg]])
+        n0, n1, n2 = x[NRM], x[NRM + 1], x[NRM + 2]
+        f0, f1, f2 = x[FT], x[FT + 1], x[FT + 2]
+        for j in range(3):
+            row[j] = -(R[0, j] * n0 + R[1, j] * n1 + R[2, j] * n2)
+            row[4 + j] = R[0, j] * f0 + R[1, j] * f1 + R[2, j] * f2
+        row[3] = min(x[FN] / prm[P_FULL], 1.0)
+    rate = prm[P_RATE]
+    while ost[0] / rate <= t_end + 1e-12 and ost[1] < rows.shape[0]:
+        k = int(ost[1])
+        rows[k, :] = row
+        times[k] = ost[0] / rate
+        ost[0] += 1.0
+        ost[1] += 1.0
+
+
+@njit(cache=True)
+def finger_step(x, tau_in, t_end, prm, F, P, dyn, dp, kin, kp, rows, times, ost):
+    """One step (module docstring). ``x``: state; ``tau_in`` (3,) [N m] (clipped here);
+    ``t_end`` [s]: time after the step; ``prm``: parameters; ``F, P``: packed plate;
+    ``dyn, dp`` / ``kin, kp``: buffer and addresses of the generated dynamics / kinematics;
+    ``rows, times, ost``: OWTS sample buffer, times and ``(next index, count)``."""
+    h, mu, r = prm[P_H], prm[P_MU], prm[P_R]
+    for i in range(3):
+        dyn[i], dyn[3 + i] = x[TH + i], x[THD + i]
+        lim_t = prm[P_TAU + i]
+        dyn[6 + i] = min(max(tau_in[i], -lim_t), lim_t)
+    dyn[9] = h
+    call_compiled(dp[0], dp[1], dp[2], dp[3], dp[4])
+    thd_f = dyn[D_THDF : D_THDF + 3].copy()
+    ok = math.isfinite(dyn[D_C]) and abs(dyn[D_SIN]) >= prm[P_SIN]
+    for i in range(3):
+        ok = ok and math.isfinite(thd_f[i])
+    if not ok:
+        return SINGULAR_START
+    Minv = np.empty((3, 3))
+    for i in range(3):
+        x[C + i] = dyn[D_C + i]
+        for j in range(3):
+            x[J + 3 * i + j] = dyn[D_J + 3 * j + i]
+            x[JW + 3 * i + j] = dyn[D_JW + 3 * j + i]
+            Minv[i, j] = dyn[D_MINV + 3 * j + i]
+            x[MINV + 3 * i + j] = Minv[i, j]
+    x[G1], x[SIN] = dyn[D_G1], dyn[D_SIN]
+    vmax = max(abs(thd_f[0]), abs(thd_f[1]), abs(thd_f[2]))
+    foot = np.empty(6)
+    dist = _foot(F, P, prm[P_BASE], prm, x, x[C], x[C + 1], x[C + 2], foot)
+    gap = dist - r
+    has_c = gap <= 2.0 * h * vmax * 0.2 + _MARGIN
+    Jc = np.zeros((3, 3))
+    MJt = np.zeros((3, 3))
+    W = np.zeros((3, 3))
+    Cf = np.zeros((3, 3))
+    if has_c:
+        _contact_operator(x, foot, r, Minv, Cf, Jc, MJt, W)
+    idx = np.zeros(3, np.int64)
+    sgn, rate = np.zeros(3), np.zeros(3)
+    m = _limit_rows(x, prm, thd_f, 2.0 * h * vmax + _LIM_MARGIN, idx, sgn, rate)
+    lam, lim, v = np.zeros(3), np.zeros(3), np.zeros(3)
+    status = _solve(W, MJt, Jc, Minv, thd_f, has_c, gap / h, mu, m, idx, sgn, rate, lam, lim, v)
+    if status < 0:
+        return FALLBACK
+    for i in range(3):
+        x[THD + i] = v[i]
+        x[TH + i] = x[TH + i] + h * v[i]
+        x[LIM + i] = lim[i]
+    if not _kinematics(x, kin, kp) or abs(x[SIN]) < prm[P_SIN]:
+        return SINGULAR_END
+    active = status >= 2 and lam[0] > 0.0
+    x[ACT] = 0.0
+    if active:
+        g = _project(F, P, prm[P_BASE], prm, x, Minv, lim, foot)
+        u = Jc @ v
+        x[ACT], x[FN], x[GAP] = 1.0, lam[0] / h, g
+        for i in range(3):
+            x[PT + i], x[NRM + i] = foot[i], foot[3 + i]
+            x[FT + i] = (lam[1] * Cf[1, i] + lam[2] * Cf[2, i]) / h
+            x[SLIP + i] = u[1] * Cf[1, i] + u[2] * Cf[2, i]
+    elif status == 1:  # a candidate that separated must not end up penetrating
+        d = _foot(F, P, prm[P_BASE], prm, x, x[C], x[C + 1], x[C + 2], foot)
+        if d - r < -_PROJ_TOL:
+            _project(F, P, prm[P_BASE], prm, x, Minv, lim, foot)
+    _owts_rows(x, prm, t_end, rows, times, ost)
+    code = 8 if active else 0
+    for i in range(3):
+        if lim[i] != 0.0:
+            code |= 1 << i
+    return code
+
+
+@njit(cache=True)
+def _contact_operator(x, foot, r, Minv, Cf, Jc, MJt, W):
+    """Contact frame ``Cf`` (rows n, t1, t2), ``J_c = Cf (J + r [n]× J_ω)``,
+    ``M⁻¹ J_cᵀ`` and the Delassus operator ``W`` (symmetrized)."""
+    n0, n1, n2 = foot[3], foot[4], foot[5]
+    if abs(n0) < 0.9:
+        a, b, c = 1.0 - n0 * n0, -n0 * n1, -n0 * n2
+    else:
+        a, b, c = -n1 * n0, 1.0 - n1 * n1, -n1 * n2
+    k = 1.0 / math.sqrt(a * a + b * b + c * c)
+    a, b, c = a * k, b * k, c * k
+    Cf[0, 0], Cf[0, 1], Cf[0, 2] = n0, n1, n2
+    Cf[1, 0], Cf[1, 1], Cf[1, 2] = a, b, c
+    Cf[2, 0], Cf[2, 1], Cf[2, 2] = n1 * c - n2 * b, n2 * a - n0 * c, n0 * b - n1 * a
+    Jp = np.empty((3, 3))
+    for j in range(3):
+        w0, w1, w2 = x[JW + j], x[JW + 3 + j], x[JW + 6 + j]
+        Jp[0, j] = x[J + j] + r * (n1 * w2 - n2 * w1)
+        Jp[1, j] = x[J + 3 + j] + r * (n2 * w0 - n0 * w2)
+        Jp[2, j] = x[J + 6 + j] + r * (n0 * w1 - n1 * w0)
+    Jc[:, :] = Cf @ Jp
+    MJt[:, :] = Minv @ Jc.T
+    Wt = Jc @ MJt
+    W[:, :] = 0.5 * (Wt + Wt.T)
+
+
+@njit(cache=True)
+def record_row(
+    x, k, time, tau, pair, t, pose, vel, q, qd, taus, count, cpair, pt, nrm, fn, ft, sl, gap
+):
+    """Row ``k`` of a :class:`~planner.sim.log.SimLog` from the state ``x`` (the finger's
+    pose, velocity, joints, torque and its contact; ``pair``: the log's pair index)."""
+    t[k] = time
+    a, b = 0.5 * x[TH + 2], 0.5 * (math.pi / 2 - x[G1])
+    ca, sa, cb, sb = math.cos(a), math.sin(a), math.cos(b), math.sin(b)
+    for i in range(3):
+        pose[k, i] = x[C + i]
+        vel[k, i] = (
+            x[J + 3 * i] * x[THD] + x[J + 3 * i + 1] * x[THD + 1] + x[J + 3 * i + 2] * x[THD + 2]
+        )
+        vel[k, 3 + i] = (
+            x[JW + 3 * i] * x[THD] + x[JW + 3 * i + 1] * x[THD + 1] + x[JW + 3 * i + 2] * x[THD + 2]
+        )
+        q[k, i], qd[k, i], taus[k, i] = x[TH + i], x[THD + i], tau[i]
+    pose[k, 3], pose[k, 4], pose[k, 5], pose[k, 6] = ca * cb, -sa * sb, ca * sb, sa * cb
+    if x[ACT] > 0.0:
+        count[k] = 1
+        cpair[k, 0] = pair
+        fn[k, 0], gap[k, 0] = x[FN], x[GAP]
+        for i in range(3):
+            pt[k, 0, i], nrm[k, 0, i] = x[PT + i], x[NRM + i]
+            ft[k, 0, i], sl[k, 0, i] = x[FT + i], x[SLIP + i]
+    else:
+        count[k] = 0
