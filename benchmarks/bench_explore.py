@@ -1,26 +1,23 @@
-"""Benchmark of the ch. 4 explorer: control step, type identification, closed-loop exploration.
+"""Benchmark of the ch. 4 explorer's accuracy: type identification, closed-loop exploration.
 
-Run: ``python benchmarks/bench_explore.py [--quick] [--closed-loop N] [--out DIR]``. Writes
-``bench_explore_control``, ``bench_explore_identify`` and ``bench_explore_closed_loop``
-(CSV + Markdown in ``benchmarks/results/``; ``--closed-loop N``, ``--raster N``).
+Run: ``python benchmarks/bench_explore.py [--quick] [--closed-loop N] [--raster N]
+[--out DIR]``. Writes ``bench_explore_identify`` (+ ``_plates``) and
+``bench_explore_closed_loop`` (+ ``_plates``) (CSV + Markdown in ``benchmarks/results/``).
+The control step and the normal-force variants are ``benchmarks/bench_explore_control.py``.
 
-1. **Control step** (warm): the compiled hybrid-law step (numba, :mod:`planner.control.
-   hybrid_kernel`) and the controller call around it, against the plain numpy implementation
-   of the same law (:mod:`planner.control.hybrid_reference`), in the same run, on the same
-   inputs. Targets: <= 15 µs median, >= 4x faster than numpy.
-2. **Type identification** over seeded random plates (6 types x sizes 1-5 mm x 2 orientations
+1. **Type identification** over seeded random plates (6 types x sizes 1-5 mm x 2 orientations
    x 2 noise levels = 96 plates): the fingertip resting on the plate geometry along the
    crossings of the extended Fig. 4.7 (search at a random angle and offset, then across and
    along), centre noise Gaussian plus 0.05 mm encoder quantization; and the raster
    pattern-matching alternative on a subset. Geometric crossings, not the simulator: these
    rows measure the identification logic and the detector, fast enough for 96 plates.
-3. **Closed loop** (``--closed-loop N`` seeded random plates, default 54; ``--quick``: 6):
+2. **Closed loop** (``--closed-loop N`` seeded random plates, default 54; ``--quick``: 6):
    :func:`explore_surface` in the :class:`planner.sim.SpatialWorld` at 1 kHz with the OWTS
    at 5 kHz: one feature per plate (the six kinds x sizes 1-5 mm x random orientation
    within 60 deg of the search lines x OWTS noise 0.5/1.5/3 deg, up to 2 mm off the search
-   line), found by the search,
-   identified, traced and modelled; type accuracy, boundary deviation against the true
-   outline, closure, skeleton Hausdorff against the true skeleton, real-time factor; tables
+   line), found by the search, identified, traced and modelled; type accuracy, boundary
+   deviation against the true outline, closure, skeleton Hausdorff against the true
+   skeleton, real-time factor; tables
    by noise level, by feature size and by kind (``bench_explore_closed_loop``) and per plate
    (``bench_explore_closed_loop_plates``). ``--raster N`` (default 6, 0 with ``--quick``)
    more plates with ``identify="raster"`` (raster lines 6 mm apart, pattern matching).
@@ -39,14 +36,6 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).parent))
 from _common import arg_parser, write_report  # noqa: E402
 
-from planner.control import hybrid_kernel as hk  # noqa: E402
-from planner.control.hybrid_frames import tcs_rotation  # noqa: E402
-from planner.control.hybrid_law import (  # noqa: E402
-    HybridController,
-    HybridSettings,
-    kernel_parameters,  # noqa: E402
-)
-from planner.control.hybrid_reference import reference_step  # noqa: E402
 from planner.exploration.surface.identify import KINDS, evidence, identify  # noqa: E402
 from planner.exploration.surface.kinematic import ball_trace, line_points  # noqa: E402
 from planner.exploration.surface.plates import plate_height, random_plate  # noqa: E402
@@ -59,66 +48,6 @@ R = 0.008
 
 def _load() -> str:
     return ", ".join(f"{x:.2f}" for x in os.getloadavg())
-
-
-# ----------------------------------------------------------------------------- 1. control step
-def control_rows(quick: bool) -> list[dict]:
-    gm = ThreeGM()
-    owts = OWTS(radius=R)
-    s = HybridSettings()
-    par = kernel_parameters(gm, s, owts)
-    th = gm.center_theta
-    rng = np.random.default_rng(0)
-    n = 2000 if quick else 20000
-    thetas = th + 0.05 * rng.standard_normal((n, 3))
-    thds = 0.2 * rng.standard_normal((n, 3))
-    volts = owts.voltages_from_contact(
-        np.column_stack([0.3 * rng.standard_normal((n, 2)), np.ones(n)])
-    )
-    target = np.array([0.02, 0.0, 0.0])
-    state = np.zeros(12)
-    state[:3] = tcs_rotation(gm.state(th).gamma1, th[2])[:, 2]
-    out = np.zeros(hk.NOUT)
-    hk.hybrid_step(thetas[0], thds[0], volts[0], state, target, par, out)  # JIT / cache load
-    ctl = HybridController(gm, s, owts)
-    ctl.command_velocity(target)
-    ctl.step(thetas[0], thds[0], volts[0])
-
-    def timed(fn, count):
-        ts = np.empty(count)
-        for i in range(count):
-            t0 = time.perf_counter()
-            fn(i)
-            ts[i] = time.perf_counter() - t0
-        return ts
-
-    t_k = timed(lambda i: hk.hybrid_step(thetas[i], thds[i], volts[i], state, target, par, out), n)
-    t_c = timed(lambda i: ctl.step(thetas[i], thds[i], volts[i]), n)
-    m = max(200, n // 10)
-    st2 = state.copy()
-    t_n = timed(
-        lambda i: reference_step(gm, owts, thetas[i], thds[i], volts[i], st2, target, par), m
-    )
-    med_n = float(np.median(t_n))
-    rows = []
-    for name, ts in (
-        ("compiled step (numba kernel)", t_k),
-        ("controller.step (kernel + Python wrapper)", t_c),
-        ("plain numpy, same law", t_n),
-    ):
-        med = float(np.median(ts))
-        rows.append(
-            {
-                "implementation": name,
-                "calls": len(ts),
-                "median_us": med * 1e6,
-                "p10_us": float(np.percentile(ts, 10)) * 1e6,
-                "p90_us": float(np.percentile(ts, 90)) * 1e6,
-                "speedup_vs_numpy": med_n / med,
-                "target": "<= 15 us, >= 4x" if "controller" in name else "",
-            }
-        )
-    return rows
 
 
 # ----------------------------------------------------------------------------- 2. identification
@@ -428,14 +357,6 @@ def main() -> None:
     args = p.parse_args()
     load0 = _load()
     notes = [f"load average at start: {load0} (2 cores shared with other engineers)"]
-    rows = control_rows(args.quick)
-    write_report(
-        "bench_explore_control",
-        rows,
-        title="Hybrid force/velocity control step (warm, per call)",
-        out=args.out,
-        notes=[*notes, "same inputs for all three; numpy = hybrid_reference.reference_step"],
-    )
     per, summary = identify_rows(args.quick)
     write_report(
         "bench_explore_identify",

@@ -65,6 +65,7 @@ def report(config, ctx):
             trace_speed=config.trace_speed,
             friction=config.friction,
             identify=config.identify,
+            control=config.control,
             **({} if config.line_spacing is None else {"line_spacing": config.line_spacing}),
         )
     with ctx.timer("metrics"):

@@ -14,6 +14,7 @@ Keys (SI units)::
     region: [[-0.02, 0.02], [-0.02, 0.02]]   # explored box of the plate frame [m]
     strategy: raster             # raster | random_walk | bug2
     identify: flow_chart         # flow_chart (crossings, Fig. 4.7 extended) | raster
+    control: open_loop           # normal force: open_loop (eq. 4.12) | closed_loop | qp
     line_spacing: null           # raster line spacing [m] (default 1.5 r_f)
     goal: null                   # bug2 goal [u, v] in the plate frame [m]
     tip_radius: 0.008            # fingertip radius r_f [m]
@@ -118,6 +119,11 @@ class Config(ScenarioBase):
         "flow_chart",
         description="type identification: crossings of the extended Fig. 4.7 (stop at each "
         "detection) or pattern matching of the whole raster's curvature regions (§4.4.1)",
+    )
+    control: Literal["open_loop", "closed_loop", "qp"] = Field(
+        "open_loop",
+        description="normal-force variant of the hybrid law (open loop eq. 4.12, PI on the "
+        "sensed normal force, torque-limit QP)",
     )
     line_spacing: float | None = Field(
         None, gt=0, le=0.1, description="raster line spacing [m] (default 1.5 r_f)"

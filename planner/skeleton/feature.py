@@ -357,13 +357,18 @@ def feature_skeleton(
         stages["significance"] = len(edges)
         if len(edges) == 0:
             stages["single_point"] = 1
-    if len(edges) == 0 and inside.any() and "single_point" not in stages:
-        # a disk-like feature whose axis degenerates to a point: the innermost vertex
+    if inside.any():
         cand = np.flatnonzero(inside)
         r_in = np.hypot(*(verts[cand] - pts[_nearest(pts, verts[cand])]).T)
-        best = cand[np.argmax(r_in)]
-        points, radii = verts[best : best + 1], np.array([r_in.max()])
-        stages["single_point"] = 1
+        # a disk-like feature whose axis degenerates to a point (or whose whole medial axis
+        # fell to the edge-length test, leaving only shallow pieces near a boundary defect):
+        # the innermost vertex, the centre of the largest inscribed disk
+        shallow = len(points) > 0 and float(radii.max()) < 0.5 * float(r_in.max())
+        if shallow or (len(edges) == 0 and "single_point" not in stages):
+            best = cand[np.argmax(r_in)]
+            points, edges = verts[best : best + 1], np.zeros((0, 2), np.int64)
+            radii = np.array([r_in.max()])
+            stages["single_point"] = 1
     return Skeleton(
         points.copy(),
         edges.astype(np.int64),

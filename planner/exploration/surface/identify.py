@@ -351,21 +351,36 @@ def outline_elongation(boundary: np.ndarray) -> float:
 
 
 def refine_with_outline(
-    decision: TypeDecision, boundary: np.ndarray, closed: bool, elongation: float = 2.0
+    decision: TypeDecision, boundary: np.ndarray, closed: bool, elongation: float = 1.0
 ) -> TypeDecision:
     """After tracing, compare the outline's shape with the kind (§4.4.1: the pattern of the
-    traced curvature region): a closed outline much longer than wide
-    (:func:`outline_elongation` above ``elongation``) is a ridge or ravine, not a bump or a
-    pit (the along crossing can run past a short ridge's end caps)."""
+    traced curvature region). A bump's or a pit's medial axis is a point (rotational
+    symmetry); a ridge's or a ravine's is its crest line. A closed outline whose pruned
+    skeleton (:func:`~planner.exploration.surface.modelling.feature_model`) is longer than
+    ``elongation`` times its largest inscribed radius is a ridge or a ravine (the along
+    crossing can run past a short ridge's end caps, and an 8 mm ball makes a 12 mm ridge's
+    outline only twice as long as wide).
+
+    Args:
+        decision: the flow chart's (or the raster match's) decision.
+        boundary: (N, 2) traced boundary samples [m]; closed: whether the loop closed.
+        elongation: skeleton length over largest medial radius beyond which the feature is
+            elongated [-].
+    """
     from dataclasses import replace
+
+    from planner.exploration.surface.modelling import feature_model
 
     if not closed or len(boundary) < 10 or decision.kind not in ("bump", "pit"):
         return decision
-    ratio = outline_elongation(boundary)
-    if not ratio > elongation:
+    sk = feature_model(decision.kind, [np.asarray(boundary, float)], True)
+    if sk is None or len(sk.radii) == 0 or not sk.length > elongation * float(sk.radii.max()):
         return decision
     kind = "ridge" if decision.kind == "bump" else "ravine"
     scores = dict(decision.scores)
     scores[kind], scores[decision.kind] = scores[decision.kind], scores[kind]
-    note = f"traced outline {ratio:.1f} times longer than wide: {decision.kind} -> {kind}"
+    note = (
+        f"traced outline's skeleton {sk.length * 1e3:.1f} mm long, inscribed radius "
+        f"{sk.radii.max() * 1e3:.1f} mm: {decision.kind} -> {kind}"
+    )
     return replace(decision, kind=kind, scores=scores, path=(*decision.path, note))

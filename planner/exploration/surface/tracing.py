@@ -231,7 +231,7 @@ def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float 
             if near is not None and near < 0:
                 reason = "loop closed"
                 break
-            if near is None and ex.est.k % 25 == 0 and _decision(ex, cfg, samples, t_start) < 0:
+            if near is None and ex.est.k % 100 == 0 and _decision(ex, cfg, samples, t_start) < 0:
                 reason = "decision parameter < 0 (no new boundary)"
                 break
         yield v
