@@ -118,7 +118,9 @@ def trace_feature(ex, cfg, rec_f: FeatureRecord, region, half: float):
         start = rec_f.centre + side * (half + 0.25 * cfg.tip_radius) * rec_f.across
         inward = -side * rec_f.across
         limit = 2 * half + cfg.tip_radius
-        outline = yield from find_outline(ex, cfg, start, inward, limit, rec_f.rise)
+        outline = yield from find_outline(
+            ex, cfg, start, inward, limit, rec_f.rise, crest=kind == "cusp"
+        )
         if outline is None:
             rec_f.reasons.append("outline not found")
             continue

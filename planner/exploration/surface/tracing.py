@@ -101,13 +101,19 @@ def plate_level(ex, local: float, rise: float, ends: int = 40) -> float:
     return w if abs(w - local) < rise else local
 
 
-def find_outline(ex, cfg, start, inward, limit: float, rise: float | None = None):
+def find_outline(
+    ex, cfg, start, inward, limit: float, rise: float | None = None, crest: bool = False
+):
     """Slide from ``start`` along ``inward`` until the centre leaves the plate level by
     ``boundary_rise``; returns an :class:`Outline` or None (not met within ``limit`` [m]).
 
     Once the contact is tilted (on the feature's flank) the finger slides along the slope
     (up a raised feature, down a sunken one: the sense that agrees with ``inward``), so it
-    meets the outline even when ``inward`` misses the feature's centre."""
+    meets the outline even when ``inward`` misses the feature's centre. ``crest``: the
+    feature has no plate level (a cusp: the plate falls away on both sides); the finger
+    climbs over the crest and the outline is ``rise`` below it (:func:`find_crest`)."""
+    if crest:
+        return (yield from find_crest(ex, cfg, start, inward, limit, rise))
     yield from move_to(ex, start, cfg.speed)
     ex.phase = PHASE["reapproach"]
     inward = np.asarray(inward, float) / np.linalg.norm(inward)
@@ -130,6 +136,29 @@ def find_outline(ex, cfg, start, inward, limit: float, rise: float | None = None
         yield cfg.trace_speed * heading
     sigma = 1.0 if ex.est.centre[2] > w0 else -1.0
     return Outline(w0 + sigma * rise, sigma, heading, rise)
+
+
+def find_crest(ex, cfg, start, inward, limit: float, rise: float | None = None):
+    """Climb from ``start`` along ``inward`` (then up the slope) over a crest; the outline is
+    the level ``rise`` below the highest centre height met, on the far flank. None when the
+    centre has not come down by ``rise / 2`` from its highest within ``limit`` [m]."""
+    yield from move_to(ex, start, cfg.speed)
+    ex.phase = PHASE["reapproach"]
+    rise = cfg.boundary_rise if rise is None else rise
+    heading = np.asarray(inward, float) / np.linalg.norm(inward)
+    p0 = ex.est.uv.copy()
+    top = float(ex.est.centre[2])
+    while float(ex.est.centre[2]) > top - 0.5 * rise:
+        if float(np.hypot(*(ex.est.uv - p0))) > limit:
+            return None
+        top = max(top, float(ex.est.centre[2]))
+        n = ex.est.normal
+        tilt = float(np.hypot(n[0], n[1]))
+        if tilt > 0.03 and float(ex.est.centre[2]) >= top - 1e-5:  # still climbing: uphill
+            g = np.array([n[0], n[1]]) / tilt
+            heading = -g if float(-g @ heading) > 0 else heading
+        yield cfg.trace_speed * heading
+    return Outline(top - rise, 1.0, -heading, rise)
 
 
 #: a sample is kept when the centre is within this distance of the level line [m] (the
