@@ -219,17 +219,17 @@ def saturation_rows(quick: bool) -> list[dict]:
             hk.hybrid_step(x["theta"][i], x["thd"][i], x["volts"][i], st, np.zeros(3), par, out)
             if not out[13]:
                 continue
-            B, s_law = qp.force_coordinates(out, st[:3])
-            scale = out[18] / s_law[2]
+            ft, fn = qp.split(out, st[:3])
+            scale = out[18] / fn
             tau = qp.solve(out, st[:3])
             if tau is None:
                 continue
             viol = max(viol, float(np.max(np.abs(tau) - GM.torque_limits)))
             fn_open.append(out[18])
-            fn_qp.append(qp.last[2])
-            ft_law.append(math.hypot(s_law[0], s_law[1]))
+            fn_qp.append(qp.last[1])
+            ft_law.append(float(np.linalg.norm(ft)))
             ft_open.append(scale * ft_law[-1])
-            ft_qp.append(math.hypot(qp.last[0], qp.last[1]))
+            ft_qp.append(qp.last[0] * ft_law[-1])
         k = len(fn_qp)
         rows.append(
             {

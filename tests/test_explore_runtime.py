@@ -98,18 +98,18 @@ def test_unknown_control_is_invalid_parameter():
         explore_surface(Plate(()), duration=0.1, control="pid")
 
 
-@pytest.mark.parametrize("d", [-0.004, -0.002, 0.0, 0.001, 0.003])
-def test_start_height_rests_the_ball_on_the_plate(d):
-    """The finger starts GAP above the ball resting on the plate: never in penetration, even
-    next to a cusp crest (slope 1); on a flat spot exactly H + r."""
-    from planner.exploration.surface.explorer import _start_height
+@pytest.mark.parametrize("d", [-0.004, -0.002, -0.0005, 0.0, 0.001, 0.003])
+def test_the_finger_starts_clear_of_the_plate(d):
+    """The fingertip starts at least GAP / 2 clear of the plate, even next to a cusp crest
+    (slope 1), where H + r + GAP would start it in penetration; on a flat spot at H + r."""
+    from planner.exploration.surface.explorer import GAP, _start_height
     from planner.exploration.surface.plates import plate_height
 
     r = 0.008
     H = plate_height(Plate((PlateFeature("cusp", 3e-3, 3e-3, (d, 0.0), 0.0),)))
-    z = _start_height(H, np.array([0.0, 0.0]), r)
+    z = _start_height(H, np.array([0.0, 0.0]), r) + GAP
     xs = np.linspace(-0.02, 0.02, 200001)
     clearance = np.min(np.hypot(xs, H(xs, np.zeros_like(xs)) - z)) - r
-    assert -1e-5 < clearance < 1e-4  # resting: touching within the sampling grid
+    assert 0.5 * GAP - 1e-5 < clearance < GAP + 1e-5
     flat = plate_height(Plate(()))
     assert _start_height(flat, np.array([0.003, -0.002]), r) == r

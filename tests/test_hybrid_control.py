@@ -398,8 +398,9 @@ def _saturated_step(fd=16.0, seed=0):
     return out, stt, s
 
 
-def _qp_objective(w, s, s_law):
-    return 0.5 * float(np.sum(w * (s - s_law) ** 2))
+def _qp_objective(qp, ft, fn, x):
+    a, s = x
+    return 0.5 * qp.w_t * float(ft @ ft) * (a - 1.0) ** 2 + 0.5 * qp.w_n * (s - fn) ** 2
 
 
 @pytest.mark.parametrize("seed", range(4))
@@ -407,21 +408,26 @@ def test_qp_keeps_the_limits_and_beats_the_uniform_scaling(seed):
     out, stt, s = _saturated_step(seed=seed)
     assert out[13], "the open-loop law must be torque limited here"
     qp = TorqueLimitQP(FINGER.torque_limits, s.qp_weights)
-    B, s_law = qp.force_coordinates(out, stt[:3])
-    scale = out[18] / s_law[2]  # the law's uniform scale
-    tau = qp.solve(out, stt[:3])
+    n = stt[:3]
+    ft, fn = qp.split(out, n)
+    assert fn == pytest.approx(s.normal_force)  # eq. 4.12: the law asks f_des along n
+    np.testing.assert_allclose(ft + fn * n, out[hk.O_F : hk.O_F + 3], atol=1e-12)
+    sigma = out[18] / fn  # the law's uniform scale
+    tau = qp.solve(out, n)
     assert tau is not None
     assert np.all(np.abs(tau) <= FINGER.torque_limits + 1e-6)
-    # the uniformly scaled force is feasible for the QP: the QP's optimum is at least as good
-    assert _qp_objective(qp.w, qp.last, s_law) <= _qp_objective(qp.w, scale * s_law, s_law) + 1e-9
-    assert qp.last[2] >= scale * s_law[2] - 1e-6  # the normal force goes first
+    a, sn = qp.last
+    assert -1e-9 <= a <= 1 + 1e-9 and -1e-9 <= sn <= fn + 1e-9  # never beyond the law's asks
+    # the uniformly scaled force is feasible for the QP: its optimum is at least as good
+    assert _qp_objective(qp, ft, fn, qp.last) <= _qp_objective(qp, ft, fn, (sigma, sigma * fn))
+    assert sn >= sigma * fn - 1e-6  # the normal force goes first
     # the same QP through another solver of planner.optim gives the same optimum
-    other = TorqueLimitQP(FINGER.torque_limits, s.qp_weights, solver="clarabel")
-    other.solve(out, stt[:3])
-    np.testing.assert_allclose(other.last, qp.last, atol=1e-5)
+    other = TorqueLimitQP(FINGER.torque_limits, s.qp_weights, solver="proxqp")
+    other.solve(out, n)
+    np.testing.assert_allclose(other.last, qp.last, atol=1e-6)
     tg = np.array([*out[hk.O_TG : hk.O_TG + 2], 0.0])
     J = out[hk.O_J : hk.O_J + 9].reshape(3, 3)
-    np.testing.assert_allclose(tau, tg + J.T @ B @ qp.last, atol=1e-9)
+    np.testing.assert_allclose(tau, tg + J.T @ (a * ft + sn * n), atol=1e-9)
 
 
 def test_qp_variant_is_the_open_loop_law_when_not_saturated():

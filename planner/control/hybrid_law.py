@@ -5,6 +5,9 @@ compensation and ``τ = Jᵀ f`` within the motor limits - the law of eqs. 4.1-4
 controller callable ``controller(t, observation) -> τ`` for :mod:`planner.sim`. The step
 itself is compiled (:func:`planner.control.hybrid_kernel.hybrid_step`);
 :mod:`planner.control.hybrid_reference` is the same law in plain numpy.
+``HybridSettings.control`` selects the normal-force variant: the open loop of the thesis, a PI
+loop on the sensed normal force, or a QP that respects the torque limits keeping the normal
+force first (:mod:`planner.control.hybrid_variants`).
 
 Usage::
 
@@ -252,8 +255,7 @@ class HybridController:
             volts: (4,) OWTS voltages [V].
             force: (3,) sensed fingertip force on the surface [N] (closed loop only).
         """
-        if not self._anchored:
-            self._anchor(theta, theta_dot, volts)
+        self.anchor(theta)
         if self.mode == "closed_loop":
             f = self._force if force is None else np.asarray(force, dtype=float)
             hk.hybrid_step_closed_loop(
@@ -274,7 +276,14 @@ class HybridController:
         volts = owts_voltages(obs, self._volts)
         return self.step(q, qd, volts, tip_force(obs, self._force)).copy()
 
-    def _anchor(self, theta, theta_dot, volts) -> None:
+    def anchor(self, theta) -> None:
+        """Put the desired point on the contact point at ``theta`` (3,) [rad] when a
+        :meth:`reanchor` (or the first step) asks for it; the compiled step's callers call
+        this before :func:`~planner.control.hybrid_kernel.hybrid_step`."""
+        if not self._anchored:
+            self._anchor(theta)
+
+    def _anchor(self, theta) -> None:
         st = self.finger.state(theta)
         from planner.control.hybrid_frames import tcs_rotation
 

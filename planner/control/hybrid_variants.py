@@ -12,14 +12,18 @@ down (App. C.2.1): the normal force drops with the tangential one. Two variants:
   :mod:`planner.optim`); unsaturated steps are the open-loop law (the QP's unconstrained
   optimum is the law's own force, so no solve is needed).
 
-The QP, in the coordinates ``s = (s_x, s_y, s_n)`` of ``f = s_x x_S + s_y y_S + s_n n_W``::
+The QP keeps the directions of the law's tangential force ``f_t`` and normal force
+``f_n n_W`` and chooses how much of each to keep, ``f = a f_t + s n_W``::
 
-    minimize    1/2 Σ w_i (s_i - s_i,law)²
-    subject to  -τ_max <= τ_g + Jᵀ [x_S y_S n_W] s <= τ_max,   s_n >= 0
+    minimize    1/2 w_t |f_t|² (a - 1)² + 1/2 w_n (s - f_n)²
+    subject to  -τ_max <= τ_g + a Jᵀ f_t + s Jᵀ n_W <= τ_max,   0 <= a <= 1,   0 <= s <= f_n
 
-with ``w = (w_t, w_t, w_n)``, ``w_n >> w_t``. Its rows depend on the Jacobian, which changes
-every step, and :class:`planner.optim.QPWorkspace` updates vectors only (``q``, ``h``, ``b``,
-bounds): the problem and its workspace are built afresh on each saturated step (~0.15 ms with
+with ``w_n >> w_t`` (the normal force goes first). The law's uniform scaling ``a = σ``,
+``s = σ f_n`` is feasible, so the QP is never worse by its own measure; and it never pushes
+harder than the law asked, in either direction (a free tangential force would buy normal force
+by pushing sideways). The rows depend on the Jacobian, which changes every step, and
+:class:`planner.optim.QPWorkspace` updates vectors only (``q``, ``h``, ``b``, bounds): the
+problem and its workspace are built afresh on each saturated step (~0.15 ms with
 ``planner.optim``'s validation, of which DAQP's solve is a few µs), never on the others.
 """
 
@@ -41,29 +45,31 @@ class TorqueLimitQP:
     Args:
         limits: (3,) motor torque limits τ_max [N m].
         weights: ``(w_t, w_n)`` weights of the tangential and normal force errors [1/N²].
+
+    Attributes:
+        solves, failures: QPs solved and QPs the solver failed on (the law's torques stood).
         solver: a :mod:`planner.optim` solver (``"daqp"`` by default).
     """
 
     def __init__(self, limits, weights=(1.0, 100.0), solver: str = "daqp") -> None:
         self.limits = np.asarray(limits, float).copy()
-        w_t, w_n = (float(w) for w in weights)
-        self.w = np.array([w_t, w_t, w_n])
-        self.P = np.diag(self.w)
-        self.lb = np.array([-np.inf, -np.inf, 0.0])
-        self.ub = np.full(3, np.inf)
+        self.w_t, self.w_n = (float(w) for w in weights)
         self.solver = solver
+        self.last = np.zeros(2)
         self.solves = 0
         self.failures = 0
 
-    def force_coordinates(self, out: np.ndarray, normal: np.ndarray) -> tuple:
-        """``(B, s_law)``: the (3, 3) basis ``[x_S y_S n_W]`` and the law's force in it."""
-        B = np.column_stack([out[hk.O_XS : hk.O_XS + 3], out[hk.O_YS : hk.O_YS + 3], normal])
-        return B, B.T @ out[hk.O_F : hk.O_F + 3]
+    def split(self, out: np.ndarray, normal: np.ndarray) -> tuple[np.ndarray, float]:
+        """``(f_t, f_n)``: the law's tangential force (3,) [N] (WCS) and normal force [N]."""
+        f = out[hk.O_F : hk.O_F + 3]
+        fn = float(f @ normal)
+        return f - fn * normal, fn
 
     def solve(self, out: np.ndarray, normal: np.ndarray) -> np.ndarray | None:
         """Torques (3,) [N m] of the QP for the step whose outputs are ``out`` (see
         :mod:`~planner.control.hybrid_kernel`) and filtered normal ``normal`` (3,); None when
-        gravity alone exceeds a limit or the solver fails (the law's scaled torques stand)."""
+        gravity alone exceeds a limit or the solver fails (the law's scaled torques stand).
+        :attr:`last` holds ``(a, s)`` of the solution."""
         from planner.errors import HapexError
         from planner.optim import QPProblem, QPWorkspace
 
@@ -72,17 +78,18 @@ class TorqueLimitQP:
         room_hi, room_lo = self.limits - tg, self.limits + tg
         if np.any(room_hi <= 0.0) or np.any(room_lo <= 0.0):
             return None
-        B, s_law = self.force_coordinates(out, normal)
-        M = J.T @ B
+        ft, fn = self.split(out, normal)
+        M = np.column_stack([J.T @ ft, J.T @ normal])  # torques per unit of (a, s)
+        wt = max(self.w_t * float(ft @ ft), 1e-12)
         self.solves += 1
         try:
             problem = QPProblem(
-                self.P,
-                -self.w * s_law,
+                np.diag([wt, self.w_n]),
+                np.array([-wt, -self.w_n * fn]),
                 np.vstack([M, -M]),
                 np.concatenate([room_hi, room_lo]),
-                lb=self.lb,
-                ub=self.ub,
+                lb=np.zeros(2),
+                ub=np.array([1.0, max(fn, 0.0)]),
             )
             x = QPWorkspace(problem, solver=self.solver).solve_primal()
         except HapexError:
@@ -100,5 +107,5 @@ class TorqueLimitQP:
         if tau is None:
             return False
         out[0:3] = tau
-        out[18] = float(self.last[2])
+        out[18] = float(self.last[1])
         return True

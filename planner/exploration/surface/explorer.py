@@ -44,16 +44,18 @@ def _corners(region: np.ndarray) -> np.ndarray:
     return np.array([[u0, v0], [u1, v0], [u1, v1], [u0, v1], [(u0 + u1) / 2, (v0 + v1) / 2]])
 
 
-def _start_height(H, point, r: float) -> float:
-    """Height [m] of the centre of a ball of radius ``r`` resting on ``H`` above ``point``:
-    ``H + r`` on a flat spot; on a slope or near a crest the ball rests on the highest point
-    under it (:func:`~planner.exploration.surface.kinematic.ball_trace`), so the finger never
-    starts in penetration."""
+def _start_height(H, point, r: float, slack: float = 0.5 * GAP) -> float:
+    """Height [m] of the fingertip centre over ``point`` for a clearance of at least ``GAP -
+    slack`` once ``GAP`` is added: ``H + r``, unless the ball of radius ``r`` resting on ``H``
+    above ``point`` (the grey dilation, :func:`~planner.exploration.surface.kinematic.
+    ball_trace`: on a slope or next to a crest it rests on the highest point under it) is
+    higher by more than ``slack``; then that resting height, so the finger never starts in
+    penetration."""
     from planner.exploration.surface.kinematic import ball_trace
 
     flat = float(H(point[0], point[1])) + r
     rest = float(ball_trace(H, np.asarray(point, float)[None, :2], r, grid=r / 80).centers[0, 2])
-    return max(flat, rest)
+    return rest if rest > flat + slack else flat
 
 
 def build_world(plate, cfg: ExplorationSettings, region, tilt: float, seed: int, sensors=None):
@@ -152,22 +154,25 @@ def explore_surface(
     ex = ExplorerController(gm, hs, T, int(dur * 1000) + 2)
     state = ProgramState()
     ex.program = exploration_program(ex, cfg, reg, np.random.default_rng(seed), state)
-    _warm_up(ex)
+    _warm_up(ex, lambda: build_world(surface, cfg, reg, tilt, seed, sensors)[0])
     t0 = time.perf_counter()
     log = world.run(dur, controller=ex, stop=ex.stop)
     wall = time.perf_counter() - t0
     return _result(ex, state, log, cfg, T, wall)
 
 
-def _warm_up(ex) -> None:
-    """Import what the program imports on first use and load the compiled step, so that the
-    measured wall time (the real-time factor) is the control loop's, not the start-up's."""
+def _warm_up(ex, scratch_world) -> None:
+    """Import what the program imports on first use and load the compiled code (the explorer's
+    step; the simulator's kernels through 2 ms of a scratch copy of the world), so that the
+    measured wall time - the real-time factor - is the control loop's, not the process's
+    start-up (numba cache loads, ~1 s once per process)."""
     import scipy.spatial  # noqa: F401 - the decision parameter's nearest neighbours
     import shapely  # noqa: F401 - known areas
 
     import planner.detection  # noqa: F401 - online detection (algorithm 3)
 
     ex.warm_up()
+    scratch_world().run(0.002)
 
 
 def _refine(dec, boundary: np.ndarray, closed: bool):

@@ -154,9 +154,10 @@ def exploration_program(ex, cfg, region: np.ndarray, rng, state: ProgramState):
     detector = OnlineDetector(ex, r, cfg.window, state.is_known)
     state.detector = detector
     gen, _ = segments(cfg, region, rng)
+    every = max(1, round(cfg.detect_every * ex.ctl.settings.rate))  # detection period [steps]
     for a, b in gen:
         while True:
-            k0, k1, det = yield from sweep(ex, a, b, cfg.speed, "search", detector)
+            k0, k1, det = yield from sweep(ex, a, b, cfg.speed, "search", detector, every)
             if det is None:
                 break
             ex.feature = len(state.features)

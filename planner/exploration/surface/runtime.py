@@ -261,8 +261,7 @@ class ExplorerController:
         if not self.kernel or k >= len(rec.t):
             return self._reference_call(t, obs)
         q, qd = obs.q, obs.qd
-        if not c._anchored:
-            c._anchor(q, qd, None)
+        c.anchor(q)
         o = getattr(obs, "owts", None)
         a = getattr(o, "voltages", o)
         avg = isinstance(a, np.ndarray) and a.ndim == 2 and a.dtype == np.float64

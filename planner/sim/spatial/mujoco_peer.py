@@ -98,10 +98,10 @@ def mujoco_ridge_rollout(scene: RidgeScene, settings: str = "default") -> dict:
     centres[0] = site.xpos
     force, pen = np.zeros(6), 0.0
     lo, hi = m.actuator_ctrlrange[act, 0], m.actuator_ctrlrange[act, 1]
+    normal, _, pen = _tip_contact(mujoco, m, d, tip, plate, force)
     t0 = time.perf_counter()
     for k in range(n):
         q, qd = d.qpos[qa[:3]].copy(), d.qvel[va].copy()
-        normal, _, _ = _tip_contact(mujoco, m, d, tip, plate, force)
         if normal is None:
             z = np.zeros((1, 3))
             reading = OWTSReading(np.array([d.time]), np.zeros((1, 4)), z, z, np.zeros(1, bool))
@@ -115,7 +115,7 @@ def mujoco_ridge_rollout(scene: RidgeScene, settings: str = "default") -> dict:
         tau = ctrl(d.time, Observation(d.time, q, qd, (w.finger.name,), owts=reading))
         d.ctrl[act] = np.clip(tau, lo, hi)
         mujoco.mj_step(m, d)
-        _, fn, p = _tip_contact(mujoco, m, d, tip, plate, force)
+        normal, fn, p = _tip_contact(mujoco, m, d, tip, plate, force)  # also the next reading
         centres[k + 1], active[k + 1], pen = site.xpos, fn > 0.0, max(pen, p)
     wall = time.perf_counter() - t0
     pe = path_error(scene, centres, active)

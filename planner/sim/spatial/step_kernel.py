@@ -195,7 +195,8 @@ def _kinematics(x, kin, kp):
 @njit(cache=True)
 def _limit_rows(x, prm, thd_f, reach, idx, sgn, rate):
     """Joint-limit rows within reach: joint ``idx``, sign (+1 lower, -1 upper), ``gap/h``
-    (0 when already beyond: hold, do not push back); returns their number."""
+    (a round-off violation above ``-_LIM_MARGIN`` is corrected; a joint further beyond is held,
+    not pushed back: 0); returns their number."""
     h = prm[P_H]
     m = 0
     for i in range(3):
@@ -203,10 +204,10 @@ def _limit_rows(x, prm, thd_f, reach, idx, sgn, rate):
         th = x[TH + i]
         gl, gu = th - lo, hi - th
         if gl <= reach:
-            idx[m], sgn[m], rate[m] = i, 1.0, max(gl, 0.0) / h
+            idx[m], sgn[m], rate[m] = i, 1.0, (gl if gl >= -_LIM_MARGIN else 0.0) / h
             m += 1
         elif gu <= reach:
-            idx[m], sgn[m], rate[m] = i, -1.0, max(gu, 0.0) / h
+            idx[m], sgn[m], rate[m] = i, -1.0, (gu if gu >= -_LIM_MARGIN else 0.0) / h
             m += 1
     return m
 

@@ -101,18 +101,20 @@ def _unpenetrate(world, body, idle: list[_Candidate], minv=None) -> None:
 
 def limit_rows(body, nu_free, h: float) -> list[tuple[int, float, float]]:
     """The finger's joint-limit rows within reach: ``(joint, sign, rate)`` with sign +1 for
-    the lower and -1 for the upper limit and ``rate = max(gap, 0) / h`` [rad/s] (a joint
-    already beyond its limit is held there, not pushed back). Spheres: none."""
+    the lower and -1 for the upper limit and ``rate = gap / h`` [rad/s] (a round-off violation
+    above ``-_LIM_MARGIN`` is corrected; a joint further beyond its limit is held there, not
+    pushed back: rate 0). Spheres: none."""
     lims = getattr(body, "limits", None)
     if lims is None:
         return []
     reach = 2.0 * h * float(np.max(np.abs(nu_free))) + _LIM_MARGIN
     out = []
     for i, (th, (lo, hi)) in enumerate(zip(body.th.tolist(), lims.tolist(), strict=True)):
-        if th - lo <= reach:
-            out.append((i, 1.0, max(th - lo, 0.0) / h))
-        elif hi - th <= reach:
-            out.append((i, -1.0, max(hi - th, 0.0) / h))
+        gl, gu = th - lo, hi - th
+        if gl <= reach:
+            out.append((i, 1.0, (gl if gl >= -_LIM_MARGIN else 0.0) / h))
+        elif gu <= reach:
+            out.append((i, -1.0, (gu if gu >= -_LIM_MARGIN else 0.0) / h))
     return out
 
 

@@ -25,9 +25,19 @@ of length ``h``:
    exact offset surface to round-off (no penetration, no hovering), without any stiffness or
    Baumgarte gain.
 
-One finger over one :class:`Plate`/:class:`Plane` runs through the scalar kernels of
-:mod:`planner.sim.spatial.fast_step` (numba-compiled when numba is installed); everything
-else through :mod:`planner.sim.spatial.stepping`; both give the same trajectories (tested).
+Joint limits of the 3GM (``three_gm.joint_limits``) are unilateral constraints of the same
+problem: a joint within reach of a limit adds the row ``±e_i`` with
+``0 <= λ_i ⊥ (θ_i - θ_lim)/h ± θ̇_i⁺ >= 0`` (a joint already beyond is held, not pushed back),
+coupled with the contact by block Gauss-Seidel over the exact cone and the scalar rows; the
+projection of step 5 keeps held joints fixed (``M⁻¹`` conditioned on them). A joint that
+starts to be held emits a ``joint_limit`` event (data: ``joint``, ``side``, ``limit``,
+``theta``).
+
+One finger over one :class:`Plate`/:class:`Plane` (numba installed, dynamics compiled) runs as
+ONE compiled call per step (:mod:`planner.sim.spatial.step_kernel`: dynamics, foot, cone,
+limits, integration, projection, contact record, OWTS rows), with compiled ``record`` and
+``observe``; everything else through :mod:`planner.sim.spatial.stepping`, the reference; both
+give the same trajectories (tested on random states to ~1e-12).
 
 Contact records (``contacts()``): the contacts of the last step that carried force
 (``λ_n > 0``); forces are impulses / h; ``tangential_force`` and ``slip_velocity`` are
@@ -37,8 +47,7 @@ surface and to the body (a body's ``None`` leaves the surface's value).
 
 Limits: one contact per sphere and surface (a sphere wider than a concave groove touches
 it at two points: only the nearest foot is modelled); spheres do not collide with each other
-or with the finger; the finger's joint limits are reported (``joint_limit`` events), not
-enforced.
+or with the finger.
 """
 
 from __future__ import annotations
@@ -50,17 +59,15 @@ import numpy as np
 from planner import checks
 from planner.errors import InvalidParameter
 from planner.sim.events import SimEvent
-from planner.sim.observation import Observation, SensorSettings, read_forces, read_joints
+from planner.sim.observation import Observation, SensorSettings
 from planner.sim.records import Contact
 from planner.sim.spatial import step_kernel as sk
 from planner.sim.spatial.bodies import FingerBody, SphereBody
 from planner.sim.spatial.closest import PlacedSurface
 from planner.sim.spatial.fast_step import KernelContact, fast_plate
-from planner.sim.spatial.kernel import finger_readings
+from planner.sim.spatial.observing import observe, record_owts
 from planner.sim.spatial.sensing import (
-    FULL_INTENSITY_FORCE,
     SAMPLE_RATE,
-    OWTSReading,
     OWTSRecorder,
 )
 from planner.sim.spatial.step_kernel import FALLBACK, record_row
@@ -418,90 +425,14 @@ class SpatialWorld(WorldBase):
                     )
                 )
 
-    def _record_owts(self, contacts) -> None:
-        f = self.finger
-        mine = [c for c in contacts if c.bodies[0] == f.name]
-        if mine:
-            c = max(mine, key=lambda c: c.normal_force)
-            R = f.tcs()
-            n = c.normal.tolist()
-            ft = c.tangential_force.tolist()
-            n_t = [-(R[0, j] * n[0] + R[1, j] * n[1] + R[2, j] * n[2]) for j in range(3)]
-            f_t = [R[0, j] * ft[0] + R[1, j] * ft[1] + R[2, j] * ft[2] for j in range(3)]
-            inten = min(c.normal_force / FULL_INTENSITY_FORCE, 1.0)
-        else:
-            n_t, inten, f_t = (0.0, 0.0, 0.0), 0.0, (0.0, 0.0, 0.0)
-        self._owts.advance(self.time, n_t, inten, f_t)
-
     # ------------------------------------------------------------------ sensing
-    def _tip_force(self) -> np.ndarray:
-        """(3,) force the tip applies on what it touches [N] (WCS)."""
-        f = self.finger
-        force = np.zeros(3)
-        for c in self.contacts():
-            if c.bodies[0] == f.name:
-                force -= c.normal_force * c.normal + c.tangential_force
-        return force
-
-    def _sense_prm(self) -> np.ndarray | None:
-        """Packed sensor settings of :func:`.kernel.joint_force_readings` (None: sensors the
-        kernel does not model; the numpy readers run)."""
-        if self._sense is False:
-            from robots.sensors import Encoder, ForceSensor
-
-            s = self.sensors
-            enc, fs = s.encoder, s.force
-            ok = (enc is None or type(enc) is Encoder) and (fs is None or type(fs) is ForceSensor)
-            self._sense = None
-            if ok:
-                self._sense = np.array(
-                    [
-                        0.0 if enc is None else enc.resolution,
-                        s.velocity_resolution,
-                        0.0 if fs is None else fs.resolution,
-                        0.0,  # set per call: whether finger.x holds the contact
-                        0.0 if fs is None else fs.noise_std,
-                        1.0 if fs is not None and fs.noise_std > 0 else 0.0,
-                    ]
-                )
-        return self._sense
+    def _record_owts(self, contacts) -> None:
+        record_owts(self, contacts)
 
     def observe(self, oracle: bool = False) -> Observation:
         """Sensor readings: 3GM encoders (θ1, θ2, θ3) [rad] and rates [rad/s], the fingertip
         force sensor (``tip_forces`` (1, 3): force the tip applies on the surface, WCS [N]),
         and ``owts``: the :class:`~planner.sim.spatial.OWTSReading` of the 5 kHz samples since
-        the previous call. ``truth`` (oracle only): poses, velocities, joints, contacts."""
-        truth = None
-        if oracle:
-            truth = {
-                "poses": {b: self.pose(b) for b in self.body_names},
-                "velocities": {b: self.velocity(b) for b in self.body_names},
-                "joints": self.joint_state(),
-                "contacts": self.contacts(),
-            }
-        if self.finger is None:
-            return Observation(self.time, np.zeros(0), np.zeros(0), truth=truth)
-        f = self.finger
-        prm = self._sense_prm() if self._from_kernel or not self.contacts() else None
-        if prm is None:  # the numpy readers (general path, or sensors the kernel lacks)
-            q, qd = read_joints(self.sensors, f.th, f.thd)
-            tip = read_forces(self.sensors, self._tip_force()[None, :], self.rng)
-            return Observation(self.time, q, qd, (f.name,), tip, None, self._owts.read(), truth)
-        # one compiled call for encoders, force sensor and OWTS (same draws, same numbers)
-        rec = self._owts
-        k = int(rec.state[1])
-        nf = 3 if prm[5] else 0
-        z = self.rng.standard_normal(nf + 2 * k) if nf or k else self._zero3
-        prm[3] = 1.0 if self._from_kernel else 0.0
-        out, on = np.empty(9 + 11 * k), np.empty(k, np.bool_)
-        finger_readings(f.x, z, nf, prm, rec.rows, rec.times, k, rec._params, rec._sigma, out, on)
-        rec.state[1] = 0.0
-        owts = OWTSReading(
-            out[9 : 9 + k],
-            out[9 + k : 9 + 5 * k].reshape(k, 4),
-            out[9 + 5 * k : 9 + 8 * k].reshape(k, 3),
-            out[9 + 8 * k :].reshape(k, 3),
-            on,
-        )
-        q, qd, tip = out[0:3], out[3:6], out[6:9].reshape(1, 3)
-        return Observation(self.time, q, qd, (f.name,), tip, None, owts, truth)
+        the previous call. ``truth`` (oracle only): poses, velocities, joints, contacts.
+        (:func:`planner.sim.spatial.observing.observe`.)"""
+        return observe(self, oracle)
