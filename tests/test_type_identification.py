@@ -188,3 +188,23 @@ def test_refine_with_outline_by_the_skeleton_of_the_traced_outline(kind, elongat
     assert refine_with_outline(dec, stadium, closed=False) == dec
     step = TypeDecision("step", 0.8, {"step": 0.8}, ())
     assert refine_with_outline(step, stadium, closed=True) == step
+
+
+def test_lone_foot_detection_spans_the_feature():
+    """Through the 8 mm ball a wide ridge's crest reads flatter than 1/r_f: the detector may
+    see only its concave foot; the detection then reaches to the crest of the crossing."""
+    from planner.exploration.surface.detection_adapter import PathAnalysis, PathFeature
+    from planner.exploration.surface.online import _with_relief_extreme
+
+    s = np.linspace(0.0, 0.03, 301)
+    w = 0.008 + 0.003 * np.exp(-((s - 0.015) ** 2) / (2 * 0.004**2))
+    uv = np.column_stack([s, np.zeros_like(s)])
+    foot = PathFeature(-1, 0.006, 0.005, 0.007, uv[60], 60.0)
+    a = PathAnalysis((foot,), "-", s, w, uv)
+    pts = _with_relief_extreme(np.array([foot.point]), [foot], a, 0.008)
+    assert len(pts) == 2 and pts[1][0] == pytest.approx(0.015, abs=2e-4)  # the crest
+    top = PathFeature(1, 0.015, 0.013, 0.017, uv[150], 150.0)
+    both = np.array([foot.point, top.point])
+    assert _with_relief_extreme(both, [foot, top], a, 0.008) is both  # a full pattern: as is
+    flat = PathAnalysis((foot,), "-", s, np.full_like(s, 0.008), uv)
+    assert len(_with_relief_extreme(np.array([foot.point]), [foot], flat, 0.008)) == 1
