@@ -144,7 +144,7 @@ def _acc(name, rows, raster_rows) -> dict:
 # ----------------------------------------------------------------------------- 3. closed loop
 NOISES_DEG = (0.5, 1.5, 3.0)  # OWTS polar-angle noise, 1 sigma [deg]
 SIZES = (1e-3, 2e-3, 3e-3, 4e-3, 5e-3)  # feature heights [m]
-REGION = np.array([[-0.018, 0.018], [-0.018, 0.018]])
+REGION = np.array([[-0.02, 0.02], [-0.02, 0.02]])
 
 
 def closed_cases(n: int, seed: int = 7) -> list[dict]:

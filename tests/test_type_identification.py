@@ -208,3 +208,5 @@ def test_lone_foot_detection_spans_the_feature():
     assert _with_relief_extreme(both, [foot, top], a, 0.008) is both  # a full pattern: as is
     flat = PathAnalysis((foot,), "-", s, np.full_like(s, 0.008), uv)
     assert len(_with_relief_extreme(np.array([foot.point]), [foot], flat, 0.008)) == 1
+    climbing = PathAnalysis((foot,), "-", s[:140], w[:140], uv[:140])  # still on the flank
+    assert _with_relief_extreme(np.array([foot.point]), [foot], climbing, 0.008) is None

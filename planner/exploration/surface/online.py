@@ -114,6 +114,10 @@ class OnlineDetector:
             if g[-1].end > s_now - (0.0 if flush else 1.25 * self.r):
                 continue  # the finger is still on it
             pts = _with_relief_extreme(np.array([f.point for f in g]), g, a, self.r)
+            if pts is None and not flush:
+                continue  # a lone foot and the finger still climbing (descending) the flank
+            if pts is None:
+                pts = np.array([f.point for f in g])
             mid = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
             if self.known(mid):
                 continue
@@ -132,8 +136,9 @@ def _with_relief_extreme(pts: np.ndarray, group, analysis, r: float, least: floa
     """The group's points plus, for a lone curvature feature (one sign: the foot of a wide
     ridge seen by a ball whose crest reads flatter than ``1/r_f``, a step's edge), the point
     of the path after it that departs most from its height (the crest), when that departs by
-    more than ``least`` [m] and is not at the end of the window: the detection then spans the
-    feature instead of sitting on its foot."""
+    more than ``least`` [m]: the detection then spans the feature instead of sitting on its
+    foot. None while that point is the end of the window (the finger is still on the flank:
+    wait)."""
     if len({f.sign for f in group}) > 1:
         return pts
     s, w = analysis.s, analysis.w
@@ -142,6 +147,8 @@ def _with_relief_extreme(pts: np.ndarray, group, analysis, r: float, least: floa
         return pts
     dev = np.abs(w[i0:] - w[i0])
     j = i0 + int(np.argmax(dev))
-    if dev[j - i0] < least or s[-1] - s[j] < 0.25 * r:
+    if dev[j - i0] < least:
         return pts
+    if s[-1] - s[j] < 0.25 * r:
+        return None
     return np.vstack([pts, analysis.point_at(j)])

@@ -209,6 +209,7 @@ def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float 
     start_uv = ex.est.uv.copy()
     first_uv = None  # where the first settled sample was taken
     near = None  # closest approach to it once back within 0.1 r
+    back = False  # the finger has come back to where tracing began
     steady, w, held = 0, float(ex.est.centre[2]), 0.0  # held: the integral term [-]
     samples: list[int] = []
     tangent = None
@@ -255,17 +256,39 @@ def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float 
             orient, tangent, steady = -orient, None, 0
             continue
         if farthest > 0.2 * r and travelled > max(2.5 * farthest, 0.5 * r):
+            # back past where tracing began (the unsettled stretch before the first kept
+            # sample is traced again, settled), then closed at the first kept sample
+            back = back or float(np.hypot(c[0] - start_uv[0], c[1] - start_uv[1])) < 0.25 * r
             home = start_uv if first_uv is None else first_uv
-            near = _closing(c, home, 0.1 * r, near)
+            near = _closing(c, home, 0.1 * r, near) if back else None
             if near is not None and near < 0:
-                reason = "loop closed"
-                break
+                if _covered(ex, samples, k_start):
+                    reason = "loop closed"
+                    break
+                near = None  # a stretch traced unsettled: once more around
+
             if near is None and ex.est.k % 100 == 0 and _decision(ex, cfg, samples, t_start) < 0:
                 reason = "decision parameter < 0 (no new boundary)"
                 break
         yield v
     closed = reason == "loop closed" or reason.startswith("decision")
     return TraceResult(np.array(samples, int), closed and ends == 0, ends, reason)
+
+
+def _covered(ex, samples: list[int], k_start: int, gap: float = 5e-4) -> bool:
+    """Whether every point the finger traced since ``k_start`` is within ``gap`` [m] of a
+    kept sample (a stretch it went round unsettled, at a sharp end cap on the first lap
+    say, leaves a hole in the outline until it is traced again)."""
+    from scipy.spatial import cKDTree
+
+    rec = ex.rec
+    if len(samples) < 10:
+        return False
+    path = rec.centre[k_start : rec.n : 10, :2][rec.phase[k_start : rec.n : 10] == PHASE["trace"]]
+    if len(path) == 0:
+        return True
+    d, _ = cKDTree(rec.centre[np.asarray(samples), :2]).query(path)
+    return bool(d.max() < gap)
 
 
 def _closing(c, home, zone: float, near: float | None, slack: float = 2e-4):
