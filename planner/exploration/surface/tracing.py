@@ -173,7 +173,7 @@ SMOOTH = 20
 #: lateral servo gains on the distance to the level line, proportional [1/s] and integral
 #: [1/s^2]: on a curved outline the finger's lag makes it drift outwards, which a purely
 #: proportional servo would balance with a steady offset from the level line
-LATERAL_GAIN, LATERAL_INTEGRAL = 10.0, 20.0
+LATERAL_GAIN, LATERAL_INTEGRAL = 10.0, 100.0
 #: the explorer's servo period (the 1 kHz control rate) [s]
 SERVO_DT = 1e-3
 #: flattest flank slope used to turn a height error into a distance [-]
