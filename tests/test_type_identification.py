@@ -136,3 +136,77 @@ def test_raster_pattern_matching_ridge_and_bump():
         ]
         found = raster_identify(lines, R)
         assert found and found[0].decision.kind == kind
+
+
+def _stadium_outline(half: float, rho: float, n: int = 600) -> np.ndarray:
+    """Closed outline of the points within ``rho`` of the segment (-half, 0)-(half, 0) [m]."""
+    t = np.linspace(0.0, 1.0, n, endpoint=False)
+    per = 4 * half + 2 * np.pi * rho
+    out = []
+    for x in t * per:
+        if x < 2 * half:
+            out.append((-half + x, -rho))
+        elif x < 2 * half + np.pi * rho:
+            a = (x - 2 * half) / rho - np.pi / 2
+            out.append((half + rho * np.cos(a), rho * np.sin(a)))
+        elif x < 4 * half + np.pi * rho:
+            out.append((half - (x - 2 * half - np.pi * rho), rho))
+        else:
+            a = (x - 4 * half - np.pi * rho) / rho + np.pi / 2
+            out.append((-half + rho * np.cos(a), rho * np.sin(a)))
+    return np.array(out)
+
+
+def test_outline_elongation_uses_area_not_sample_density():
+    from planner.exploration.surface.identify import outline_elongation
+
+    t = np.linspace(0, 2 * np.pi, 400, endpoint=False)
+    assert outline_elongation(np.column_stack([3e-3 * np.cos(t), 1e-3 * np.sin(t)])) == (
+        pytest.approx(3.0, rel=1e-3)
+    )
+    dense = np.concatenate([np.linspace(0, np.pi, 600), np.linspace(np.pi, 2 * np.pi, 30)[1:]])
+    circle = np.column_stack([5e-3 * np.cos(dense), 5e-3 * np.sin(dense)])
+    assert np.cov(circle.T)[1, 1] / np.cov(circle.T)[0, 0] < 0.8  # lopsided sample moments
+    assert outline_elongation(circle) == pytest.approx(1.0, abs=0.02)
+
+
+@pytest.mark.parametrize(("kind", "elongated"), [("bump", "ridge"), ("pit", "ravine")])
+def test_refine_with_outline_by_the_skeleton_of_the_traced_outline(kind, elongated):
+    """A bump's medial axis is a point; a 12 mm ridge seen through the ball is a stadium only
+    about twice as long as wide, but its axis is 12 mm long: ridge."""
+    from planner.exploration.surface.identify import TypeDecision, refine_with_outline
+
+    dec = TypeDecision(kind, 0.8, {kind: 0.8, elongated: 0.1}, ("flow chart",))
+    rng = np.random.default_rng(2)
+    stadium = _stadium_outline(6e-3, 6.5e-3) + rng.normal(0, 2e-5, (600, 2))
+    out = refine_with_outline(dec, stadium, closed=True)
+    assert out.kind == elongated and out.scores[elongated] == 0.8
+    assert "skeleton" in out.path[-1]
+    t = np.linspace(0, 2 * np.pi, 600, endpoint=False)
+    circle = np.column_stack([5e-3 * np.cos(t), 5e-3 * np.sin(t)]) + rng.normal(0, 2e-5, (600, 2))
+    assert refine_with_outline(dec, circle, closed=True) == dec
+    assert refine_with_outline(dec, stadium, closed=False) == dec
+    step = TypeDecision("step", 0.8, {"step": 0.8}, ())
+    assert refine_with_outline(step, stadium, closed=True) == step
+
+
+def test_lone_foot_detection_spans_the_feature():
+    """Through the 8 mm ball a wide ridge's crest reads flatter than 1/r_f: the detector may
+    see only its concave foot; the detection then reaches to the crest of the crossing."""
+    from planner.exploration.surface.detection_adapter import PathAnalysis, PathFeature
+    from planner.exploration.surface.online import _with_relief_extreme
+
+    s = np.linspace(0.0, 0.03, 301)
+    w = 0.008 + 0.003 * np.exp(-((s - 0.015) ** 2) / (2 * 0.004**2))
+    uv = np.column_stack([s, np.zeros_like(s)])
+    foot = PathFeature(-1, 0.006, 0.005, 0.007, uv[60], 60.0)
+    a = PathAnalysis((foot,), "-", s, w, uv)
+    pts = _with_relief_extreme(np.array([foot.point]), [foot], a, 0.008)
+    assert len(pts) == 2 and pts[1][0] == pytest.approx(0.015, abs=2e-4)  # the crest
+    top = PathFeature(1, 0.015, 0.013, 0.017, uv[150], 150.0)
+    both = np.array([foot.point, top.point])
+    assert _with_relief_extreme(both, [foot, top], a, 0.008) is both  # a full pattern: as is
+    flat = PathAnalysis((foot,), "-", s, np.full_like(s, 0.008), uv)
+    assert len(_with_relief_extreme(np.array([foot.point]), [foot], flat, 0.008)) == 1
+    climbing = PathAnalysis((foot,), "-", s[:140], w[:140], uv[:140])  # still on the flank
+    assert _with_relief_extreme(np.array([foot.point]), [foot], climbing, 0.008) is None

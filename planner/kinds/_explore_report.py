@@ -64,6 +64,9 @@ def report(config, ctx):
             goal=config.goal,
             trace_speed=config.trace_speed,
             friction=config.friction,
+            identify=config.identify,
+            control=config.control,
+            **({} if config.line_spacing is None else {"line_spacing": config.line_spacing}),
         )
     with ctx.timer("metrics"):
         metrics = exploration_metrics(res, plate, region, config.tip_radius, config.normal_force)

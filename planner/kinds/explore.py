@@ -13,6 +13,9 @@ Keys (SI units)::
           path: null             # polyline skeleton [[u, v], ...] of a finite/bent feature [m]
     region: [[-0.02, 0.02], [-0.02, 0.02]]   # explored box of the plate frame [m]
     strategy: raster             # raster | random_walk | bug2
+    identify: flow_chart         # flow_chart (crossings, Fig. 4.7 extended) | raster
+    control: open_loop           # normal force: open_loop (eq. 4.12) | closed_loop | qp
+    line_spacing: null           # raster line spacing [m] (default 1.5 r_f)
     goal: null                   # bug2 goal [u, v] in the plate frame [m]
     tip_radius: 0.008            # fingertip radius r_f [m]
     normal_force: 0.3            # desired normal force (eq. 4.12) [N]
@@ -23,8 +26,9 @@ Keys (SI units)::
     quick_duration: 0.6          # simulated time of --quick [s]
 
 Bad input (exit 2): a region or goal the fingertip cannot reach, a normal force beyond the
-motors' capacity (App. C.2.1), a bug2 strategy without goal. Features closer than a fingertip
-diameter (the §4.2.1 assumption) are run anyway, with a ``features_too_close`` event.
+motors' capacity (App. C.2.1), a bug2 strategy without goal, raster identification without
+the raster strategy. Features closer than a fingertip diameter (the §4.2.1 assumption) are
+run anyway, with a ``features_too_close`` event.
 """
 
 from __future__ import annotations
@@ -111,6 +115,19 @@ class Config(ScenarioBase):
     )
     goal: tuple[float, float] | None = Field(None, description="bug2 goal [m]")
     strategy: Literal["raster", "random_walk", "bug2"] = Field("raster", description="search")
+    identify: Literal["flow_chart", "raster"] = Field(
+        "flow_chart",
+        description="type identification: crossings of the extended Fig. 4.7 (stop at each "
+        "detection) or pattern matching of the whole raster's curvature regions (§4.4.1)",
+    )
+    control: Literal["open_loop", "closed_loop", "qp"] = Field(
+        "open_loop",
+        description="normal-force variant of the hybrid law (open loop eq. 4.12, PI on the "
+        "sensed normal force, torque-limit QP)",
+    )
+    line_spacing: float | None = Field(
+        None, gt=0, le=0.1, description="raster line spacing [m] (default 1.5 r_f)"
+    )
     speed: float = Field(0.03, gt=0, le=0.1, description="search speed [m/s]")
     trace_speed: float = Field(0.012, gt=0, le=0.1, description="tracing speed [m/s]")
     friction: float = Field(0.1, ge=0, le=2, description="fingertip-plate friction [-]")
@@ -138,6 +155,11 @@ class Config(ScenarioBase):
     def _force_and_goal(self):
         if self.strategy == "bug2" and self.goal is None:
             raise ValueError("strategy bug2 needs a goal [u, v] [m]")
+        if self.identify == "raster" and self.strategy != "raster":
+            raise ValueError(
+                f"identify raster pattern-matches the raster's lines: needs strategy raster, "
+                f"got {self.strategy}"
+            )
         _reach(self.plate, self.tip_radius, self.region, None, self.normal_force)
         return self
 

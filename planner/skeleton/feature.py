@@ -25,6 +25,13 @@ Ogniewicz):
    ``2 s_90 + 4 sigma`` with ``s_90`` the 90th percentile of the spacing); with
    ``branching=False`` keep only the longest path (or, when the skeleton has loops, the
    loops and the paths between them).
+6. Significance pruning (:mod:`planner.skeleton.significance`): peel end points while the
+   shape rebuilt from the medial disks changes by less than ``min_significance`` (default
+   0: off); it removes the spurs and the wandering axis that boundary errors grow on
+   near-circular parts (a near-circle's medial axis is a point, a slightly elliptic one's
+   a segment about four times the ellipticity long). Smooth outlines only: it also
+   shortens the branches into sharp corners, by ``min_significance / (1 - sin(a/2))`` for a
+   corner of angle ``a`` (whose tips the medial disks hardly reach).
 
 The spacing ``s`` defaults to the median step (or nearest-neighbour distance for unordered
 samples) and the noise ``sigma`` to a robust estimate from second differences along the
@@ -52,6 +59,7 @@ from planner.skeleton.region import (
     region_polygon,
     sampling_profile,
 )
+from planner.skeleton.significance import peel_insignificant
 from planner.skeleton.voronoi import voronoi
 
 
@@ -68,6 +76,8 @@ class SkeletonSettings:
         min_angle_deg: smallest angle subtended by the generating samples of a kept edge,
             seen from its end of larger radius [deg] (0 disables the test).
         min_branch_length: terminal arcs shorter than this are pruned [m].
+        min_significance: end points are peeled while the union of the medial disks moves
+            by less than this (Hausdorff) [m]; 0 disables the stage.
         keep_largest: keep only the connected skeleton with the most edges (Fig. 4.13).
         branching: ``False`` for non-branching features: keep only the main path (Fig. 4.12).
         link_factor: samples closer than ``link_factor * spacing`` are neighbours on the
@@ -78,6 +88,7 @@ class SkeletonSettings:
     min_generator_distance: float | None = None
     min_branch_length: float | None = None
     min_angle_deg: float = 45.0
+    min_significance: float = 0.0
     keep_largest: bool = True
     branching: bool = True
     link_factor: float = 3.0
@@ -86,6 +97,7 @@ class SkeletonSettings:
         for key in ("max_edge_length", "min_generator_distance", "min_branch_length"):
             if getattr(self, key) is not None:
                 checks.nonnegative(key, getattr(self, key), "m")
+        checks.nonnegative("min_significance", self.min_significance, "m")
         checks.in_range(
             "min_angle_deg", self.min_angle_deg, 0.0, 180.0, "deg", closed=(True, False)
         )
@@ -339,13 +351,24 @@ def feature_skeleton(
             path = g.longest_path(points, edges)
             points, edges, radii = points[path], g.path_edges(np.arange(len(path))), radii[path]
         stages["main_path"] = len(edges)
-    if len(edges) == 0 and inside.any():
-        # a disk-like feature whose axis degenerates to a point: the innermost vertex
+    if len(edges) and s.min_significance > 0:
+        alive = peel_insignificant(points, edges, radii, s.min_significance)
+        points, edges, radii = _keep_points(points, edges, radii, alive)
+        stages["significance"] = len(edges)
+        if len(edges) == 0:
+            stages["single_point"] = 1
+    if inside.any():
         cand = np.flatnonzero(inside)
         r_in = np.hypot(*(verts[cand] - pts[_nearest(pts, verts[cand])]).T)
-        best = cand[np.argmax(r_in)]
-        points, radii = verts[best : best + 1], np.array([r_in.max()])
-        stages["single_point"] = 1
+        # a disk-like feature whose axis degenerates to a point (or whose whole medial axis
+        # fell to the edge-length test, leaving only shallow pieces near a boundary defect):
+        # the innermost vertex, the centre of the largest inscribed disk
+        shallow = len(points) > 0 and float(radii.max()) < 0.5 * float(r_in.max())
+        if shallow or (len(edges) == 0 and "single_point" not in stages):
+            best = cand[np.argmax(r_in)]
+            points, edges = verts[best : best + 1], np.zeros((0, 2), np.int64)
+            radii = np.array([r_in.max()])
+            stages["single_point"] = 1
     return Skeleton(
         points.copy(),
         edges.astype(np.int64),
@@ -356,6 +379,15 @@ def feature_skeleton(
         region,
         stages,
     )
+
+
+def _keep_points(points, edges, radii, alive: np.ndarray):
+    """The skeleton restricted to the points ``alive`` (K,) (a lone point survives)."""
+    e = edges[alive[edges[:, 0]] & alive[edges[:, 1]]]
+    if len(e):
+        return g.compact(points, e, radii)
+    i = np.flatnonzero(alive)[:1]
+    return points[i], np.zeros((0, 2), np.int64), radii[i]
 
 
 def _nearest(samples: np.ndarray, query: np.ndarray) -> np.ndarray:

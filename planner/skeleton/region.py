@@ -244,8 +244,8 @@ def region_polygon(points: np.ndarray, loops: BoundaryLoops | list[np.ndarray]) 
         poly = shapely.Polygon(points[loop])
         if not poly.is_valid:
             poly = shapely.make_valid(poly)
-            poly = shapely.union_all(
-                [g for g in shapely.get_parts(poly) if g.geom_type == "Polygon"]
+            poly = shapely.union_all(  # a trace that overlaps its start: keep the areas
+                [g for g in shapely.get_parts(poly) if g.geom_type.endswith("Polygon")]
             )
         region = shapely.symmetric_difference(region, poly)
     if region.is_empty or region.area <= 0:

@@ -49,12 +49,18 @@ class PathAnalysis:
             ``"-+-"``), ``""`` when nothing was found.
         s: (N,) horizontal arclength of the samples [m].
         w: (N,) fingertip-centre height above the plate [m].
+        uv: (N, 2) the samples' ``(u, v)`` in the plate frame [m].
     """
 
     features: tuple[PathFeature, ...]
     pattern: str
     s: np.ndarray
     w: np.ndarray
+    uv: np.ndarray | None = None
+
+    def point_at(self, i: int) -> np.ndarray:
+        """(2,) ``(u, v)`` of sample ``i`` [m]."""
+        return np.asarray(self.uv[i], float)
 
 
 def collapse_pattern(signs) -> str:
@@ -99,7 +105,7 @@ def analyse_path(
     s = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(P[:, 0]), np.diff(P[:, 1])))])
     w = P[:, 2]
     if len(P) < 20 or s[-1] <= max(min_length, 4 * tip_radius / 10):
-        return PathAnalysis((), "", s, w)
+        return PathAnalysis((), "", s, w, P[:, :2])
     strip = np.column_stack([s, w])
     try:
         scale = tip_radius / 10 if smoothing is None else smoothing
@@ -107,7 +113,7 @@ def analyse_path(
             strip, tip_radius, algorithm, material_side="right", smoothing_scale=scale
         )
     except Exception:  # too few samples after decimation etc.: no features on this path
-        return PathAnalysis((), "", s, w)
+        return PathAnalysis((), "", s, w, P[:, :2])
     # the detector's arclength is along the 2-D strip (s, w); map it back to samples
     s_strip = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(strip, axis=0), axis=1))])
     idx = np.arange(len(P), dtype=float)
@@ -126,4 +132,4 @@ def analyse_path(
                 index=i,
             )
         )
-    return PathAnalysis(tuple(feats), collapse_pattern(f.sign for f in feats), s, w)
+    return PathAnalysis(tuple(feats), collapse_pattern(f.sign for f in feats), s, w, P[:, :2])

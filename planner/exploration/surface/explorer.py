@@ -175,23 +175,12 @@ def _warm_up(ex, scratch_world) -> None:
     scratch_world().run(0.002)
 
 
-def _refine(dec, boundary: np.ndarray, closed: bool, elongation: float = 2.0):
-    """After tracing, compare the outline's shape with the kind (§4.4.1: the pattern of the
-    traced curvature region): a closed outline much longer than wide is a ridge or ravine, not
-    a bump or pit (the along crossing can run past a short ridge's end caps)."""
-    from dataclasses import replace
+def _refine(dec, boundary: np.ndarray, closed: bool):
+    """After tracing, compare the outline's shape with the kind
+    (:func:`~planner.exploration.surface.identify.refine_with_outline`)."""
+    from planner.exploration.surface.identify import refine_with_outline
 
-    if not closed or len(boundary) < 10 or dec.kind not in ("bump", "pit"):
-        return dec
-    ev = np.sqrt(np.maximum(np.linalg.eigvalsh(np.cov(boundary.T)), 0.0))
-    ratio = float(ev[-1] / max(ev[0], 1e-12))
-    if ratio <= elongation:
-        return dec
-    kind = "ridge" if dec.kind == "bump" else "ravine"
-    scores = dict(dec.scores)
-    scores[kind], scores[dec.kind] = scores[dec.kind], scores[kind]
-    note = f"traced outline {ratio:.1f} times longer than wide: {dec.kind} -> {kind}"
-    return replace(dec, kind=kind, scores=scores, path=(*dec.path, note))
+    return refine_with_outline(dec, boundary, closed)
 
 
 def _result(ex, state, log, cfg, T, wall) -> ExplorationResult:

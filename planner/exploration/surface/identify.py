@@ -61,6 +61,8 @@ __all__ = [
     "flow_chart_next",
     "identify",
     "level_change",
+    "outline_elongation",
+    "refine_with_outline",
     "relief",
 ]
 
@@ -313,3 +315,72 @@ def evidence(centers_uvw, normals_uvw, tip_radius: float, role: str = "across"):
         c = Crossing(a.pattern, role)
     d = P[-1, :2] - P[0, :2]
     return c, a, crossing_axis(normals_uvw, d if np.linalg.norm(d) > 0 else (1.0, 0.0))
+
+
+def outline_elongation(boundary: np.ndarray) -> float:
+    """Length over width [-] of a traced closed outline ((N, 2) samples in trace order [m]):
+    the square root of the ratio of the principal second moments of the *area* it encloses.
+    Area moments do not depend on how densely each part was sampled (the tracer keeps only
+    settled samples, so a circle traced with gaps has lopsided sample moments but round area
+    moments); nan when the samples enclose no area."""
+    import shapely
+
+    P = np.asarray(boundary, float)
+    if len(P) < 4:
+        return float("nan")
+    poly = shapely.Polygon(P)
+    if not poly.is_valid:
+        poly = shapely.make_valid(poly)
+        parts = [g for g in shapely.get_parts(poly) if g.geom_type.endswith("Polygon")]
+        poly = shapely.union_all(parts).convex_hull if parts else shapely.Polygon()
+    if poly.is_empty or poly.area <= 0:
+        return float("nan")
+    tri = shapely.get_parts(shapely.delaunay_triangles(poly))
+    tri = [t for t in tri if poly.contains(t.representative_point())]
+    A = np.array([t.area for t in tri])
+    V = np.array([np.asarray(t.exterior.coords)[:3] for t in tri])  # (T, 3, 2)
+    c = (A[:, None] * V.mean(axis=1)).sum(axis=0) / A.sum()
+    V = V - c
+    # second moments of each triangle: A/12 (sum v v^T + (sum v)(sum v)^T)
+    S = V.sum(axis=1)
+    M = (A[:, None, None] / 12.0) * (
+        np.einsum("tki,tkj->tij", V, V) + np.einsum("ti,tj->tij", S, S)
+    )
+    ev = np.linalg.eigvalsh(M.sum(axis=0))
+    return float(np.sqrt(ev[-1] / max(ev[0], 1e-30)))
+
+
+def refine_with_outline(
+    decision: TypeDecision, boundary: np.ndarray, closed: bool, elongation: float = 1.0
+) -> TypeDecision:
+    """After tracing, compare the outline's shape with the kind (§4.4.1: the pattern of the
+    traced curvature region). A bump's or a pit's medial axis is a point (rotational
+    symmetry); a ridge's or a ravine's is its crest line. A closed outline whose pruned
+    skeleton (:func:`~planner.exploration.surface.modelling.feature_model`) is longer than
+    ``elongation`` times its largest inscribed radius is a ridge or a ravine (the along
+    crossing can run past a short ridge's end caps, and an 8 mm ball makes a 12 mm ridge's
+    outline only twice as long as wide).
+
+    Args:
+        decision: the flow chart's (or the raster match's) decision.
+        boundary: (N, 2) traced boundary samples [m]; closed: whether the loop closed.
+        elongation: skeleton length over largest medial radius beyond which the feature is
+            elongated [-].
+    """
+    from dataclasses import replace
+
+    from planner.exploration.surface.modelling import feature_model
+
+    if not closed or len(boundary) < 10 or decision.kind not in ("bump", "pit"):
+        return decision
+    sk = feature_model(decision.kind, [np.asarray(boundary, float)], True)
+    if sk is None or len(sk.radii) == 0 or not sk.length > elongation * float(sk.radii.max()):
+        return decision
+    kind = "ridge" if decision.kind == "bump" else "ravine"
+    scores = dict(decision.scores)
+    scores[kind], scores[decision.kind] = scores[decision.kind], scores[kind]
+    note = (
+        f"traced outline's skeleton {sk.length * 1e3:.1f} mm long, inscribed radius "
+        f"{sk.radii.max() * 1e3:.1f} mm: {decision.kind} -> {kind}"
+    )
+    return replace(decision, kind=kind, scores=scores, path=(*decision.path, note))

@@ -5,7 +5,8 @@ skeleton (within ``2 r_f``). Boundary deviation is the distance of every traced 
 sample to the true outline (:func:`planner.exploration.surface.plates.truth_features`);
 the skeleton error is the Hausdorff distance between the found skeleton and the true one
 (the true one clipped to the traced extent for open features, which are traced only inside
-the region).
+the region). The skeleton of a step or a cusp is the pseudo-skeleton of §4.4.3, the traced
+outline itself; it is scored against the true outline line it follows.
 """
 
 from __future__ import annotations
@@ -59,6 +60,36 @@ def _hausdorff(found: np.ndarray, true_skel: np.ndarray, closed: bool) -> float:
     return float(shapely.hausdorff_distance(shapely.MultiPoint(found), _skel_geom(t)))
 
 
+def _pseudo_hausdorff(found: np.ndarray, truth) -> float:
+    """Hausdorff distance [m] of a pseudo-skeleton (a step or cusp traced along, §4.4.3) to
+    the true outline line it follows (the nearest one), clipped to the traced extent along
+    the feature's axis: the pseudo-skeleton *is* the traced outline, so its truth is the
+    true outline, not the step's axis (a ball of radius r_f rests on the foot of a step of
+    height h up to sqrt(2 r_f h - h^2) from its edge)."""
+    import shapely
+
+    lines = [shapely.LineString(ln) for ln in truth.outline if len(ln) >= 2]
+    if not lines:
+        return float("nan")
+    pts = shapely.points(found)
+    line = min(lines, key=lambda g: float(np.mean(shapely.distance(pts, g))))
+    t = np.asarray(truth.skeleton, float)
+    d = (t[-1] - t[0]) / max(float(np.linalg.norm(t[-1] - t[0])), 1e-12)
+    s = (found - t[0]) @ d
+    n = np.array([-d[1], d[0]])
+    far = 1.0  # [m] the band across the axis, longer than any plate
+    band = shapely.Polygon(
+        [
+            t[0] + a * d + b * far * n
+            for a, b in ((s.min(), -1), (s.max(), -1), (s.max(), 1), (s.min(), 1))
+        ]
+    )
+    clipped = line.intersection(band)
+    if clipped.is_empty:
+        return float("nan")
+    return float(shapely.hausdorff_distance(shapely.MultiPoint(found), clipped))
+
+
 def exploration_metrics(result, plate, region, tip_radius: float, normal_force: float) -> dict:
     """All scalar metrics of one exploration (JSON-serialisable dict)."""
     import shapely
@@ -82,8 +113,11 @@ def exploration_metrics(result, plate, region, tip_radius: float, normal_force: 
         if t.closed:
             closures.append(bool(f.closed))
         sk = _found_skeleton(f)
-        if sk is not None:
+        if sk is not None and t.kind in ("step", "cusp") and f.kind == t.kind:
+            haus.append(_pseudo_hausdorff(sk, t))
+        elif sk is not None:
             haus.append(_hausdorff(sk, t.skeleton, t.closed))
+    own = _own_level_deviation(result, plate, region, tip_radius, match)
     dev = np.concatenate(devs) if devs else np.zeros(0)
     log = result.log
     fn = _normal_force_error(result, log, normal_force)
@@ -97,6 +131,7 @@ def exploration_metrics(result, plate, region, tip_radius: float, normal_force: 
         "type_accuracy": correct / len(found_true) if found_true else float("nan"),
         "boundary_deviation_mean_mm": float(dev.mean() * 1e3) if dev.size else float("nan"),
         "boundary_deviation_max_mm": dmax * 1e3 if dev.size else float("nan"),
+        "boundary_deviation_own_level_mm": own,
         "closure": float(np.mean(closures)) if closures else float("nan"),
         "skeleton_hausdorff_mm": float(np.max(haus) * 1e3) if haus else float("nan"),
         "exploration_time_s": result.sim_time,
@@ -106,6 +141,36 @@ def exploration_metrics(result, plate, region, tip_radius: float, normal_force: 
         "detection_latency_mean_s": float(np.mean(lat)) if lat else float("nan"),
         "saturation_events": sum(e.kind == "torque_saturated" for e in result.events),
     }
+
+
+def _own_level_deviation(result, plate, region, tip_radius: float, match) -> float:
+    """Mean distance [mm] of the boundary samples of bumps, pits, ridges and ravines to the
+    true outline *at the level the tracer followed* (the median centre height of its
+    samples), not ``rise`` off the plate's asymptotic level: a diagnostic that separates
+    the tracing error from the choice of the level (the plate level next to a feature with
+    long tails, which the region never reaches, is not the asymptotic one); nan without
+    such features."""
+    import shapely
+
+    from planner.exploration.surface.plates import truth_features
+
+    rows = {tuple(p[:2]): p[2] for p in np.asarray(result.path)}
+    devs = []
+    for f, j in zip(result.features, match, strict=True):
+        kind = plate.features[j].kind if j is not None else ""
+        if kind not in ("bump", "pit", "ridge", "ravine") or len(f.boundary) < 4:
+            continue
+        z = np.array([rows.get(tuple(q), np.nan) for q in f.boundary])
+        sign = -1.0 if kind in ("pit", "ravine") else 1.0
+        rise = sign * (float(np.nanmedian(z)) - tip_radius - float(plate.base))
+        if not rise > 0:
+            continue
+        t = truth_features(plate, region, tip_radius, _rises(plate, j, rise))[j]
+        lines = [ln for ln in t.outline if len(ln) >= 2]
+        if lines:
+            d = shapely.distance(shapely.points(f.boundary), shapely.MultiLineString(lines))
+            devs.append(d)
+    return float(np.concatenate(devs).mean() * 1e3) if devs else float("nan")
 
 
 def _rises(plate, j: int, rise: float) -> np.ndarray:

@@ -1,7 +1,11 @@
 """Feature and global skeletons of the traced features (thesis §4.4.3, §4.5.3).
 
 * Closed outlines (bumps, pits, closed ridges): the pruned DVMA of the boundary samples
-  (:func:`planner.skeleton.feature_skeleton`).
+  (:func:`planner.skeleton.feature_skeleton`), with the significance pruning at the
+  tracer's lateral accuracy (:data:`SIGNIFICANCE`): the traced outline is a smooth level
+  line whose samples are kept within ``ACCEPT_LATERAL`` of it, and the medial axis of a
+  near-circle known that well wanders by several times as much (a bump's skeleton is a
+  point).
 * Open features traced on both sides (ridges, ravines reaching the region's edges): the
   medial axis between the two sides - the DVMA of both sides' samples, pruned to its
   largest connected part (Fig. 4.13); if the skeleton library cannot build it (the samples
@@ -16,8 +20,13 @@ from __future__ import annotations
 import numpy as np
 
 from planner.errors import HapexError
+from planner.exploration.surface.tracing import ACCEPT_LATERAL
 
-__all__ = ["feature_model", "global_model"]
+__all__ = ["SIGNIFICANCE", "feature_model", "global_model"]
+
+#: what the medial disks may move when pruning [m]: samples on opposite sides of the outline
+#: are each within ``ACCEPT_LATERAL`` of it
+SIGNIFICANCE = 2.0 * ACCEPT_LATERAL
 
 
 def _midline(a: np.ndarray, b: np.ndarray):
@@ -43,7 +52,7 @@ def feature_model(kind: str, sides: list[np.ndarray], closed: bool):
         return None
     try:
         if closed:
-            return feature_skeleton(np.vstack(sides))
+            return feature_skeleton(np.vstack(sides), min_significance=SIGNIFICANCE)
         if kind in ("step", "cusp") or len(sides) == 1:
             return pseudo_skeleton(sides[0])
         if len(sides) >= 2:

@@ -6,7 +6,10 @@ fingertip-centre path (subsampled to about ``r_f/100``). A macro feature (curvat
 within ``r_f`` of each other, Definition 2) is reported once the finger is more than
 ``1.25 r_f`` past its last curvature feature, i.e. when the whole pattern has been crossed;
 the **latency** is the time from crossing the peak of that last feature to the report.
-Features inside the known area of already explored features are ignored.
+Features inside the known area of already explored features are ignored, and so are
+features whose peak lies within :data:`EDGE` ``r_f`` (two smoothing scales of the detector)
+of either end of the analysed path: there the Gaussian smoothing runs off the data and the
+finger accelerates from rest over steps of the quantized encoders, which reads as curvature.
 """
 
 from __future__ import annotations
@@ -17,7 +20,13 @@ import numpy as np
 
 from planner.exploration.surface.detection_adapter import analyse_path, collapse_pattern
 
-__all__ = ["Detection", "OnlineDetector"]
+__all__ = ["EDGE", "STRIDE", "Detection", "OnlineDetector"]
+
+#: margin at the ends of the analysed path where curvature features are not trusted [r_f]
+EDGE = 0.2
+#: the window is analysed again once the finger has moved this far [r_f] (1 mm: a report
+#: comes at most ~30 ms later at the search speed; algorithm 3 over the window is ~1.5 ms)
+STRIDE = 0.125
 
 
 @dataclass(frozen=True)
@@ -61,6 +70,7 @@ class OnlineDetector:
         self.ex, self.r, self.window, self.known = ex, tip_radius, window, known
         self.latencies: list[float] = []
         self.calls = 0
+        self._last = None  # (2,) where the last analysis ended
 
     def __call__(self, k0: int, k1: int, flush: bool = False) -> Detection | None:
         """Detection in the recorder range ``k0:k1`` (``flush``: the sweep ended, report
@@ -68,6 +78,14 @@ class OnlineDetector:
         rec = self.ex.rec
         if k1 - k0 < 30:
             return None
+        here = rec.centre[k1 - 1, :2]
+        if (
+            not flush
+            and self._last is not None
+            and float(np.hypot(*(here - self._last))) < (STRIDE * self.r)
+        ):
+            return None  # less than STRIDE r_f of new path since the last analysis
+        self._last = here.copy()
         self.calls += 1
         C = rec.centre[k0:k1]
         step = np.hypot(*np.diff(C[-60:, :2], axis=0).T)
@@ -80,8 +98,12 @@ class OnlineDetector:
         if not a.features:
             return None
         s_now = a.s[-1]
-        groups, cur = [], [a.features[0]]
-        for f in a.features[1:]:
+        edge = EDGE * self.r
+        feats = [f for f in a.features if edge <= f.s <= s_now - edge]
+        if not feats:
+            return None
+        groups, cur = [], [feats[0]]
+        for f in feats[1:]:
             if f.start - cur[-1].end <= self.r:
                 cur.append(f)
             else:
@@ -91,7 +113,11 @@ class OnlineDetector:
         for g in groups:
             if g[-1].end > s_now - (0.0 if flush else 1.25 * self.r):
                 continue  # the finger is still on it
-            pts = np.array([f.point for f in g])
+            pts = _with_relief_extreme(np.array([f.point for f in g]), g, a, self.r)
+            if pts is None and not flush:
+                continue  # a lone foot and the finger still climbing (descending) the flank
+            if pts is None:
+                pts = np.array([f.point for f in g])
             mid = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
             if self.known(mid):
                 continue
@@ -104,3 +130,25 @@ class OnlineDetector:
                 pts, signs, collapse_pattern(signs), first, last, i0, k1, rec.t[k1 - 1], lat
             )
         return None
+
+
+def _with_relief_extreme(pts: np.ndarray, group, analysis, r: float, least: float = 3e-4):
+    """The group's points plus, for a lone curvature feature (one sign: the foot of a wide
+    ridge seen by a ball whose crest reads flatter than ``1/r_f``, a step's edge), the point
+    of the path after it that departs most from its height (the crest), when that departs by
+    more than ``least`` [m]: the detection then spans the feature instead of sitting on its
+    foot. None while that point is the end of the window (the finger is still on the flank:
+    wait)."""
+    if len({f.sign for f in group}) > 1:
+        return pts
+    s, w = analysis.s, analysis.w
+    i0 = int(round(group[0].index))
+    if i0 >= len(w) - 2:
+        return pts
+    dev = np.abs(w[i0:] - w[i0])
+    j = i0 + int(np.argmax(dev))
+    if dev[j - i0] < least:
+        return pts
+    if s[-1] - s[j] < 0.25 * r:
+        return None
+    return np.vstack([pts, analysis.point_at(j)])

@@ -144,7 +144,9 @@ def truth_features(
     The outline is the level line of the traced surface (the fingertip centre resting on the
     feature, grey dilation of its heights by the ball, :func:`planner.geometry.surfaces.
     offset_surfaces`) ``rise`` above the plate level (below it for pits and ravines): the
-    line :mod:`~planner.exploration.surface.tracing` servoes on.
+    line :mod:`~planner.exploration.surface.tracing` servoes on. A step has two: ``rise``
+    above its lower level and ``rise`` below its upper one (the tracer follows the one of the
+    side it starts from); a cusp's are ``rise`` below its crest, on both flanks.
 
     Args:
         plate: a :class:`~planner.sim.spatial.plate.Plate`.
@@ -175,6 +177,8 @@ def truth_features(
         field = np.where(inside, traced, np.nan)
         gen = contourpy.contour_generator(V, U, field)  # x = v, y = u: returns (v, u) pairs
         lines = [ln[:, ::-1] for ln in gen.lines(level) if len(ln) > 2]
+        if f.kind == "step":  # seen from the upper side: ``rise`` below the upper level
+            lines += [ln[:, ::-1] for ln in gen.lines(f.height - rise) if len(ln) > 2]
         centre = np.array(f.position, float)
         path = getattr(f, "path", None)
         if f.kind in CLOSED_KINDS or path is not None:
@@ -189,7 +193,7 @@ def truth_features(
             axis = np.array([-math.sin(a), math.cos(a)])
             skel = _clip_line(centre, axis, reg)
             closed = False
-            if len(lines) > 2:
+            if len(lines) > 2 and f.kind != "step":
                 lines = sorted(lines, key=lambda ln: -len(ln))[:2]
         out.append(TruthFeature(KIND_OF[f.kind], tuple(lines), closed, skel, centre))
     return out

@@ -118,7 +118,9 @@ def trace_feature(ex, cfg, rec_f: FeatureRecord, region, half: float):
         start = rec_f.centre + side * (half + 0.25 * cfg.tip_radius) * rec_f.across
         inward = -side * rec_f.across
         limit = 2 * half + cfg.tip_radius
-        outline = yield from find_outline(ex, cfg, start, inward, limit, rec_f.rise)
+        outline = yield from find_outline(
+            ex, cfg, start, inward, limit, rec_f.rise, crest=kind == "cusp"
+        )
         if outline is None:
             rec_f.reasons.append("outline not found")
             continue
@@ -142,6 +144,11 @@ def _remember(ex, state: ProgramState, rec_f: FeatureRecord, r: float) -> None:
 
 def exploration_program(ex, cfg, region: np.ndarray, rng, state: ProgramState):
     """The generator driving :class:`ExplorerController` (see the module doc)."""
+    if cfg.identify == "raster":
+        from planner.exploration.surface.raster_program import raster_program
+
+        yield from raster_program(ex, cfg, region, rng, state)
+        return
     r = cfg.tip_radius
     yield from approach(ex)
     detector = OnlineDetector(ex, r, cfg.window, state.is_known)

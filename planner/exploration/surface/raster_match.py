@@ -42,6 +42,8 @@ class RasterFeature:
         signs: (K,) their signs.
         elongation: major over minor extent of the cluster [-].
         lines: indices of the raster lines that met it.
+        relief: relief of the line that rises or dips most over it [m] (see
+            :func:`~planner.exploration.surface.identify.relief`).
     """
 
     decision: TypeDecision
@@ -49,6 +51,23 @@ class RasterFeature:
     signs: np.ndarray
     elongation: float
     lines: tuple[int, ...]
+    relief: float = 0.0
+
+    @property
+    def centre(self) -> np.ndarray:
+        """(2,) middle of the cluster's curvature features [m]."""
+        return 0.5 * (self.points.min(axis=0) + self.points.max(axis=0))
+
+    def axis(self, line_direction=(1.0, 0.0), elongated: float = 2.5) -> np.ndarray:
+        """(2,) unit direction *across* the feature: normal to the cluster's long axis when
+        it is ``elongated`` times longer than wide (a ridge met by many lines), else
+        ``line_direction``."""
+        d = np.asarray(line_direction, float)
+        if len(self.points) < 3 or self.elongation <= elongated:
+            return d / np.linalg.norm(d)
+        w, v = np.linalg.eigh(np.cov(self.points.T))
+        major = v[:, -1]
+        return np.array([-major[1], major[0]])
 
 
 def _clusters(points: np.ndarray, gap: float) -> np.ndarray:
@@ -135,6 +154,7 @@ def raster_identify(
                 np.array(sg)[idx],
                 elong,
                 tuple(sorted({line_of[j] for j in idx})),
+                best_c.relief,
             )
         )
     out.sort(key=lambda r: -len(r.points))

@@ -79,6 +79,13 @@ class ExplorationSettings:
         checks.nonnegative("info_weight", self.info_weight)
         checks.nonnegative("cost_weight", self.cost_weight)
         checks.choice("identify", self.identify, ("flow_chart", "raster"))
+        if self.identify == "raster" and self.strategy != "raster":
+            from planner.errors import InvalidParameter
+
+            raise InvalidParameter(
+                f"identify: 'raster' pattern-matches the lines of the raster search; needs "
+                f"strategy='raster', got strategy={self.strategy!r}"
+            )
         if self.goal is not None:
             g = checks.vector("goal", self.goal, 2, "m")
             object.__setattr__(self, "goal", (float(g[0]), float(g[1])))

@@ -27,7 +27,14 @@ import numpy as np
 from planner.exploration.surface.motions import move_to
 from planner.exploration.surface.runtime import PHASE
 
-__all__ = ["Outline", "TraceResult", "find_outline", "trace_boundary"]
+__all__ = [
+    "Outline",
+    "TraceResult",
+    "find_outline",
+    "level_distance",
+    "plate_level",
+    "trace_boundary",
+]
 
 
 @dataclass(frozen=True)
@@ -69,9 +76,44 @@ def _inside(p: np.ndarray, region: np.ndarray, margin: float) -> bool:
     )
 
 
-def find_outline(ex, cfg, start, inward, limit: float, rise: float | None = None):
+def plate_level(ex, local: float, rise: float, ends: int = 40) -> float:
+    """The plate level [m] (centre height on the bare plate) next to the feature.
+
+    ``local`` [m] is the height where the approach starts, a few millimetres from the
+    feature: on the long tails of a wide bump or pit it is off the plate by a good part of
+    ``rise``, which would move the traced level line. The last across crossing ran through
+    the feature about twice as far out; the level at its end nearer to the finger (the same
+    side: a step's other level is never mixed in) is used when it is within ``rise`` of
+    ``local`` (raster identification has no across crossing: ``local``).
+    """
+    rec = ex.rec
+    idx = np.flatnonzero(rec.phase[: rec.n] == PHASE["across"])
+    if idx.size < 4 * ends:
+        return local
+    cut = np.flatnonzero(np.diff(idx) > 1)
+    run = idx[cut[-1] + 1 :] if cut.size else idx
+    if run.size < 4 * ends:
+        return local
+    here = ex.est.uv
+    heads = (run[:ends], run[-ends:])
+    near = min(heads, key=lambda k: float(np.hypot(*(rec.centre[k, :2].mean(axis=0) - here))))
+    w = float(np.mean(rec.centre[near, 2]))
+    return w if abs(w - local) < rise else local
+
+
+def find_outline(
+    ex, cfg, start, inward, limit: float, rise: float | None = None, crest: bool = False
+):
     """Slide from ``start`` along ``inward`` until the centre leaves the plate level by
-    ``boundary_rise``; returns an :class:`Outline` or None (not met within ``limit`` [m])."""
+    ``boundary_rise``; returns an :class:`Outline` or None (not met within ``limit`` [m]).
+
+    Once the contact is tilted (on the feature's flank) the finger slides along the slope
+    (up a raised feature, down a sunken one: the sense that agrees with ``inward``), so it
+    meets the outline even when ``inward`` misses the feature's centre. ``crest``: the
+    feature has no plate level (a cusp: the plate falls away on both sides); the finger
+    climbs over the crest and the outline is ``rise`` below it (:func:`find_crest`)."""
+    if crest:
+        return (yield from find_crest(ex, cfg, start, inward, limit, rise))
     yield from move_to(ex, start, cfg.speed)
     ex.phase = PHASE["reapproach"]
     inward = np.asarray(inward, float) / np.linalg.norm(inward)
@@ -79,26 +121,96 @@ def find_outline(ex, cfg, start, inward, limit: float, rise: float | None = None
     for _ in range(30):  # the plate level here
         ref.append(ex.est.centre[2])
         yield np.zeros(2)
-    w0 = float(np.mean(ref))
-    p0 = ex.est.uv.copy()
     rise = cfg.boundary_rise if rise is None else rise
+    w0 = plate_level(ex, float(np.mean(ref)), rise)
+    p0 = ex.est.uv.copy()
+    heading = inward
     while abs(ex.est.centre[2] - w0) < rise:
         if float(np.hypot(*(ex.est.uv - p0))) > limit:
             return None
-        yield cfg.trace_speed * inward
+        n = ex.est.normal
+        tilt = float(np.hypot(n[0], n[1]))
+        if tilt > 0.03:  # the slope's direction (2,), in the sense of the approach
+            g = np.array([n[0], n[1]]) / tilt
+            heading = g if float(g @ inward) > 0 else -g
+        yield cfg.trace_speed * heading
     sigma = 1.0 if ex.est.centre[2] > w0 else -1.0
-    return Outline(w0 + sigma * rise, sigma, inward, rise)
+    return Outline(w0 + sigma * rise, sigma, heading, rise)
+
+
+def find_crest(ex, cfg, start, inward, limit: float, rise: float | None = None):
+    """Climb from ``start`` along ``inward`` (then up the slope) over a crest; the outline is
+    the level ``rise`` below the highest centre height met, on the far flank. None when the
+    centre has not come down by ``rise / 2`` from its highest within ``limit`` [m]."""
+    yield from move_to(ex, start, cfg.speed)
+    ex.phase = PHASE["reapproach"]
+    rise = cfg.boundary_rise if rise is None else rise
+    heading = np.asarray(inward, float) / np.linalg.norm(inward)
+    p0 = ex.est.uv.copy()
+    top = float(ex.est.centre[2])
+    while float(ex.est.centre[2]) > top - 0.5 * rise:
+        if float(np.hypot(*(ex.est.uv - p0))) > limit:
+            return None
+        top = max(top, float(ex.est.centre[2]))
+        n = ex.est.normal
+        tilt = float(np.hypot(n[0], n[1]))
+        if tilt > 0.03 and float(ex.est.centre[2]) >= top - 1e-5:  # still climbing: uphill
+            g = np.array([n[0], n[1]]) / tilt
+            heading = -g if float(-g @ heading) > 0 else heading
+        yield cfg.trace_speed * heading
+    return Outline(top - rise, 1.0, -heading, rise)
+
+
+#: a sample is kept when the centre is within this distance of the level line [m] (the
+#: height error over the flank slope under the contact: a first-order distance) ...
+ACCEPT_LATERAL = 1.5e-4
+#: ... and has stayed within ``SETTLED_LATERAL`` [m] of it for ``SETTLE`` servo steps (the
+#: approach overshoot and the servo's transient after a re-approach are dropped)
+SETTLE, SETTLED_LATERAL = 60, 3e-4
+#: the height error is low-pass filtered over this many servo steps (the encoders' height
+#: noise, ~15 um, over a flank slope of 0.1 is 0.15 mm of distance) [-]
+SMOOTH = 20
+#: lateral servo gains on the distance to the level line, proportional [1/s] and integral
+#: [1/s^2]: on a curved outline the finger's lag makes it drift outwards, which a purely
+#: proportional servo would balance with a steady offset from the level line
+LATERAL_GAIN, LATERAL_INTEGRAL = 10.0, 100.0
+#: the explorer's servo period (the 1 kHz control rate) [s]
+SERVO_DT = 1e-3
+#: flattest flank slope used to turn a height error into a distance [-]
+MIN_SLOPE = 0.05
+
+
+def level_distance(ex, outline: Outline, w: float | None = None) -> tuple[float, float]:
+    """``(err, dist)``: the height error ``sigma (level - w)`` [m] (``w``: the centre height,
+    default the current one) and its first-order distance to the level line, ``err /
+    slope`` with the slope of the traced surface under the contact (tan of the contact
+    normal's tilt, at least :data:`MIN_SLOPE`) [m]; positive towards the feature."""
+    n = ex.est.normal
+    tilt = float(np.hypot(n[0], n[1]))
+    slope = max(tilt / max(float(n[2]), 1e-6), MIN_SLOPE)
+    w = float(ex.est.centre[2]) if w is None else w
+    err = outline.sigma * (outline.level - w)
+    return err, err / slope
 
 
 def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float = 1.0):
     """Trace the level line ``outline.level`` of the centre from where the finger is.
 
+    The lateral servo drives the first-order distance to the level line
+    (:func:`level_distance`) to zero; a sample is kept once it has settled (module constants
+    ``ACCEPT_LATERAL``, ``SETTLE``, ``SETTLED_LATERAL``); the loop closes when the finger
+    comes back to the first kept sample, so the outline is made of settled samples only.
+
     Returns:
         :class:`TraceResult`.
     """
-    r, rise = cfg.tip_radius, outline.rise
+    r = cfg.tip_radius
     k_start, t_start = ex.rec.n, ex.est.t
     start_uv = ex.est.uv.copy()
+    first_uv = None  # where the first settled sample was taken
+    near = None  # closest approach to it once back within 0.1 r
+    back = False  # the finger has come back to where tracing began
+    steady, w, held = 0, float(ex.est.centre[2]), 0.0  # held: the integral term [-]
     samples: list[int] = []
     tangent = None
     into = outline.inward.copy()  # direction towards the feature (2,)
@@ -107,45 +219,87 @@ def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float 
     reason = "trace budget spent"
     while ex.est.t - t_start < cfg.trace_time:
         n = ex.est.normal
-        g = np.array([n[0], n[1]])
-        tilt = float(np.hypot(*g))
-        travelled += float(np.hypot(*(ex.est.uv - prev)))
-        prev = ex.est.uv.copy()
+        tilt = float(np.hypot(n[0], n[1]))
+        c = ex.est.uv
+        travelled += float(np.hypot(c[0] - prev[0], c[1] - prev[1]))
+        prev = c.copy()
         if tilt > 0.03:  # the contact is on the feature: the uphill direction is known
-            up = -g / tilt
-            into = outline.sigma * up
+            into = (-outline.sigma / tilt) * np.array([n[0], n[1]])
         t = orient * np.array([-into[1], into[0]])
         if tangent is not None and float(t @ tangent) < -0.2:
             t = -t  # keep the sense of travel through saddles of the tilt field
         tangent = t
-        err = outline.sigma * (outline.level - ex.est.centre[2]) / rise
-        lateral = float(np.clip(0.8 * err, -0.7, 0.7))
-        on = abs(err) < 0.5
-        ex.phase = PHASE["trace"] if abs(err) < 2.0 else PHASE["reapproach"]
-        if on:
+        w += (float(ex.est.centre[2]) - w) / SMOOTH
+        err, dist = level_distance(ex, outline, w)
+        steady = steady + 1 if abs(dist) < SETTLED_LATERAL else 0
+        lost = abs(err) > 2.0 * outline.rise
+        ex.phase = PHASE["reapproach"] if lost else PHASE["trace"]
+        if steady >= SETTLE and abs(dist) < ACCEPT_LATERAL:
             samples.append(ex.rec.n - 1)
-        v = cfg.trace_speed * ((t if abs(err) < 2.0 else 0.3 * t) + lateral * into)
-        c = ex.est.uv
-        farthest = max(farthest, float(np.hypot(*(c - start_uv))))
+            if first_uv is None:
+                first_uv = ex.rec.centre[ex.rec.n - 1, :2].copy()
+        if not lost:
+            held = min(max(held + LATERAL_INTEGRAL * dist * SERVO_DT / cfg.trace_speed, -0.5), 0.5)
+        lateral = min(max(LATERAL_GAIN * dist / cfg.trace_speed + held, -0.7), 0.7)
+        v = cfg.trace_speed * ((0.3 * t if lost else t) + lateral * into)
+        farthest = max(farthest, float(np.hypot(c[0] - start_uv[0], c[1] - start_uv[1])))
         if not _inside(c, region, 0.25 * r):
             ends += 1
             ex.event("end_reached", "the outline leaves the region", point=c.tolist())
             if ends == 2:
                 reason = "both ends reached"
                 break
-            yield from move_to(ex, ex.rec.centre[k_start, :2], cfg.speed)
-            orient, tangent = -orient, None
+            # back past the first kept sample by the settling distance, then the other way:
+            # the samples of both ways meet without a gap
+            back = samples[min(len(samples) - 1, SETTLE)] if samples else k_start
+            yield from move_to(ex, ex.rec.centre[back, :2], cfg.speed)
+            orient, tangent, steady = -orient, None, 0
             continue
         if farthest > 0.2 * r and travelled > max(2.5 * farthest, 0.5 * r):
-            if float(np.hypot(*(c - start_uv))) < 0.1 * r:
-                reason = "loop closed"
-                break
-            if ex.est.k % 25 == 0 and _decision(ex, cfg, samples, t_start) < 0:
+            # back past where tracing began (the unsettled stretch before the first kept
+            # sample is traced again, settled), then closed at the first kept sample
+            back = back or float(np.hypot(c[0] - start_uv[0], c[1] - start_uv[1])) < 0.25 * r
+            home = start_uv if first_uv is None else first_uv
+            near = _closing(c, home, 0.1 * r, near) if back else None
+            if near is not None and near < 0:
+                if _covered(ex, samples, k_start):
+                    reason = "loop closed"
+                    break
+                near = None  # a stretch traced unsettled: once more around
+
+            if near is None and ex.est.k % 100 == 0 and _decision(ex, cfg, samples, t_start) < 0:
                 reason = "decision parameter < 0 (no new boundary)"
                 break
         yield v
     closed = reason == "loop closed" or reason.startswith("decision")
     return TraceResult(np.array(samples, int), closed and ends == 0, ends, reason)
+
+
+def _covered(ex, samples: list[int], k_start: int, gap: float = 5e-4) -> bool:
+    """Whether every point the finger traced since ``k_start`` is within ``gap`` [m] of a
+    kept sample (a stretch it went round unsettled, at a sharp end cap on the first lap
+    say, leaves a hole in the outline until it is traced again)."""
+    from scipy.spatial import cKDTree
+
+    rec = ex.rec
+    if len(samples) < 10:
+        return False
+    path = rec.centre[k_start : rec.n : 10, :2][rec.phase[k_start : rec.n : 10] == PHASE["trace"]]
+    if len(path) == 0:
+        return True
+    d, _ = cKDTree(rec.centre[np.asarray(samples), :2]).query(path)
+    return bool(d.max() < gap)
+
+
+def _closing(c, home, zone: float, near: float | None, slack: float = 2e-4):
+    """Closest distance [m] to ``home`` since entering the ``zone`` around it (None: not in
+    it yet); -1 once the finger has passed its closest approach (or is on ``home``): the
+    loop closes with the first samples overlapped, not a ``zone``-wide gap."""
+    d = float(np.hypot(*(c - home)))
+    if d >= zone and near is None:
+        return None
+    near = d if near is None else min(near, d)
+    return -1.0 if d > near + slack or d < 1e-4 else near
 
 
 def _decision(ex, cfg, samples: list[int], t_start: float) -> float:
@@ -156,7 +310,8 @@ def _decision(ex, cfg, samples: list[int], t_start: float) -> float:
     if len(samples) < 80:
         return 1.0
     recent = np.array(samples[-40:])
-    old = np.array([k for k in samples if rec.t[k] < rec.t[recent[0]] - 0.5])
+    s = np.asarray(samples)
+    old = s[rec.t[s] < rec.t[recent[0]] - 0.5]
     if len(old) < 10:
         return 1.0
     d, _ = cKDTree(rec.centre[old, :2]).query(rec.centre[recent, :2])
