@@ -30,7 +30,16 @@ Keys (SI units)::
       joint_upper_deg: [70, 110, 100]
     gains: {...}                 # see GainsConfig
     rolling: {amplitude: 0.003, period: 1.0}   # explicit_rolling only
-    output: {animation: false}   # + the usual plots/formats/dpi
+    output: {animation: false}   # true: plots/animation.gif (+ the usual plots/formats/dpi)
+
+Outputs: ``result.json`` metrics (phases, transitions_4, rotation_deg, coverage,
+min_epsilon, slip_distance_m, explore_force_rms_error_N, internal_force_rms_error_N,
+features found vs the true features with angle errors, real_time_factor, NLP and control-step
+timings, last_phase), ``phases.json``, ``trajectory.npz`` (the simulator log ``log/*`` and
+the controller's sensed series ``trace/*``), plots ``snapshots`` (Fig. 2.12), ``forces``
+(Fig. 2.14), ``contacts`` (Fig. 2.10), ``timeline``, and ``plots/animation.gif``.
+A gait that cannot go on ends with status "failed" (exit 1), the reason and the last phase,
+and the same complete outputs up to the failure.
 """
 
 from __future__ import annotations
@@ -219,7 +228,8 @@ def run(config: Config, ctx):
     seed = int(ctx.rng.integers(2**31))
     with ctx.timer("simulation"):
         if config.task == "explicit_rolling":
-            res = explicit_rolling(profile, mu=config.mu, amplitude=config.rolling.amplitude,
+            res = explicit_rolling(profile, hand=_hand(config), mu=config.mu,
+                                   amplitude=config.rolling.amplitude,
                                    period=config.rolling.period, duration=duration, seed=seed,
                                    settings=s)  # fmt: skip
         else:
@@ -231,18 +241,64 @@ def run(config: Config, ctx):
 
 
 def _report(config: Config, ctx, res, profile, duration: float):
+    """The :class:`RunResult` of an executed gait, ok or failed: the figures show what ran
+    up to the end, ``result.json`` has the reason and the last phase."""
     import json
 
     import numpy as np
 
-    from planner.exploration.planar.metrics import summary_metrics
-    from planner.results import Event, RunResult
+    from planner.results import RunResult
 
     ridge = (math.radians(config.object.ridge_angle_deg)
              if config.object.shape == "circle_with_ridge" else None)  # fmt: skip
-    metrics = summary_metrics(res, ridge, config.explore_force, config.internal_force)
-    metrics["simulated_s"] = float(res.log.t[-1]) if len(res.log.t) else 0.0
-    metrics["duration_limit_s"] = duration
+    metrics = _metrics(config, res, profile, ridge, duration)
+    arrays = {f"log/{k}": v for k, v in res.log.arrays().items() if k != "pairs"}
+    arrays.update({f"trace/{k}": np.asarray(v) for k, v in res.trace.items()})
+    events = _events(res)
+    hand = _hand(config)
+    figures = _figures(ctx, res, profile, hand, ridge) if ctx.plots else {}
+    files = {"phases.json": json.dumps([p.to_json() for p in res.phases], indent=2)}
+    if config.output.animation:
+        gif = _animation(ctx, res, profile, hand, events)
+        if gif is not None:
+            files["plots/animation.gif"] = gif
+    reason = ""
+    if res.status == "failed":
+        reason = f"{res.reason} (last phase {metrics['last_phase']})"
+    return RunResult(status=res.status, reason=reason, metrics=metrics, arrays=arrays,
+                     events=events, figures=figures, files=files)  # fmt: skip
+
+
+def _metrics(config: Config, res, profile, ridge, duration: float) -> dict:
+    """The listed metrics (``summary_metrics``) plus the features against the truth, the
+    last phase and the timing spreads."""
+    import numpy as np
+
+    from planner.exploration.planar.metrics import VIRTUAL_RADIUS, summary_metrics
+
+    m = summary_metrics(res, ridge, config.explore_force, config.internal_force)
+    m["simulated_s"] = float(res.log.t[-1]) if len(res.log.t) else 0.0
+    m["duration_limit_s"] = duration
+    m["last_phase"] = res.phases[-1].kind if res.phases else 0
+    truth = [math.degrees(math.atan2(f.position[1], f.position[0]))
+             for f in profile.curvature_features(VIRTUAL_RADIUS)]  # fmt: skip
+    m["true_features"] = len(truth)
+    m["true_feature_angles_deg"] = [round(a, 2) for a in truth[:50]]
+    m["features_within_5deg"] = sum(
+        1 for f in res.features if np.isfinite(f.error) and abs(math.degrees(f.error)) <= 5.0
+    )
+    steps = np.asarray(res.timings.get("control_step_us", []), float)
+    nlp = np.asarray(res.timings.get("nlp_solve_ms", []), float)
+    m["controller_call_p95_us"] = float(np.percentile(steps, 95)) if steps.size else None
+    m["nlp_solve_max_ms"] = float(np.max(nlp)) if nlp.size else None
+    m["nlp_solves"] = int(nlp.size)
+    return m
+
+
+def _events(res) -> list:
+    """The simulator's, the gait's and one per phase, in time order."""
+    from planner.results import Event
+
     events = [Event(e.kind, e.message, t=e.t, data=dict(e.data)) for e in res.log.events]
     for e in res.events:
         data = {k: v for k, v in e.items() if k not in ("kind", "message", "t")}
@@ -252,34 +308,33 @@ def _report(config: Config, ctx, res, profile, duration: float):
         events.append(Event("phase", f"phase {ph.kind}: {ph.event}", t=ph.end,
                             data={"index": k, **ph.to_json()}))  # fmt: skip
     events.sort(key=lambda e: e.t if e.t is not None else 0.0)
-    arrays = {f"log/{k}": v for k, v in res.log.arrays().items() if k != "pairs"}
-    arrays.update({f"trace/{k}": np.asarray(v) for k, v in res.trace.items()})
-    figures = {}
-    hand = _hand(config)
-    if ctx.plots:
-        from planner.exploration.planar import plots
+    return events
 
-        with ctx.timer("plots"):
-            figures["timeline"] = plots.plot_timeline(res)
-            figures["contacts"] = plots.plot_contacts(res)
-            figures["forces"] = plots.plot_forces(res, ridge)
-            figures["snapshots"] = plots.plot_snapshots(res, profile, hand)
-    files = {"phases.json": json.dumps([p.to_json() for p in res.phases], indent=2)}
-    if config.output.animation:
-        if "bytes" in str(RunResult.__dataclass_fields__["files"].type):
-            from planner.exploration.planar.plots import animation_gif
 
-            with ctx.timer("animation"):
-                files["plots/animation.gif"] = animation_gif(res, profile, hand)
-        else:  # the run-directory writer takes text files only (see the README)
-            events.append(Event("animation", "skipped: RunResult.files takes text only"))
-    reason = res.reason
-    if res.status == "failed":
-        last = res.phases[-1].kind if res.phases else 0
-        reason = f"{res.reason} (last phase {last})"
-    return RunResult(status=res.status, reason=reason if res.status == "failed" else "",
-                     metrics=metrics, arrays=arrays, events=events, figures=figures,
-                     files=files)  # fmt: skip
+def _figures(ctx, res, profile, hand, ridge) -> dict:
+    from planner.exploration.planar import plots
+
+    with ctx.timer("plots"):
+        return {
+            "timeline": plots.plot_timeline(res),
+            "contacts": plots.plot_contacts(res),
+            "forces": plots.plot_forces(res, ridge),
+            "snapshots": plots.plot_snapshots(res, profile, hand),
+        }
+
+
+def _animation(ctx, res, profile, hand, events: list) -> bytes | None:
+    """GIF bytes of the run, or ``None`` (with an event saying why) when it cannot be made
+    (Pillow missing, nothing logged): the run's results stay valid without it."""
+    from planner.exploration.planar.plots import animation_gif
+    from planner.results import Event
+
+    try:
+        with ctx.timer("animation"):
+            return animation_gif(res, profile, hand, frames=24 if ctx.quick else 80)
+    except (ImportError, ValueError, OSError) as exc:
+        events.append(Event("animation", f"no animation: {exc}"))
+        return None
 
 
 def _hand(config: Config):
