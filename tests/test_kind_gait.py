@@ -14,7 +14,7 @@ import pytest
 
 from planner.exploration.planar import plots
 
-CIRCLE = "kind: gait\nobject:\n  shape: circle\n  radius: 0.03\n"
+CIRCLE = "kind: gait\nobject:\n  shape: circle\n  radius: 0.05\n"  # fits the hand
 
 
 @pytest.mark.parametrize(
@@ -101,7 +101,8 @@ def test_failed_gait_writes_a_complete_run_directory(short_ball, tmp_path, monke
     out = execute(cfg, tmp_path / "run", quick=True).out_dir
     doc = json.loads((out / "result.json").read_text())
     assert doc["status"] == "failed"
-    assert doc["reason"] == f"contact lost in phase 1 (last phase {res.phases[-1].kind})"
+    assert doc["reason"].startswith("contact lost in phase 1")
+    assert doc["reason"].endswith(f"(last phase {res.phases[-1].kind})")
     assert doc["metrics"]["last_phase"] == res.phases[-1].kind
     for rel in doc["files"].values():
         assert (out / rel).is_file(), rel

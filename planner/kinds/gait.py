@@ -264,9 +264,18 @@ def _report(config: Config, ctx, res, profile, duration: float):
             files["plots/animation.gif"] = gif
     reason = ""
     if res.status == "failed":
-        reason = f"{res.reason} (last phase {metrics['last_phase']})"
+        reason = f"{_failure(res)} (last phase {metrics['last_phase']})"
     return RunResult(status=res.status, reason=reason, metrics=metrics, arrays=arrays,
                      events=events, figures=figures, files=files)  # fmt: skip
+
+
+def _failure(res) -> str:
+    """The executor's reason, with the simulator's own message when the simulator stopped
+    (``"sim fault in phase 1: sim fault"`` says less than the Lemke ray behind it)."""
+    sim = [str(e.get("message", "")) for e in res.events if e.get("kind") == "sim"]
+    if sim and sim[-1] and sim[-1] not in res.reason:
+        return f"{res.reason} ({sim[-1]})"
+    return res.reason
 
 
 def _metrics(config: Config, res, profile, ridge, duration: float) -> dict:
