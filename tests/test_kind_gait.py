@@ -72,7 +72,8 @@ def test_quick_run_writes_the_figures_and_a_gif(cli, tmp_path):
                 "slip_distance_m", "explore_force_rms_error_N", "internal_force_rms_error_N",
                 "features_found", "true_features", "features_within_5deg", "ridge_error_deg",
                 "real_time_factor", "nlp_solve_median_ms", "controller_call_median_us",
-                "last_phase"):  # fmt: skip
+                "last_phase", "tangential_sign_changes_2to3",
+                "tactile_elongation_at_ridge"):  # fmt: skip
         assert key in m
     assert m["true_features"] >= 2  # the ridge's two edges are curvature features
     assert doc["timings_s"]["animation"] > 0
@@ -181,3 +182,48 @@ def test_tactile_images_at_the_ridge_and_one_far_from_it():
     assert sorted(d[rows])[:3] == pytest.approx([0.0, 5.0, 5.0], abs=1e-6)
     assert max(d[rows]) == pytest.approx(70.0)  # the round pattern far from the ridge
     assert plots.pick_images(tr, None, 3) == [0, 14, 28]  # evenly spread without a ridge
+
+
+def test_tactile_elongation_closed_forms():
+    dot = np.zeros((8, 8))
+    dot[3, 4] = 2.0
+    assert plots.tactile_elongation(dot) == pytest.approx(1.0)  # one taxel: round
+    patch = np.zeros((8, 8))
+    patch[2:5, 2:5] = 1.0
+    assert plots.tactile_elongation(patch) == pytest.approx(1.0)  # a square patch: round
+    line = np.zeros((8, 8))
+    line[:, 7] = 1.0  # a column of 8 taxels: variance (64 - 1) / 12 + 1/12 vs 1/12
+    assert plots.tactile_elongation(line) == pytest.approx(8.0)
+    assert plots.tactile_elongation(line.T) == pytest.approx(8.0)  # rotation invariant
+    assert math.isnan(plots.tactile_elongation(np.zeros((8, 8))))
+
+
+def test_fig214_measures_on_a_synthetic_trace():
+    from types import SimpleNamespace
+
+    from planner.exploration.planar import PhaseRecord
+
+    tr = _sweep_trace(theta=0.0)
+    t = tr["t"]
+    kind = np.where(t < 0.5, 2, 3).astype(float)
+    ang = np.arctan2(tr["pLy"] - tr["cy"], tr["pLx"] - tr["cx"])
+    nrm = np.column_stack([np.cos(ang), np.sin(ang)])
+    tang = np.column_stack([nrm[:, 1], -nrm[:, 0]])
+    ft = np.where(kind == 2, -0.2, 0.1)  # sign change at the 2 -> 3 switch
+    at = plots.ridge_distance(tr, math.radians(170)) < plots.RIDGE_WINDOW
+    ft = np.where(at & (kind == 3), 0.4, ft)  # and larger over the ridge
+    f = -0.3 * nrm + ft[:, None] * tang
+    images = np.zeros((len(tr["image_t"]), 8, 8))
+    rows = np.searchsorted(t, tr["image_t"])
+    images[:, 3, 3] = 1.0
+    images[at[rows], :, 7] = 1.0  # a line over the ridge
+    images[at[rows], 3, 3] = 0.0
+    tr.update(kind=kind, nLx=nrm[:, 0], nLy=nrm[:, 1], fLx=f[:, 0], fLy=f[:, 1], images=images)
+    phases = (PhaseRecord(2, False, 0.0, 0.5, 0.0, 0.0, "path finished"),
+              PhaseRecord(3, False, 0.5, 1.4, 0.0, 0.0, "time limit"))  # fmt: skip
+    m = plots.fig214_measures(SimpleNamespace(trace=tr, phases=phases), math.radians(170))
+    assert m["tangential_sign_changes_2to3"] == "1/1"
+    assert m["tangential_at_ridge_N"] == pytest.approx(0.4)
+    assert m["tangential_off_ridge_N"] == pytest.approx(0.1)
+    assert m["tactile_elongation_at_ridge"] == pytest.approx(8.0)
+    assert m["tactile_elongation_off_ridge"] == pytest.approx(1.0)

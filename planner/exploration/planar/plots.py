@@ -228,6 +228,70 @@ def pick_images(trace: dict, ridge_angle: float | None, count: int) -> list[int]
     return sorted(set(near + [far]))[:count]
 
 
+def tactile_elongation(image: np.ndarray) -> float:
+    """How line-like a tactile image is: sqrt of the ratio of the principal second moments
+    of its pressure distribution, each plus 1/12 taxel^2 (a single taxel's own spread), so
+    a round patch gives ~1 and a line of taxels several; NaN for an empty image.
+
+    Args:
+        image: (rows, cols) taxel pressures [Pa] (negative values count as 0).
+    """
+    w = np.clip(np.asarray(image, float), 0.0, None)
+    total = float(w.sum())
+    if total <= 0.0:
+        return float("nan")
+    i, j = np.indices(w.shape)
+    mi, mj = float((w * i).sum() / total), float((w * j).sum() / total)
+    cov = np.array([
+        [(w * (i - mi) ** 2).sum(), (w * (i - mi) * (j - mj)).sum()],
+        [(w * (i - mi) * (j - mj)).sum(), (w * (j - mj) ** 2).sum()],
+    ]) / total + np.eye(2) / 12.0  # fmt: skip
+    lo, hi = np.linalg.eigvalsh(cov)
+    return float(math.sqrt(hi / lo))
+
+
+def fig214_measures(result, ridge_angle: float | None, window: float = 0.2) -> dict:
+    """The claims of Fig. 2.14 measured on the sensed data of the left finger.
+
+    * ``tangential_sign_changes_2to3``: at how many phase 2 -> 3 switches the mean
+      tangential force (:func:`left_forces`) of the last ``window`` [s] of phase 2 and of
+      ``window`` after the first 0.1 s of phase 3 have opposite signs, over the switches;
+    * with ``ridge_angle`` [rad]: the median tangential force magnitude [N] and the median
+      :func:`tactile_elongation` of the pad touching the object while exploring (phase 3)
+      at the ridge (within :data:`RIDGE_WINDOW`) and away from it.
+    """
+    tr, phases = result.trace, list(result.phases)
+    out: dict = {}
+    t = tr.get("t", np.zeros(0))
+    if not len(t):
+        return out
+    fn, ft = left_forces(tr)
+    changes, switches = 0, 0
+    for a, b in zip(phases, phases[1:], strict=False):
+        if (a.kind, b.kind) != (2, 3):
+            continue
+        before = ft[(t >= a.end - window) & (t <= a.end)]
+        after = ft[(t >= b.start + 0.1) & (t <= b.start + 0.1 + window)]
+        if before.size and after.size:
+            switches += 1
+            changes += int(np.sign(before.mean()) * np.sign(after.mean()) < 0)
+    out["tangential_sign_changes_2to3"] = f"{changes}/{switches}"
+    if ridge_angle is None:
+        return out
+    touch = (tr["kind"] == 3) & (tr["pad_touch"] > 0)
+    at = ridge_distance(tr, ridge_angle) < RIDGE_WINDOW
+    for name, sel in (("at_ridge", touch & at), ("off_ridge", touch & ~at)):
+        out[f"tangential_{name}_N"] = float(np.median(np.abs(ft[sel]))) if sel.any() else None
+    ti, imgs = tr.get("image_t", np.zeros(0)), tr.get("images", np.zeros((0, 8, 8)))
+    if len(ti):
+        rows = np.searchsorted(t, ti).clip(0, len(t) - 1)
+        for name, sel in (("at_ridge", (touch & at)[rows]), ("off_ridge", (touch & ~at)[rows])):
+            el = [tactile_elongation(im) for im in imgs[sel]]
+            el = [e for e in el if np.isfinite(e)]
+            out[f"tactile_elongation_{name}"] = float(np.median(el)) if el else None
+    return out
+
+
 def plot_contacts(result):
     """Fig. 2.10: commanded (dashed) vs actual (sensed: tactile centroid on the left pad,
     contact arclength on the right tip) contact locations, over the phase bands."""
@@ -331,6 +395,7 @@ def animation_gif(result, profile, hand, frames: int = 80, fps: int = 12) -> byt
 __all__ = [
     "RIDGE_WINDOW",
     "animation_gif",
+    "fig214_measures",
     "left_forces",
     "pick_images",
     "plot_contacts",
@@ -338,4 +403,5 @@ __all__ = [
     "plot_snapshots",
     "plot_timeline",
     "ridge_distance",
+    "tactile_elongation",
 ]
