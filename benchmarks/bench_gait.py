@@ -8,11 +8,13 @@ Rows:
   polygons; half-sizes (radius, half-width, semi-major axis) 2-8 cm - each executed for a
   bounded simulated time (``--duration``, hard wall cap ``--wall-cap`` per object) with
   its outcome (status, reason, rotation, coverage, phases, transitions 4) and the verdict:
-  ``full turn`` (360 deg), ``turning`` (still rotating clockwise when the time ran out, at
-  least ``--min-rotation`` deg), ``stalled`` (ok but less), ``failed`` (the gait ended
-  with a reason), ``does not fit`` (no start grasp: bad input of the gait kind) or
-  ``wall cap``. The executor *succeeds* on ``full turn`` / ``turning``; ``agree`` compares
-  that with plan_gait's verdict on the same (true) object, hand and mu;
+  ``full turn`` (360 deg), ``turning`` (still turning the object clockwise when the time
+  ran out: at least ``--min-rotation`` deg, or a completed cycle - two phase-1 rotations of
+  >= 5 deg each), ``stalled`` (ok but neither), ``failed`` (the gait ended with a reason),
+  ``does not fit`` (no start grasp: bad input of the gait kind), ``wall cap`` or ``not
+  run`` (over the total ``--budget``). The executor *succeeds* on ``full turn`` /
+  ``turning``; ``agree`` compares that with plan_gait's verdict on the same (true) object,
+  hand and mu;
 * ``nlp build`` / ``nlp solve``: the CasADi rolling NLP (targets <= 200 ms, <= 30 ms warm);
 * ``ball_with_ridge`` (``--ball S``): the bundled scenario's object for S simulated seconds.
 
@@ -137,7 +139,9 @@ def run_object(obj: BatchObject, duration: float, min_rotation_deg: float, mu: f
     elif turn >= 359.0:
         verdict = "full turn"
     else:
-        verdict = "turning" if turn >= min_rotation_deg else "stalled"
+        rotating = [p for p in res.phases if p.kind == 1 and -p.rotation >= math.radians(5)]
+        cycled = len(rotating) >= 2
+        verdict = "turning" if turn >= min_rotation_deg or cycled else "stalled"
     ends = [p.event for p in res.phases]
     row.update(
         verdict=verdict, status=res.status, reason=res.reason, rotation_deg=round(turn, 1),
@@ -161,8 +165,8 @@ def _count(items: list[str]) -> str:
 def explain(row: dict) -> str:
     """Agreement of the executor with plan_gait, and why they disagree."""
     ok = row["verdict"] in ("full turn", "turning")
-    if row["verdict"] == "wall cap":
-        return "not decided (wall cap)"
+    if row["verdict"] in ("wall cap", "not run", "error"):
+        return f"not decided ({row['verdict']})"
     if ok == (row["plan_gait"] == "gait"):
         return "agree"
     if ok:
@@ -184,17 +188,26 @@ def _child(fn, args, conn) -> None:
     conn.close()
 
 
-def run_parallel(tasks: list[tuple], fn, jobs: int, wall_cap: float) -> list[dict]:
+def run_parallel(
+    tasks: list[tuple], fn, jobs: int, wall_cap: float, budget: float = math.inf
+) -> list[dict]:
     """``fn(*task)`` for every task in forked worker processes, at most ``jobs`` at a time;
-    a task over ``wall_cap`` [s] is killed (row verdict ``wall cap``). Progress on stderr."""
+    a task over ``wall_cap`` [s] is killed (row verdict ``wall cap``); after ``budget`` [s]
+    no new task starts (``not run``). Progress on stderr."""
     from tqdm.auto import tqdm
 
     ctx = mp.get_context("fork")
     out: list[dict | None] = [None] * len(tasks)
     pending = list(range(len(tasks)))
     running: dict[int, tuple] = {}
+    start = time.monotonic()
     with tqdm(total=len(tasks), desc="batch", file=sys.stderr) as bar:
         while pending or running:
+            if pending and time.monotonic() - start > budget:
+                for i in pending:
+                    out[i] = {"verdict": "not run", "reason": f"total budget {budget:g} s"}
+                bar.update(len(pending))
+                pending = []
             while pending and len(running) < jobs:
                 i = pending.pop(0)
                 recv, send = ctx.Pipe(duplex=False)
@@ -204,9 +217,13 @@ def run_parallel(tasks: list[tuple], fn, jobs: int, wall_cap: float) -> list[dic
                 running[i] = (p, recv, time.monotonic())
             for i, (p, recv, t0) in list(running.items()):
                 if recv.poll():
-                    out[i] = recv.recv()
+                    try:
+                        out[i] = recv.recv()
+                    except EOFError:  # the worker died without an answer
+                        p.join()
+                        out[i] = {"verdict": "error", "reason": f"worker exit {p.exitcode}"}
                 elif not p.is_alive():
-                    out[i] = {"verdict": "error", "reason": f"worker exit code {p.exitcode}"}
+                    out[i] = {"verdict": "error", "reason": f"worker exit {p.exitcode}"}
                 elif time.monotonic() - t0 > wall_cap:
                     p.kill()
                     out[i] = {"verdict": "wall cap", "reason": f"over {wall_cap:g} s wall"}
@@ -226,7 +243,7 @@ def bench_batch(args) -> list[dict]:
     explore_object(shapes.circle(0.05), hand=batch_hand(), duration=0.05)  # warm-up, shared
     objs = objects(args.quick)
     tasks = [(o, args.duration, args.min_rotation, 1.0) for o in objs]
-    rows = run_parallel(tasks, run_object, args.jobs, args.wall_cap)
+    rows = run_parallel(tasks, run_object, args.jobs, args.wall_cap, args.budget)
     for o, r in zip(objs, rows, strict=True):
         r.setdefault("benchmark", "batch")
         r.setdefault("object", o.name)
@@ -308,6 +325,7 @@ def main() -> None:
     p.add_argument("--duration", type=float, default=10.0, help="simulated s per object")
     p.add_argument("--wall-cap", type=float, default=240.0, help="wall s per object")
     p.add_argument("--jobs", type=int, default=2, help="worker processes")
+    p.add_argument("--budget", type=float, default=math.inf, help="total wall s of the batch")
     p.add_argument("--min-rotation", type=float, default=40.0, help="'turning' threshold [deg]")
     p.add_argument("--ball", type=float, default=0.0, help="ball_with_ridge seconds (0: skip)")
     p.add_argument("--no-nlp", action="store_true", help="skip the NLP rows")
@@ -321,8 +339,9 @@ def main() -> None:
         rows += bench_ball(args.ball)
     notes = summary(rows) + [
         f"batch: {args.duration:g} s simulated per object (wall cap {args.wall_cap:g} s), "
-        f"{args.jobs} worker processes; 'turning' = ok and >= {args.min_rotation:g} deg "
-        "clockwise when the time ran out; success = full turn or turning",
+        f"{args.jobs} worker processes, total budget {args.budget:g} s; 'turning' = ok and "
+        f">= {args.min_rotation:g} deg clockwise or two phase-1 rotations >= 5 deg when the "
+        "time ran out; success = full turn or turning",
         f"hand: joint ranges {list(HAND_LOWER_DEG)} .. {list(HAND_UPPER_DEG)} deg (the "
         "ball_with_ridge hand), mu = 1; polygons with 1 mm corner fillets (sharp polygons hit "
         "a star-shape check bug in Profile.point_at_polar_angle)",
