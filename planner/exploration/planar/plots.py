@@ -321,11 +321,13 @@ def plot_timeline(result):
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(8, 2.8))
+    span = max((result.phases[-1].end - result.phases[0].start) if result.phases else 1.0, 1e-9)
     for ph in result.phases:
         y = {1: 3, 2: 2, 3: 1}[ph.kind]
         ax.barh(y, ph.end - ph.start, left=ph.start, color=_COLORS[ph.kind],
                 edgecolor="k" if ph.skip else "0.6", hatch="//" if ph.skip else None)  # fmt: skip
-        ax.text(ph.end, y, ph.event, fontsize=6, va="center", ha="right")
+        if (ph.end - ph.start) / span > 0.08 or ph is result.phases[-1]:  # room for a label
+            ax.text(ph.end, y, ph.event, fontsize=6, va="center", ha="right")
     seen = set()
     for ev in result.events:
         kind = str(ev.get("kind", ""))
