@@ -175,6 +175,9 @@ def explain(row: dict) -> str:
                 f"{row['rotation_deg']} deg by sliding, re-planning and "
                 f"{row['transitions_4']} transition(s) 4")  # fmt: skip
     what = row.get("reason") or row["verdict"]
+    if row["verdict"] == "does not fit":
+        what = ("no start grasp: plan_gait's reachability grid admits one, the executor's "
+                "start-grasp search (IK with joint margins, no penetration) does not")  # fmt: skip
     if row["verdict"] == "stalled":
         what = f"stalled at {row['rotation_deg']} deg in {row['sim_s']} s ({row['end_events']})"
     return f"disagree: plan_gait finds a gait; the executor: {what}"[:200]
