@@ -20,6 +20,8 @@ _COLORS = {1: "#dbe9f6", 2: "#fde5cc", 3: "#dff2dc"}
 RIDGE_WINDOW = math.radians(4.0)
 #: event kinds marked on the timeline, with their markers
 _EVENT_MARKS = {"transition_4": "v", "deviation": "x", "no_plan": "s", "sim": "D", "end": "*"}
+#: event kinds that repeat what the phase bars show
+_PHASE_EVENTS = ("phase_end", "phase")
 
 
 def _outline(profile, pose) -> np.ndarray:
@@ -331,6 +333,8 @@ def plot_timeline(result):
     seen = set()
     for ev in result.events:
         kind = str(ev.get("kind", ""))
+        if kind in _PHASE_EVENTS:  # already drawn: the label at the end of its phase bar
+            continue
         mark = _EVENT_MARKS.get(kind, "o")
         ax.plot(float(ev.get("t", 0.0)), 0, mark, color="tab:red" if kind != "end" else "k",
                 label=kind if kind not in seen else None)  # fmt: skip
