@@ -9,6 +9,15 @@
 Also: agreement of the two (max |tau| difference) and finite-difference checks of the
 contact Jacobians (max error). Targets (issue 11): fast <= 15 us median, >= 4x the naive.
 
+The last row is the WHOLE gait controller call (``GaitController(t, obs)``: sensing from the
+encoders, strain gauges and 8x8 tactile image, phase references, internal-force PI, rolling
+PD, the compiled step with its QP, the trace and the event checks) replayed on the
+observations recorded from ``scenarios/ball_with_ridge.yaml`` (tests/data, all three phase
+kinds), against :class:`naive_gait.NaiveGaitController` (the same call in numpy, Pinocchio
+and qpsolvers) on the same recording in the same run. Target: <= 30 us median (the budget
+of the >= 20x real-time gait), >= 4x the naive. The segment references are replayed from
+the recording (dictionary look-ups): the planner's own reference callables are not timed.
+
 Run: ``python benchmarks/bench_control.py [--quick] [--out DIR]``.
 """
 
@@ -50,6 +59,50 @@ def fd_error(hand) -> float:
     return worst
 
 
+def gait_call_row(repeat: int) -> dict:
+    """Per-call median of the fast and naive gait controllers on the recorded run."""
+    import gait_replay
+    from naive_gait import NaiveGaitController
+
+    data = gait_replay.load()
+    for w in data["windows"]:  # build the observations once, outside the timed calls
+        w["sense"] = w["sense"] and (gait_replay.observation(w["sense"][0]), w["sense"][1])
+        for c in w["calls"]:
+            c["obs_object"] = gait_replay.observation(c["obs"])
+    fast = gait_replay.make_controller(data)
+    naive = gait_replay.make_controller(data, NaiveGaitController)
+    diff = 0.0
+    for ctrl in (fast, naive):
+        for _ in range(repeat):
+            ctrl.step_times.clear()
+            taus = list(_replay(ctrl, data))
+        if ctrl is fast:
+            ref = taus
+        else:
+            diff = max(float(np.max(np.abs(a - b))) for a, b in zip(ref, taus, strict=True))
+    t_fast, t_naive = np.median(fast.step_times), np.median(naive.step_times)
+    return {
+        "step": f"gait controller call ({len(fast.step_times)} recorded calls)",
+        "fast_median_us": 1e6 * t_fast, "naive_median_us": 1e6 * t_naive,
+        "speedup": t_naive / t_fast, "target_us": 30.0, "max_tau_diff_Nm": diff,
+        "backend": fast.step.backend,
+    }  # fmt: skip
+
+
+def _replay(ctrl, data):
+    """``gait_replay.replay`` on pre-built observations; yields the torques."""
+    import gait_replay
+
+    for w in data["windows"]:
+        ctrl.sensing.est.u = w["pre"]["u"]
+        ctrl._last_tau = w["pre"]["last_tau"].copy()
+        if w["sense"]:
+            ctrl.sensing.update(*w["sense"])
+        ctrl.start(gait_replay.replay_segment(w), w["t0"])
+        for c in w["calls"]:
+            yield np.array(ctrl(c["t"], c["obs_object"]))
+
+
 def main() -> None:
     args = arg_parser(__doc__.splitlines()[0]).parse_args()
     from test_control_grasp import HAND, _grasp_inputs
@@ -75,6 +128,7 @@ def main() -> None:
             "speedup": t_naive["median_s"] / t_fast["median_s"], "target_us": 15.0,
             "max_tau_diff_Nm": diff, "backend": step.backend,
         })  # fmt: skip
+    rows.append(gait_call_row(repeat=5 if not args.quick else 1))
     notes = [
         f"finite-difference check of the contact Jacobians: max error {fd_error(HAND):.2e} m/rad",
         f"load average at the end: {os.getloadavg()}; the machine (2 cores) was shared with "

@@ -81,3 +81,106 @@ def test_gait_kind_bad_input_exits_2(cli, tmp_path):
     proc = cli("validate", str(small))
     assert proc.returncode == 2
     assert "does not fit" in proc.stderr
+
+
+# --------------------------------------------------------------- regrasp heuristics (§2.2.3)
+def _ball_hand():
+    from planner.kinds.gait import HandConfig
+
+    return HandConfig(joint_lower_deg=(-40, 0, -10), joint_upper_deg=(90, 150, 130)).hand(1.0)
+
+
+def test_stable_pair_is_the_cone_condition_of_a_circle():
+    from planner.exploration.planar.heuristics import stable_pair
+
+    mu, margin = 0.8, 0.1
+    # antipodal contacts: the contact line is along both normals (margin atan(mu) - margin)
+    assert stable_pair(math.pi, 0.0, mu, margin) == pytest.approx(math.atan(mu) - margin)
+    # the contact line makes (pi - separation) / 2 with each normal
+    sep = math.radians(120)
+    expect = math.atan(mu) - margin - (math.pi - sep) / 2
+    assert stable_pair(sep + 0.3, 0.3, mu, margin) == pytest.approx(expect)
+    assert stable_pair(0.3, sep + 0.3, mu, margin) == pytest.approx(expect)  # symmetric
+
+
+def test_regrasp_left_angle_is_stable_and_reachable_through_the_next_rotation():
+    from planner.exploration.planar.heuristics import (
+        _margin,
+        pad_angle,
+        regrasp_left_angle,
+        stable_pair,
+    )
+
+    hand, c, R = _ball_hand(), np.array([0.0, 0.05]), 0.05
+    travel = math.radians(22)
+    for br_deg in (5.0, 15.0, 24.0):
+        br = math.radians(br_deg)
+        b = regrasp_left_angle(hand, c, R, br, 0.8, 0.15, travel)
+        assert b is not None
+        assert stable_pair(b, br, 0.8, 0.15) >= 0
+        for bb in (b, b - travel):  # the pad reaches the grasp and the end of the rotation
+            n = np.array([math.cos(bb), math.sin(bb)])
+            q = hand.inverse_kinematics("left", c + R * n, angle=pad_angle(bb, -2.0))
+            assert _margin(hand, "left", q) > 0
+    # a right contact so high that no stable left grasp is reachable -> None
+    assert regrasp_left_angle(hand, c, R, math.radians(80), 0.8, 0.15, travel) is None
+
+
+def test_regrasp_orientation_maximizes_the_joint_margin():
+    from planner.exploration.planar.heuristics import _reach_margin, regrasp_orientation
+
+    hand, c, R = _ball_hand(), np.array([0.0, 0.05]), 0.05
+    r = hand.params.right.tip_radius
+    beta, travel = math.radians(24), math.radians(20)
+    phi = regrasp_orientation(hand, c, R, beta, travel)
+    apex = beta + math.pi / 2
+    assert abs(phi - apex) <= 0.5 + 1e-12
+
+    def score(p):
+        pts = [c + (R + r) * np.array([math.cos(b), math.sin(b)]) for b in (beta, beta - travel)]
+        return min(_reach_margin(hand, "right", x[None], np.array([p]))[0] for x in pts)
+
+    best = score(phi)
+    assert best > 0
+    for other in apex + np.linspace(-0.5, 0.5, 11):
+        assert score(other) <= best + 1e-9
+
+
+def test_prior_grasp_in_world_angles():
+    """plan_gait's contact angles are object-frame angles at its start pose; the start grasp
+    needs world angles (object angle + rotation of the pose)."""
+    from planner.exploration.planar.setup import gait_prior, prior_world_grasp
+
+    prior = gait_prior(None, 0.05, _ball_hand(), 1.0)
+    assert prior is not None and prior.feasible
+    ph = prior.phases[0]
+    theta = -2 * math.pi * ph.pose_start / prior.resolution
+    bl, br = prior_world_grasp(prior)
+    assert math.cos(bl - (ph.start["left"] + theta)) == pytest.approx(1.0)
+    assert math.cos(br - (ph.start["right"] + theta)) == pytest.approx(1.0)
+    assert math.pi / 2 < bl < 3 * math.pi / 2  # left contact on the left half
+    assert -math.pi / 2 < br < math.pi / 2
+
+
+def test_object_rotation_of_a_ball_rolling_on_the_palm():
+    """Phases 2/3: a ball rolling on the palm turns by -dx / R; phase-1 rows keep the
+    controller's estimate."""
+    from planner.exploration.planar.metrics import object_rotation
+
+    R = 0.05
+    t = np.linspace(0, 1, 11)
+    kind = np.array([1] * 4 + [3] * 7)
+    cx = np.r_[np.zeros(4), -R * np.linspace(0, 0.1, 7)]  # rolls left by R * 0.1 rad
+    theta = np.r_[np.linspace(0, -0.3, 4), np.full(7, -0.3)]
+    th = object_rotation({"t": t, "kind": kind, "cx": cx, "theta": theta}, R)
+    np.testing.assert_allclose(th[:4], theta[:4])
+    np.testing.assert_allclose(th[4:], -0.3 + np.linspace(0, 0.1, 7))
+
+
+def test_friction_lead_balances_the_impedance():
+    from planner.exploration.planar import GaitSettings
+    from planner.exploration.planar.segments import friction_lag
+
+    s = GaitSettings(mu=0.9, explore_force=0.3, tip_kp=150.0)
+    # kp * lag = mu * f_n: the tangential spring pulls the Coulomb friction along
+    assert s.tip_kp * friction_lag(s) == pytest.approx(s.mu * s.explore_force)

@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pinocchio as pin
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from planner.geometry import shapes
 from planner.sim import PlanarWorld, SensorSettings
@@ -125,3 +129,113 @@ def test_flat_pad_tactile_image_integrates_to_the_contact_force():
     assert img.shape == (8, 8) and img.sum() > 0
     fn = sum(c.normal_force for c in world.contacts() if "disc" in c.bodies)
     assert img.sum() * arr.pitch**2 == pytest.approx(fn, rel=0.05)
+
+
+# The real state of the ball_with_ridge gait (scenarios/ball_with_ridge.yaml, seed 0, dt = 2 ms)
+# at t = 8.640 s, where the left pad's end corner was reported 9 cm "inside" the palm's end
+# (an open outline's end signed by its face normal): the position projection then threw two
+# joints to their limits (qd 837 rad/s) and a later projection ended on a Lemke ray.
+BWR_STATE = {
+    "x": [0.014384798068766516, 0.050062562102836, -0.7469486266127997],
+    "v": [0.030502824679198834, 2.895917257820027e-05, -0.6092948246486284],
+    "q": [0.17646861185522883, -1.6377104308833292, -0.6985628590065003,
+          -0.5167687279923971, 1.5731255664292207, 1.7411055119351826],
+    "qd": [-0.17429173763348346, -0.5325785888856001, 1.2371033555873772,
+           -0.2493267191290444, 0.24856371396929416, 0.4339261910527247],
+    "tau": [-0.012478480594639694, 0.017127563693310772, -0.00591905770875286,
+            0.08984947505173566, 0.030938238374704267, 0.00503040494487441],
+}  # fmt: skip
+
+
+def _bwr_world():
+    import dataclasses
+    import math
+
+    from planner.exploration.planar import circle_with_ridge
+    from robots.planar_hand.params import HandParams, default_finger
+
+    lo = tuple(math.radians(v) for v in (-40, 0, -10))
+    hi = tuple(math.radians(v) for v in (90, 150, 130))
+    right = dataclasses.replace(default_finger("right"), lower=lo, upper=hi)
+    left = dataclasses.replace(
+        default_finger("left"), lower=tuple(-v for v in hi), upper=tuple(-v for v in lo)
+    )
+    hand = PlanarHand(HandParams(left=left, right=right, friction=1.0))
+    world = PlanarWorld(dt=0.002)
+    world.add_hand(hand, BWR_STATE["q"], BWR_STATE["qd"])
+    ball = circle_with_ridge(0.05, 0.004, 0.003, math.radians(170))
+    world.add_body(ball, (0.0, 0.05, 0.0), 0.05, friction=1.0, name="object")
+    world.set_state("object", pose=BWR_STATE["x"], velocity=BWR_STATE["v"])
+    return world
+
+
+def test_open_outline_ends_give_no_phantom_penetration():
+    """A corner behind an open face but beyond its end is outside it (unsigned distance)."""
+    from planner.geometry.primitives import Line
+    from planner.geometry.profiles import Profile
+
+    world = PlanarWorld(gravity=(0.0, 0.0))
+    world.add_fixed(shapes.plane(0.0, 0.16), name="palm")  # y = 0, |x| <= 0.08, facing +y
+    pad = Profile((Line((-0.005, 0.0), (0.005, 0.0)),), name="pad")
+    # a closed body cannot be a pad: place a small box whose corner is behind the palm's
+    # plane but 1 cm beyond its end, and a pad-like open fixed face the body's corner faces
+    world.add_body(shapes.rounded_rectangle(0.01, 0.01, 0.0), (0.095, -0.004, 0.0), 0.01)
+    world.add_fixed(pad, (0.095, -0.02, math.pi), name="pad")  # faces -y, 1 cm away
+    assert world.penetrations(0.0) == []
+    # a disc through the palm's end: the overlap is its centre-to-end distance minus r
+    disc = PlanarWorld(gravity=(0.0, 0.0))
+    disc.add_fixed(shapes.plane(0.0, 0.16), name="palm")
+    disc.add_body(shapes.circle(0.008), (0.0855, -0.003, 0.0), 0.01, name="d")
+    (pair,) = {(a, b): g for a, b, g in disc.penetrations()}.items()
+    assert pair[1] == pytest.approx(math.hypot(0.0055, 0.003) - 0.008, abs=1e-15)
+
+
+def test_gait_state_of_the_lemke_ray_steps_without_a_jump():
+    world = _bwr_world()
+    assert world.penetrations(1e-6) == []  # the phantom was a 9 cm "penetration"
+    q0 = world.q.copy()
+    for _ in range(3):  # open loop (the gait's controller would react after that)
+        world.step(BWR_STATE["tau"])
+        assert np.abs(world.qd).max() < 3.0  # rad/s (was 837 after one step)
+    assert np.abs(world.q - q0).max() < 0.01  # [rad] in 6 ms with < 0.1 N m (was 1.6 rad)
+    assert not world.penetrations(1e-6)
+    kinds = {c.bodies for c in world.contacts() if c.normal_force > 0}
+    assert ("hand.palm", "object") in kinds or ("object", "hand.palm") in kinds
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1), gx=st.floats(-10, 10), gy=st.floats(-10, 10))
+def test_closed_form_hand_dynamics_equal_pinocchio(seed, gx, gy):
+    from planner.sim.planar.step_kernel import hand_dynamics, hand_kinematics, hand_parameters
+
+    hand = PlanarHand()
+    model = hand.model.copy()
+    model.gravity.linear = np.array([gx, gy, 0.0])
+    data = model.createData()
+    P = hand_parameters(model, [hand.params.finger(f).lengths[2] for f in ("left", "right")])
+    rng = np.random.default_rng(seed)
+    q, qd = rng.uniform(-3, 3, 6), rng.uniform(-20, 20, 6)
+    M, h = np.zeros((6, 6)), np.zeros(6)
+    hand_dynamics(q, qd, gx, gy, P, M, h)
+    Mp = pin.crba(model, data, q)
+    Mp = np.triu(Mp) + np.triu(Mp, 1).T
+    assert np.abs(M - Mp).max() <= 1e-12 * max(1.0, np.abs(Mp).max())
+    hp = pin.rnea(model, data, q, qd, np.zeros(6))
+    assert np.abs(h - hp).max() <= 1e-12 * max(1.0, np.abs(hp).max())
+    joints, tips = np.zeros((2, 3, 2)), np.zeros((2, 3))
+    hand_kinematics(q, P, joints, tips)
+    for k, f in enumerate(("left", "right")):
+        pose = hand.fingertip_pose(q, f)
+        assert np.allclose(tips[k, :2], pose.position, rtol=0, atol=1e-15)
+        assert np.allclose(joints[k], hand.finger_points(q, f)[:3], rtol=0, atol=1e-15)
+
+
+@settings(max_examples=30, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1))
+def test_compiled_preset_equals_its_reference(seed):
+    world, ctrl, _ = pinch_scene(squeeze=1.96, friction=1.0)
+    rng = np.random.default_rng(seed)
+    world.q = world.q + rng.normal(0.0, 0.1, 6)
+    world.qd = rng.normal(0.0, 2.0, 6)
+    obs, t = world.observe(), float(rng.uniform(0.0, 5.0))
+    assert np.abs(ctrl(t, obs) - ctrl.reference(t, obs)).max() <= 1e-12

@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from planner.errors import InvalidParameter
-from planner.sim.lcp import LCP_OK, LCP_RAY, solve_lcp
+from planner.sim.lcp import LCP_OK, LCP_RAY, lcp_residual, solve_lcp
 
 
 def _check(M, q, z, tol=1e-9):
@@ -83,3 +83,36 @@ def test_trivial_and_infeasible():
 def test_bad_shapes():
     with pytest.raises(InvalidParameter, match="shape"):
         solve_lcp(np.eye(3), np.ones(2))
+
+
+def test_residual_measures_each_violation():
+    M, q = np.eye(2), np.array([-1.0, 2.0])
+    assert lcp_residual(M, q, np.array([1.0, 0.0])) == 0.0
+    assert lcp_residual(M, q, np.array([0.5, 0.0])) == pytest.approx(0.25)  # w < 0
+    assert lcp_residual(M, q, np.array([1.0, 1.0])) == pytest.approx(1.5)  # z.w != 0
+    assert lcp_residual(M, q, np.array([1.0, -0.5])) == pytest.approx(0.375)  # z.w, z < 0
+
+
+@settings(max_examples=40, deadline=None)
+@given(nc=st.integers(2, 8), nv=st.integers(1, 6), seed=st.integers(0, 2**31 - 1))
+def test_jammed_projection_lcps_are_solved_or_refused(nc, nv, seed):
+    """Position projections ``N M^-1 N^T`` with more rows than DOF (PSD, duplicated rows):
+    every answer of the stepper's solve is verified on the original problem."""
+    from planner.errors import InfeasibleProblem
+    from planner.sim.planar.stepper import _solve
+
+    rng = np.random.default_rng(seed)
+    N = rng.normal(size=(nc, nv))
+    N[-1] = N[0]  # a corner found twice
+    M = N @ N.T
+    phi = -np.abs(rng.normal(size=nc)) * 1e-6
+    from scipy.optimize import linprog
+
+    # a PSD LCP is solvable iff it is feasible: some z >= 0 with M z + phi >= 0
+    feasible = linprog(np.zeros(nc), A_ub=-M, b_ub=phi, bounds=(0, None)).status == 0
+    try:
+        z = _solve(M, phi, "projection", regularize=1e-9)
+    except InfeasibleProblem:
+        assert not feasible
+        return
+    assert lcp_residual(M, phi, z) <= 1e-6

@@ -107,3 +107,48 @@ def test_force_ramp_is_smooth_and_bounded():
     h = 1e-6
     assert (ramp(h) - ramp(0.0)) / h == pytest.approx(0.0, abs=1e-3)
     assert (ramp(0.1) - ramp(0.1 - h)) / h == pytest.approx(0.0, abs=1e-3)
+
+
+def test_home_term_pulls_the_object_back_over_the_hand(nlp):
+    """The objective's home term: a plan asked to end at x = -5 mm ends left of one asked to
+    end at +5 mm (the object impedance then rolls it back along the palm)."""
+    q0, c, beta = _start()
+    left = nlp.solve(q0, c, R, r, 0.8, beta, 0.0, warm=False, home_x=-0.005)
+    right = nlp.solve(q0, c, R, r, 0.8, beta, 0.0, warm=False, home_x=0.005)
+    assert left.success and right.success
+    assert left.centre[-1, 0] < right.centre[-1, 0] - 1e-3
+
+
+@given(
+    st.floats(-1, 1), st.floats(-1, 1), st.floats(-2, 2), st.floats(0.05, 3.0),
+    st.floats(-0.5, 3.5),
+)  # fmt: skip
+@settings(max_examples=60, deadline=None, derandomize=True)
+def test_scalar_quintic_equals_the_vector_one(x0, x1, v0, T, t):
+    s = QuinticSpline.between([x0], [x1], T, v0=[v0])
+    p, v, a = s(t)
+    ps, vs, as_ = s.scalar()(t)
+    assert isinstance(ps, float)
+    assert ps == pytest.approx(float(p[0]), abs=1e-12)
+    assert vs == pytest.approx(float(v[0]), abs=1e-9)
+    assert as_ == pytest.approx(float(a[0]), abs=1e-8)
+
+
+def test_scalar_ramp_and_interpolation_equal_numpy():
+    from planner.exploration.planar.segments import _interp
+
+    ramp = ForceRamp(0.2, 1.0, 0.08)
+    for t in (-0.1, 0.0, 0.03, 0.08, 0.2):
+        assert isinstance(ramp(t), float)
+        assert ramp(t) == pytest.approx(float(ForceRamp(np.array(0.2), 1.0, 0.08)(t)))
+    times = np.array([0.0, 0.1, 0.4, 0.7])
+    values = np.random.default_rng(0).normal(size=(4, 3))
+    f = _interp(times, values)
+    for t in (-0.05, 0.0, 0.05, 0.1, 0.33, 0.7, 0.9):
+        v, rate = f(t)
+        k = int(np.clip(np.searchsorted(times, t) - 1, 0, 2))
+        w = min(max((t - times[k]) / (times[k + 1] - times[k]), 0.0), 1.0)
+        np.testing.assert_allclose(v, values[k] + w * (values[k + 1] - values[k]), atol=1e-15)
+        inside = times[0] <= t <= times[-1]
+        expect = (values[k + 1] - values[k]) / (times[k + 1] - times[k]) if inside else 0.0
+        np.testing.assert_allclose(rate, expect, atol=1e-12)

@@ -29,6 +29,10 @@ import numpy as np
 from planner.control.grasp_layout import N_CON, N_DIAG, N_PAR, N_REF, N_VAR
 from planner.errors import HapexError
 
+#: doubles of the per-step inputs ``q`` (6), ``qd`` (6), ``geo`` (8), ``ref`` (N_REF), stored
+#: back to back at the start of :attr:`GraspStep.inputs` (``par`` follows them)
+STEP_INPUTS = 20 + N_REF
+
 _DRIVER = r"""
 #include <stdlib.h>
 typedef struct { int n; int m; int ms; double *H; double *f; double *A; double *bupper;
@@ -99,6 +103,23 @@ int hx_step(void* ctx, const double* q, const double* qd, const double* geo, con
   }
   return flag;
 }
+
+/* the step on arrays bound once (hx_bind): one pointer crosses ctypes per step */
+typedef struct { void* ctx; const double *q, *qd, *geo, *ref, *par; double *tau, *f, *diag; }
+  hx_bound;
+
+void* hx_bind(void* ctx, const double* q, const double* qd, const double* geo,
+              const double* ref, const double* par, double* tau, double* f, double* diag) {
+  hx_bound* b = (hx_bound*)calloc(1, sizeof(hx_bound));
+  b->ctx = ctx; b->q = q; b->qd = qd; b->geo = geo; b->ref = ref; b->par = par;
+  b->tau = tau; b->f = f; b->diag = diag;
+  return b;
+}
+
+int hx_run(void* bound) {
+  hx_bound* b = (hx_bound*)bound;
+  return hx_step(b->ctx, b->q, b->qd, b->geo, b->ref, b->par, b->tau, b->f, b->diag);
+}
 """
 
 
@@ -141,7 +162,8 @@ class GraspStep:
     """One compiled control step of the planar grasp (see the module docstring).
 
     Write the step's inputs into :attr:`q`, :attr:`qd`, :attr:`geo`, :attr:`ref` and
-    :attr:`par` (layout in :mod:`planner.control.grasp_layout`), then call the object.
+    :attr:`par` (layout in :mod:`planner.control.grasp_layout`), then call the object. The
+    five are consecutive views of one array, :attr:`inputs`.
 
     Args:
         hand: the ``robots.planar_hand.PlanarHand``.
@@ -181,8 +203,11 @@ class GraspStep:
         lib.hx_step.restype = ctypes.c_int
         lib.hx_step.argtypes = [ctypes.c_void_p] * 9
         self._lib = lib
-        self.q, self.qd, self.geo = np.zeros(6), np.zeros(6), np.zeros(8)
-        self.ref, self.par = np.zeros(N_REF), np.zeros(N_PAR)
+        # one contiguous input block (q, qd, geo, ref, par): a caller can fill the per-step
+        # part q..ref with a single ``struct.pack_into`` (:data:`STEP_INPUTS` doubles)
+        self.inputs = np.zeros(STEP_INPUTS + N_PAR)
+        self.q, self.qd, self.geo = self.inputs[0:6], self.inputs[6:12], self.inputs[12:20]
+        self.ref, self.par = self.inputs[20:STEP_INPUTS], self.inputs[STEP_INPUTS:]
         self.tau, self.forces, self.diag = np.zeros(6), np.zeros(N_VAR), np.zeros(N_DIAG)
         self.flag = 0
         symbols = _daqp_symbols()
@@ -195,7 +220,12 @@ class GraspStep:
             self._ctx = lib.hx_create()
         arrays = (self.q, self.qd, self.geo, self.ref, self.par, self.tau, self.forces, self.diag)
         self._args = (self._ctx,) + tuple(a.ctypes.data for a in arrays)
-        self._step = lib.hx_step
+        lib.hx_bind.restype = ctypes.c_void_p
+        lib.hx_bind.argtypes = [ctypes.c_void_p] * 9
+        lib.hx_run.restype = ctypes.c_int
+        lib.hx_run.argtypes = [ctypes.c_void_p]
+        self._bound = lib.hx_bind(*self._args) if self._ctx else None
+        self._run = lib.hx_run
 
     def _selftest(self) -> bool:
         """Solve two QPs through the C workspace path (setup, then update) and compare with
@@ -227,7 +257,7 @@ class GraspStep:
             ``tau`` (6,) [N m] (the reused attribute array).
         """
         if self.backend == "c-daqp":
-            self.flag = self._step(*self._args)
+            self.flag = self._run(self._bound)
             return self.tau
         return self._python_step()
 
@@ -247,4 +277,4 @@ class GraspStep:
         return self.tau
 
 
-__all__ = ["GraspStep"]
+__all__ = ["STEP_INPUTS", "GraspStep"]

@@ -39,7 +39,15 @@ except ImportError:  # pragma: no cover - exercised only without numba
         return lambda f: f
 
 
-__all__ = ["LCP_OK", "LCP_RAY", "LCP_MAX_ITER", "solve_lcp"]
+__all__ = [
+    "COVERS",
+    "LCP_OK",
+    "LCP_RAY",
+    "LCP_MAX_ITER",
+    "lcp_residual",
+    "lemke_verified",
+    "solve_lcp",
+]
 
 LCP_OK, LCP_RAY, LCP_MAX_ITER = 0, 1, 2
 
@@ -145,10 +153,68 @@ def _lemke(M, q, d, max_iter):
     return z, 2, it
 
 
-def _residual(M, q, z) -> float:
-    w = M @ z + q
-    scale = max(1.0, float(np.abs(q).max()))
-    return max(float(-w.min()), float(abs(w @ z)) / max(1.0, float(z.max())), 0.0) / scale
+@njit(cache=True)
+def _residual(M, q, z):
+    n = q.shape[0]
+    if n == 0:
+        return 0.0
+    scale = 1.0
+    zmax = 1.0
+    bad = 0.0
+    wz = 0.0
+    for i in range(n):
+        scale = max(scale, abs(q[i]))
+        zmax = max(zmax, z[i])
+        bad = max(bad, -z[i])
+        w = q[i]
+        for j in range(n):
+            w += M[i, j] * z[j]
+        bad = max(bad, -w)
+        wz += w * z[i]
+    return max(bad, abs(wz) / zmax) / scale
+
+
+def lcp_residual(M: np.ndarray, q: np.ndarray, z: np.ndarray) -> float:
+    """Largest violation of ``z >= 0, w = M z + q >= 0, z.w = 0``, relative to ``max(1, |q|)``.
+
+    The complementarity gap ``|z.w|`` is divided by ``max(1, max z)``.
+    """
+    M = np.ascontiguousarray(M, dtype=float)
+    return float(_residual(M, np.ascontiguousarray(q, float), np.ascontiguousarray(z, float)))
+
+
+@njit(cache=True)
+def lemke_verified(M, q, covers, max_iter, tol):
+    """Scaled Lemke with verified answers and cover retries (compiled core of solve_lcp).
+
+    Returns ``(z, status, pivots)``; see :func:`solve_lcp`.
+    """
+    n = q.shape[0]
+    s = np.ones(n)
+    for i in range(n):
+        if M[i, i] > 0.0:
+            s[i] = 1.0 / np.sqrt(M[i, i])
+    Ms = np.empty((n, n))
+    qs = np.empty(n)
+    for i in range(n):
+        qs[i] = s[i] * q[i]
+        for j in range(n):
+            Ms[i, j] = s[i] * M[i, j] * s[j]
+    status, pivots = 1, 0
+    z = np.zeros(n)
+    d = np.ones(n)
+    for k in range(covers.shape[0] + 1):
+        if k > 0:
+            for i in range(n):
+                d[i] = covers[k - 1, i % covers.shape[1]]
+        zs, status, pivots = _lemke(Ms, qs, d, max_iter)
+        for i in range(n):
+            z[i] = s[i] * zs[i]
+        if status == 0:
+            if _residual(M, q, z) <= tol:
+                return z, 0, pivots
+            status = 1
+    return z, status, pivots
 
 
 def solve_lcp(M: np.ndarray, q: np.ndarray, max_iter: int | None = None, tol: float = 1e-9):
@@ -180,21 +246,10 @@ def solve_lcp(M: np.ndarray, q: np.ndarray, max_iter: int | None = None, tol: fl
         from planner.errors import InvalidParameter
 
         raise InvalidParameter(f"M must have shape ({n}, {n}) to match q, got {M.shape}")
-    diag = np.diag(M)
-    s = np.where(diag > 0, 1.0 / np.sqrt(np.where(diag > 0, diag, 1.0)), 1.0)
-    Ms = np.ascontiguousarray(s[:, None] * M * s[None, :])
-    qs = s * q
     it = int(max_iter if max_iter is not None else 50 * n + 10)
-    status, pivots = LCP_RAY, 0
-    for k in range(len(_COVERS) + 1):
-        d = np.ones(n) if k == 0 else _COVERS[k - 1][np.arange(n) % _COVERS.shape[1]]
-        zs, status, pivots = _lemke(Ms, qs, d, it)
-        if status == LCP_OK:
-            z = s * zs
-            if _residual(M, q, z) <= tol:
-                return z, LCP_OK, pivots
-            status = LCP_RAY
-    return s * zs, status, pivots
+    z, status, pivots = lemke_verified(M, q, COVERS, it, float(tol))
+    return z, int(status), int(pivots)
 
 
-_COVERS = np.random.default_rng(20260101).uniform(0.5, 2.0, size=(8, 64))
+COVERS = np.random.default_rng(20260101).uniform(0.5, 2.0, size=(8, 64))
+"""Covering vectors of the retries (fixed: runs are deterministic)."""

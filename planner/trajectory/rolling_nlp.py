@@ -38,8 +38,10 @@ import numpy as np
 
 from planner import checks
 
-#: number of parameters: R, r, mu, margin, c0 (2), q0 (6), beta0 (2), u0, q_margin
+#: number of parameters: R, r, mu, margin, c0 (2), q0 (6), beta0 (2), u0, q_margin, home_x
 _NP = 17
+#: weight of the final centre's distance from ``home_x`` [1/m^2] (objective units: rad)
+HOME_WEIGHT = 500.0
 
 
 @dataclass(frozen=True)
@@ -106,7 +108,7 @@ class RollingNLP:
         X = cs.SX.sym("x", nk * (N + 1))
         P = cs.SX.sym("p", _NP)
         R, r, mu, margin = P[0], P[1], P[2], P[3]
-        c0, q0, beta0, u0, qm = P[4:6], P[6:12], P[12:14], P[14], P[15]
+        c0, q0, beta0, u0, qm, home = P[4:6], P[6:12], P[12:14], P[14], P[15], P[16]
         qk = cs.SX.sym("qk", 6)
         T = finger_terms_sx(hand.model, qk, cs.SX.zeros(6), cs.SX.zeros(4), cs.SX.zeros(2))
         fk = cs.Function(
@@ -173,6 +175,10 @@ class RollingNLP:
             add(c[1] - R, 0, cs.inf)  # above the palm
             add(cs.sumsqr(c - X[1:3]), 0, self.travel**2)
         obj += X[nk * N]  # theta_N (negative): minimize = rotate as far as possible
+        # bring the object back over the hand's middle: the explorers' friction rolls it along
+        # the palm in phases 2/3 (up to 4 cm after a ridge caught the right tip) and an object
+        # far off-centre leaves one finger no joint range to rotate it
+        obj += HOME_WEIGHT * (X[nk * N + 1] - home) ** 2
         self._nk = nk
         self._ng = [int(e.shape[0]) for e in g]
         G = cs.vertcat(*g)
@@ -217,6 +223,7 @@ class RollingNLP:
         margin: float = 0.1,
         joint_margin: float = 0.05,
         warm: bool = True,
+        home_x: float | None = None,
     ) -> RollingPlan:
         """Plan phase 1 from the current configuration.
 
@@ -229,6 +236,7 @@ class RollingNLP:
             u0: contact position across the left pad [m].
             joint_margin: distance kept from every joint limit [rad].
             warm: start from the previous solution (shifted to the new start).
+            home_x: where the object centre should end, x [m] (default: where it starts).
 
         Returns:
             the :class:`RollingPlan`.
@@ -240,7 +248,13 @@ class RollingNLP:
         centre = checks.vector("centre", centre, 2, "m")
         beta0 = checks.vector("beta0", beta0, 2, "rad")
         p = np.concatenate(
-            [[radius, tip_radius, mu, margin], centre, q0, beta0, [u0, joint_margin, 0.0]]
+            [
+                [radius, tip_radius, mu, margin],
+                centre,
+                q0,
+                beta0,
+                [u0, joint_margin, centre[0] if home_x is None else float(home_x)],
+            ]
         )
         x0 = self.initial_guess(q0, centre, beta0, u0)
         args = {"x0": x0, "p": p, "lbg": self._lbg, "ubg": self._ubg}

@@ -1,28 +1,38 @@
 """The gait's controller: one callable ``controller(t, obs) -> tau`` for every phase (§2.2).
 
-Per control step it (1) updates the sensed grasp (:mod:`.sensing`), (2) evaluates the
-phase's references (plan of phase 1, or the exploring finger's path of phases 2/3, with the
-startup ramps of §2.2.3), (3) runs the internal-force PI and the rolling PD (eq. 2.8) in
-Python scalars, (4) runs the compiled step (:class:`planner.control.grasp_step.GraspStep`:
-kinematics, Jacobians, object impedance eq. 2.7, fingertip impedance and the QP), and
-(5) checks the events that end a phase: workspace limit, grasp stability lost, contact
-lost, path finished. The first event is kept in :attr:`GaitController.event`; the world's
-``stop`` callback returns it.
+Per control step it (1) evaluates the phase's references (plan of phase 1, or the exploring
+finger's path of phases 2/3, with the startup ramps of §2.2.3: the segment's callables),
+(2) runs one compiled kernel (:func:`.controller_kernel.gait_kernel`): the sensed grasp of
+:mod:`.sensing`, the object rotation estimate, the internal-force PI and the rolling PD
+(eq. 2.8), the step's inputs, the trace row and the checks of the events that end a phase
+(workspace limit, contact lost, grasp stability lost, path finished), (3) runs the compiled
+step (:class:`planner.control.grasp_step.GraspStep`: kinematics, Jacobians, object impedance
+eq. 2.7, fingertip impedance and the QP, one C call) and (4) rejects a command beyond
+:data:`FALLBACK_RATIO` torque limits. The first event is kept in
+:attr:`GaitController.event`; the world's ``stop`` callback returns it.
+
+The laws themselves live in :mod:`planner.control` (the reference implementations, used by
+the plain controller of ``benchmarks/naive_gait.py``); the replay test
+(tests/test_gait_controller.py) checks torques, trace and events against the controller as
+first written, on observations recorded from ``ball_with_ridge``.
 """
 
 from __future__ import annotations
 
 import math
+import struct
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
-from planner.control.grasp_layout import N_PAR, N_REF, PAR, REF, pack
-from planner.control.internal_force import InternalForcePI, sensed_internal_force
-from planner.control.rolling_pd import RollingGains, rolling_moment
-from planner.exploration.planar.sensing import GraspSensing, round_contact_arclength
+from planner.control.grasp_layout import N_PAR, PAR, pack
+from planner.control.internal_force import InternalForcePI
+from planner.control.rolling_pd import RollingGains
+from planner.exploration.planar import controller_kernel as ck
+from planner.exploration.planar.controller_kernel import gait_kernel
+from planner.exploration.planar.sensing import SOURCES, GraspSensing
 from planner.exploration.planar.settings import GaitSettings
 
 
@@ -73,10 +83,14 @@ class GaitController:
     Args:
         hand: the ``PlanarHand``; settings: :class:`GaitSettings`; radius: the estimate's
             radius [m]; gravity: (2,) [m/s^2].
+
+    Attributes:
+        step_times: wall time of every call [s] (the whole call: sensing, references,
+            control laws, the compiled step with its QP, the trace and the event checks).
     """
 
     def __init__(self, hand, settings: GaitSettings, radius: float, gravity) -> None:
-        from planner.control.grasp_step import GraspStep
+        from planner.control.grasp_step import STEP_INPUTS, GraspStep
 
         self.hand, self.s = hand, settings
         self.step = GraspStep(hand)
@@ -98,165 +112,149 @@ class GaitController:
             },
             PAR, N_PAR,
         )  # fmt: skip
+        self._ks = _constants(self, STEP_INPUTS + PAR["f_n_tip"].start)
+        self._sv = np.zeros(ck.N_SV)
+        self._inputs = self.step.inputs
+        self._row = np.zeros(len(TRACE_NAMES))
+        self._pack_sv = struct.Struct(f"{ck.N_SV}d").pack_into
+        self._tau_bound = FALLBACK_RATIO * s.torque_limit
         self.segment: Segment | None = None
         self.t0 = 0.0
         self.event: str | None = None
         self.event_data: dict = {}
-        self.theta = 0.0
-        self._u0 = 0.0
-        self._beta0 = 0.0
-        self._weak = 0.0
-        self._holder = 0
-        self._hold_tip = np.zeros(2)
         self.step_times: list[float] = []
         self.fallbacks = 0  # control steps that used the safe fallback command
         self._last_tau = np.zeros(6)
         self.trace: list[tuple] = []
         self.images: list[tuple[float, np.ndarray]] = []
 
+    @property
+    def theta(self) -> float:
+        """The object rotation estimate [rad] (rolling integration of eq. 2.4 in phase 1)."""
+        return float(self._ks[ck.S_THETA])
+
     # ------------------------------------------------------------------ phases
     def start(self, segment: Segment, t: float) -> None:
         """Begin ``segment`` at world time ``t`` [s]."""
         self.segment, self.t0 = segment, t
         self.event, self.event_data = None, {}
-        self.theta = segment.theta0
-        self._weak = 0.0
-        e = self.sensing.est
-        self._u0, self._beta0 = e.u, e.beta[0]
-        holder = 0 if segment.kind == 2 else 1
+        kind = segment.kind
+        ex = {1: (0.0, 0.0), 2: (0.0, 1.0), 3: (1.0, 0.0)}[kind]
+        e, ks = self.sensing.est, self._ks
         # the holding finger is anchored by its fingertip point (encoders), not by the sensed
         # contact: the contact estimate jumps when the tactile centroid or the centre
         # estimate changes, and a stiff anchor on it dragged the held object
-        self._holder = holder
-        self._hold_tip = e.tips[holder].copy()
-        self.pi.reset()
-        self._trigger = None  # limit triggers, set from the phase's first joint reading
+        holder = 0 if kind == 2 else 1
+        ks[ck.K_KIND], ks[ck.K_SOURCE] = kind, SOURCES[{1: "auto", 2: "pad", 3: "palm"}[kind]]
+        ks[ck.K_HOLDER], ks[ck.K_EX0], ks[ck.K_EX1] = holder, ex[0], ex[1]
+        ks[ck.K_GRASP] = 1.0 if kind == 1 else 0.0
+        ks[ck.K_THETA0] = ks[ck.S_THETA] = segment.theta0
+        ks[ck.K_DURATION] = segment.duration
+        ks[ck.S_U0], ks[ck.S_BETA0] = e.u, e.beta[0]
+        ks[ck.S_HOLD : ck.S_HOLD + 2] = e.tips[holder]
+        ks[ck.S_INT] = 0.0  # the internal-force PI restarts
+        ks[ck.S_WEAK] = 0.0
+        ks[ck.S_TRIG] = 0.0  # limit triggers, set from the phase's first joint reading
+        ks[ck.S_DONE] = 0.0
 
     # ------------------------------------------------------------------ the step
     def __call__(self, t: float, obs) -> np.ndarray:
-        seg, s, st = self.segment, self.s, self.step
         tau_t0 = time.perf_counter()
-        e = self.sensing.update(obs, {1: "auto", 2: "pad", 3: "palm"}[seg.kind])
+        seg = self.segment
         tl = t - self.t0
-        R = self.sensing.radius
-        ref = st.ref
-        if seg.kind == 1 and e.pad_touch:  # rolling integration (eq. 2.4)
-            self.theta = seg.theta0 + (e.beta[0] - self._beta0) - (e.u - self._u0) / R
-        f_des = seg.hold_force(tl)
-        if seg.kind == 1:
-            sensed = sensed_internal_force(e.p[0], e.p[1], e.forces[0], e.forces[1])
-        else:
-            holder = 0 if seg.kind == 2 else 1
-            palm = np.array([e.centre[0], 0.0])
-            sensed = sensed_internal_force(e.p[holder], palm, e.forces[holder], -e.forces[holder])
-        f_cmd = self.pi.command(f_des, sensed, 1.0 / s.control_rate)
-        pose_now = seg.pose(tl) if seg.pose is not None else None
-        m_roll = [0.0, 0.0]
-        self._roll_cmd = (math.nan, math.nan, math.nan)
-        if seg.rolling is not None:
-            u_des, sR_des, phi_ref, phid_ref = seg.rolling(tl)
-            phiR = float(obs.q[3] + obs.q[4] + obs.q[5])
-            sR = round_contact_arclength(e.beta[1], phiR, self.r)
-            self._roll_cmd = (u_des, sR, sR_des)
-            w_des = float(pose_now[1][2]) if pose_now is not None else 0.0
-            qd = obs.qd
-            # contact rates from pure rolling (eq. 2.4): ds = -d(phi - theta) / (k_f + k_o)
-            sdL = -R * (qd[0] + qd[1] + qd[2] - w_des)
-            sdR = -(self.r * R / (self.r + R)) * (qd[3] + qd[4] + qd[5] - w_des)
-            m_roll = [rolling_moment(-e.u, sdL, -u_des, 0.0, self.roll),
-                      rolling_moment(sR, sdR, sR_des, 0.0, self.roll)]  # fmt: skip
-            if seg.kind != 1:
-                # the holder of phases 2/3 gets no rolling PD: on a round tip its distal
-                # moment becomes a tangential contact force (moment / tip radius) that
-                # rolled the held object away along the palm
-                m_roll = [0.0, 0.0]
-            # orientation of each grasping/holding fingertip along its planned path
-            for k in range(2):
-                phi = float(obs.q[3 * k] + obs.q[3 * k + 1] + obs.q[3 * k + 2])
-                phid = float(qd[3 * k] + qd[3 * k + 1] + qd[3 * k + 2])
-                kp = s.hold_kp if seg.kind == 1 else 0.0
-                m_roll[k] += kp * (phi_ref[k] - phi) - s.hold_kv * (phid - phid_ref[k])
-        x_des, xd_des = (
-            pose_now if pose_now is not None else ((e.centre[0], e.centre[1], 0.0), (0, 0, 0))
-        )
-        p_des, v_des, phi_des = (
-            seg.explore(tl) if seg.explore is not None else ((0.0, 0.0), (0.0, 0.0), 0.0)
-        )
-        explorer = {1: (0.0, 0.0), 2: (0.0, 1.0), 3: (1.0, 0.0)}[seg.kind]
-        phis = [phi_des if explorer[0] else 0.0, phi_des if explorer[1] else 0.0]
-        ref[:] = pack(
-            {
-                "x_des": x_des, "xd_des": xd_des, "theta_est": self.theta, "rho": (R, R),
-                "f_int": f_cmd, "m_roll": m_roll, "p_des": p_des, "v_des": v_des,
-                "phi_des": phis, "palm": (e.centre[0], 0.0),
-                "flags": (1.0 if seg.kind == 1 else 0.0, explorer[0], explorer[1]),
-                "p_hold": self._hold_tip + (e.p[self._holder] - e.tips[self._holder]),
-            },
-            REF, N_REF,
+        self._pack_sv(self._sv, 0, seg.hold_force(tl), *_references(seg, tl), t, tl)
+        tactile = obs.tactile
+        image = tactile.get("left") if tactile is not None else None
+        sensing = self.sensing
+        code = gait_kernel(
+            obs.q, obs.qd, obs.tip_forces, sensing._no_image if image is None else image,
+            image is not None, sensing.geo, sensing.taxel_u, sensing.buffer, self._sv,
+            self._ks, self._inputs, self._row,
         )  # fmt: skip
-        if seg.explore_force is not None:
-            st.par[PAR["f_n_tip"]] = seg.explore_force(tl)
-        st.q[:], st.qd[:] = obs.q, obs.qd
-        st.geo[:4], st.geo[4:] = e.offsets, e.tip_normals
-        if seg.kind == 3:  # the exploring pad is steered by its centre (it slides)
-            st.geo[0:2] = 0.0
-        tau = st().copy()
-        if not np.all(np.isfinite(tau)) or np.max(np.abs(tau)) > FALLBACK_RATIO * s.torque_limit:
+        tau = self.step()
+        taus = tau.tolist()
+        bound = self._tau_bound
+        if math.isfinite(sum(taus)) and max(taus) <= bound and min(taus) >= -bound:
+            tau = self._last_tau = tau.copy()
+        else:
             # a near-singular finger Jacobian or an infeasible QP gave a command of tens of
             # N m: saturated at the torque limits it threw the light fingers into the object
             # (simulator faults); hold the last good command, damped, for this step instead
             tau = self._last_tau - FALLBACK_DAMPING * np.asarray(obs.qd, float)
             self.fallbacks += 1
-        else:
-            self._last_tau = tau
+        self.trace.append(tuple(self._row.tolist()))
+        if image is not None and len(self.trace) % 5 == 0:
+            self.images.append((t, image.copy()))
+        if code:
+            self._event(code)
         self.step_times.append(time.perf_counter() - tau_t0)
-        self.trace.append(
-            (t, seg.kind, e.u, e.pad_touch, *e.p.ravel(), *e.n.ravel(), *e.centre, self.theta,
-             *e.normal_force, f_cmd, sensed, *p_des, *self._roll_cmd, f_des,
-             *e.forces.ravel())
-        )  # fmt: skip
-        if obs.tactile is not None and len(self.trace) % 5 == 0 and "left" in obs.tactile:
-            self.images.append((t, obs.tactile["left"].copy()))
-        self._check_events(t, tl, obs, e)
         return tau
 
-    # ------------------------------------------------------------------ events
-    def _check_events(self, t, tl, obs, e) -> None:
-        if self.event is not None:
-            return
-        s, seg = self.s, self.segment
-        q = obs.q
-        if self._trigger is None:
-            self._trigger = limit_triggers(q, self.lim, s.joint_margin)
-        lo, hi = self._trigger
-        near = np.flatnonzero((q < lo) | (q > hi))
-        moving = {1: range(6), 2: range(3, 6), 3: range(0, 3)}[seg.kind]
-        hit = [int(j) for j in near if j in moving]
-        if hit and tl > s.startup_time:
-            self._set("workspace limit", joints=hit)
-            return
-        touching = {1: (0, 1), 2: (0,), 3: (1,)}[seg.kind]
-        weak = any(e.normal_force[k] < s.lost_force for k in touching)
-        self._weak = self._weak + 1.0 / s.control_rate if weak else 0.0
-        if self._weak > s.lost_time and tl > s.startup_time:
-            self._set("contact lost", fingers=[k for k in touching])
-            return
-        if seg.kind == 1 and tl > s.startup_time:
-            from planner.grasp import epsilon_two_planar
-
-            eps = float(epsilon_two_planar(e.p[0], -e.n[0], e.p[1], -e.n[1], s.mu))
-            if eps < s.min_epsilon:
-                self._set("grasp stability lost", epsilon=eps)
-                return
-        if tl >= seg.duration:
-            self._set("path finished")
+    def _event(self, code: int) -> None:
+        """Record the event the kernel found (code of ``controller_kernel.EVENTS``)."""
+        ks = self._ks
+        kind = ck.EVENTS[code]
+        if code == 1:
+            hit = int(ks[ck.S_HIT])
+            self._set(kind, joints=[j for j in range(6) if hit >> j & 1])
+        elif code == 2:
+            touching = {1: [0, 1], 2: [0], 3: [1]}[self.segment.kind]
+            self._set(kind, fingers=touching)
+        elif code == 3:
+            self._set(kind, epsilon=float(ks[ck.S_EPS]))
+        else:
+            self._set(kind)
 
     def _set(self, kind: str, **data) -> None:
         self.event, self.event_data = kind, data
+        self._ks[ck.S_DONE] = 1.0
 
     def stop(self, t: float, world) -> str | None:
         """The ``stop`` callback of ``world.run``: the event that ends the phase, if any."""
         return self.event
+
+
+_NO_POSE = (0.0,) * 7
+_NO_ROLL = (0.0,) * 7
+_NO_EXPLORE = (0.0,) * 6
+_NO_FORCE = (0.0, 0.0)
+
+
+def _references(seg: Segment, tl: float) -> tuple:
+    """The segment's references at phase time ``tl`` [s] as the floats of ``sv`` (layout
+    ``V_HAS_POSE`` .. ``V_FNT`` of :mod:`.controller_kernel`)."""
+    if seg.pose is None:
+        pose = _NO_POSE
+    else:
+        (x, y, a), (vx, vy, w) = seg.pose(tl)
+        pose = (1.0, x, y, a, vx, vy, w)
+    if seg.rolling is None:
+        roll = _NO_ROLL
+    else:
+        u_des, s_des, (p0, p1), (w0, w1) = seg.rolling(tl)
+        roll = (1.0, u_des, s_des, p0, p1, w0, w1)
+    if seg.explore is None:
+        explore = _NO_EXPLORE
+    else:
+        (px, py), (vx, vy), phi = seg.explore(tl)
+        explore = (1.0, px, py, vx, vy, phi)
+    force = _NO_FORCE if seg.explore_force is None else (1.0, seg.explore_force(tl))
+    return (*pose, *roll, *explore, *force)
+
+
+def _constants(ctrl: GaitController, f_n_tip: int) -> np.ndarray:
+    """The constant part of the kernel's ``ks`` array for ``ctrl``."""
+    s, g, roll = ctrl.s, ctrl.pi.gains, ctrl.roll
+    ks = np.zeros(ck.N_KS)
+    ks[: ck.K_LIM_LO] = (
+        ctrl.sensing.radius, ctrl.r, 1.0 / s.control_rate, g.kp, g.ki, g.max_correction,
+        roll.kp, roll.kv, roll.max_moment, s.hold_kp, s.hold_kv, s.startup_time,
+        s.lost_force, s.lost_time, s.mu, s.min_epsilon, s.joint_margin,
+    )  # fmt: skip
+    ks[ck.K_LIM_LO : ck.K_LIM_LO + 6] = ctrl.lim[:, 0]
+    ks[ck.K_LIM_HI : ck.K_LIM_HI + 6] = ctrl.lim[:, 1]
+    ks[ck.K_F_NT] = f_n_tip
+    return ks
 
 
 def limit_triggers(q, lim, margin: float) -> tuple[np.ndarray, np.ndarray]:

@@ -132,10 +132,86 @@ def start_grasp_candidates(
     return sorted(out, key=lambda g: -g[3])
 
 
+def _reach_margin(hand, finger: str, points: np.ndarray, phis: np.ndarray) -> np.ndarray:
+    """Joint-limit margin [rad] of reaching each ``points[i]`` (M, 2) with orientation
+    ``phis[i]`` (M,), best IK branch; ``-inf`` where unreachable."""
+    sols, ok = hand.ik_candidates(finger, points, phis)
+    return np.where(ok, _margin(hand, finger, sols), -np.inf).max(axis=1)
+
+
+def regrasp_orientation(
+    hand, centre, radius: float, beta: float, travel: float, spread: float = 0.5, n: int = 61
+) -> float:
+    """Orientation [rad] of the round right tip for its new grasp at world polar angle
+    ``beta`` [rad] on the estimated circle (``centre`` (2,), ``radius`` [m]).
+
+    The §2.2.3 heuristic ("a preferred fingertip orientation - one that maximizes the local
+    configuration space") evaluated where the finger will work: the orientation within
+    ``spread`` [rad] of the tip's apex that maximizes the smaller joint-limit margin at the
+    new grasp and at the end of the next phase 1 (the contact ``travel`` [rad] further,
+    clockwise; in rolling on a circle of radius ~2 r the tip keeps its orientation to within
+    a few degrees, so the same orientation is checked there). Falls back to the four-region
+    preference when no orientation reaches both points.
+    """
+    r = hand.params.right.tip_radius
+    c = np.asarray(centre, float)
+    apex = beta + 0.5 * math.pi
+    phis = apex + np.linspace(-spread, spread, n)
+    pts = [
+        np.broadcast_to(c + (radius + r) * np.array([math.cos(b), math.sin(b)]), (n, 2))
+        for b in (beta, beta - travel)
+    ]
+    m = np.minimum(*(_reach_margin(hand, "right", p, phis) for p in pts))
+    if not np.isfinite(m).any():
+        pref = preferred_orientation(hand, "right", pts[0][0])
+        return apex + float(np.clip(pref - apex, -spread, spread))
+    return float(phis[int(np.argmax(m))])
+
+
+def stable_pair(beta_left: float, beta_right: float, mu: float, margin: float) -> float:
+    """Yoshikawa-Nagai stability margin [rad] of a two-finger grasp of a circle at world
+    polar angles ``beta_left``, ``beta_right`` [rad]: ``atan(mu) - margin`` minus the angle
+    between the contact line and the contact normals (>= 0: stable with the margin)."""
+    half = 0.5 * abs(math.atan2(math.sin(beta_left - beta_right), math.cos(beta_left - beta_right)))
+    return math.atan(mu) - margin - (0.5 * math.pi - half)
+
+
+def regrasp_left_angle(
+    hand, centre, radius: float, beta_right: float, mu: float, margin: float, travel: float
+) -> float | None:
+    """World polar angle [rad] of the left pad's new grasp (end of phase 3) for the next
+    phase 1, or None when no stable, reachable one exists.
+
+    Candidates from 120 to 180 deg: the pair with the right contact ``beta_right`` must be
+    stable (:func:`stable_pair` >= 0) and the pad must reach both the new grasp and the end
+    of the next rotation (``travel`` [rad] clockwise). Among those the score is the smaller of
+    the two joint-limit margins and the stability margin (the same rule as the start grasp);
+    a higher contact also lets the pad carry more of the object's weight by friction.
+    """
+    c = np.asarray(centre, float)
+    cand = np.deg2rad(np.arange(120.0, 180.5, 2.5))
+    best, arg = -np.inf, None
+    mid = float(hand.finger_limits("left").sum(axis=0).mean())
+    for b in cand:
+        stab = stable_pair(b, beta_right, mu, margin)
+        if stab < 0:
+            continue
+        bb = np.array([b, b - travel])
+        pts = c + radius * np.column_stack([np.cos(bb), np.sin(bb)])
+        phis = np.array([pad_angle(x, mid) for x in bb])
+        score = min(float(_reach_margin(hand, "left", pts, phis).min()), stab)
+        if score > best:
+            best, arg = score, float(b)
+    return arg if best > 0 else None
+
+
 __all__ = [
     "best_margin_ik",
     "four_region_orientations",
     "pad_angle",
     "preferred_orientation",
+    "regrasp_left_angle",
+    "regrasp_orientation",
+    "stable_pair",
     "start_grasp_candidates",
 ]

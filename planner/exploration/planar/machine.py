@@ -19,7 +19,8 @@ import time
 import numpy as np
 
 from planner.errors import InvalidParameter
-from planner.exploration.planar.controller import GaitController
+from planner.exploration.planar.controller import TRACE_NAMES, GaitController
+from planner.exploration.planar.heuristics import regrasp_left_angle
 from planner.exploration.planar.logs import concat_logs
 from planner.exploration.planar.objects import mean_radius
 from planner.exploration.planar.result import ExplorationResult, PhaseRecord
@@ -28,6 +29,17 @@ from planner.exploration.planar.settings import GaitSettings
 from planner.exploration.planar.setup import build_world, gait_prior
 
 FULL_TURN = 2 * math.pi
+CX = TRACE_NAMES.index("cx")
+#: contact travel [rad] expected in one phase 1 (the regrasp heuristics keep joint range for
+#: it; the first rotation of the 10 cm ball moved the contacts 16-24 deg)
+PHASE1_TRAVEL = math.radians(22.0)
+#: the gait terminates when this many cycles together turned the object less than
+#: ``STALL_ROTATION`` [rad]
+STALL_CYCLES = 3
+#: phases 2/3 end when the sensed object centre moved this far from its start [m] (a
+#: safety net: the sliding pad rolls the ball 1-5 mm per phase 3, more over the ridge)
+HOLD_SLIP = 0.01
+STALL_ROTATION = math.radians(5.0)
 
 
 def explore_object(
@@ -159,12 +171,34 @@ class _Runner:
                     return
                 kind, skip = (2 if kind == 1 else 1), False
                 continue
-            failures = 0
             event, rec = self._run(kind, skip, seg, planned, nlp_t)
             if event in ("contact lost", "object dropped", "sim fault"):
                 self._end("failed", f"{event} in phase {kind}: {rec.event}")
                 return
+            if kind == 1:
+                # only a rotation that happened clears the failures (phases 2/3 always run)
+                failures = 0 if abs(rec.rotation) >= math.radians(1.0) else failures + 1
+                if failures >= 2:
+                    rot = math.degrees(rec.rotation)
+                    self._end("failed", "no stable grasp within the workspace: phase 1 "
+                              f"rotated {rot:.1f} deg ({event})")  # fmt: skip
+                    return
+                if self._stalled():
+                    lim = math.degrees(STALL_ROTATION)
+                    self._end("failed", f"no progress: the last {STALL_CYCLES} cycles turned "
+                              f"the object less than {lim:.0f} deg")  # fmt: skip
+                    return
             kind, skip = self._next(kind, event, est)
+
+    def _stalled(self) -> bool:
+        """Whether the last ``STALL_CYCLES`` cycles (phase-1 start to phase-1 start) together
+        turned the object less than ``STALL_ROTATION`` (phases 2/3 rolled it back as far as
+        phase 1 turned it)."""
+        starts = [i for i, p in enumerate(self.records) if p.kind == 1]
+        if len(starts) <= STALL_CYCLES:
+            return False
+        net = sum(p.rotation for p in self.records[starts[-STALL_CYCLES - 1] : starts[-1]])
+        return abs(net) < STALL_ROTATION
 
     def _plan(self, kind, est, q):
         s = self.s
@@ -173,16 +207,28 @@ class _Runner:
             mu = s.mu * (1 - s.friction_margin)
             R = self.ctrl.sensing.radius
             plan = self.nlp.solve(q, est.centre, R, r, mu, est.beta, est.u, margin=s.nlp_margin,
-                                  joint_margin=s.joint_margin + 0.02)  # fmt: skip
+                                  joint_margin=s.joint_margin + 0.02,
+                                  home_x=self.start["rest"][0])  # fmt: skip
             if not plan.success or abs(plan.rotation) < math.radians(1.0):
                 return None, 0.0, plan.solve_time_s, f"phase-1 NLP: {plan.stop}"
             seg = phase1_segment(plan, est, q, self.theta, s, self.hand, lift=0.0015)
             return seg, plan.rotation, plan.solve_time_s, ""
-        target = self.start["beta"][1 if kind == 2 else 0]
         if kind == 2:
-            target = max(target, self._right_hold_angle())
-        seg = explore_segment(kind, est, q, target, self.theta, s, self.hand)
+            target = max(self.start["beta"][1], self._right_hold_angle())
+        else:
+            target = self._left_regrasp_angle(est)
+        seg = explore_segment(kind, est, q, target, self.theta, s, self.hand, PHASE1_TRAVEL)
         return seg, 0.0, 0.0, ""
+
+    def _left_regrasp_angle(self, est) -> float:
+        """Where the left pad goes in phase 3 (world polar angle [rad]): the §2.2.3 choice of
+        :func:`regrasp_left_angle` for the right contact it will grasp with; the start
+        grasp's angle when none is stable and reachable (phase 1 then reports it)."""
+        s = self.s
+        mu = s.mu * (1 - s.friction_margin)
+        b = regrasp_left_angle(self.hand, est.centre, self.ctrl.sensing.radius, float(est.beta[1]),
+                               mu, s.nlp_margin, PHASE1_TRAVEL)  # fmt: skip
+        return self.start["beta"][0] if b is None else b
 
     def _right_hold_angle(self) -> float:
         """Lowest polar angle [rad] of the right contact from which the right finger can
@@ -200,10 +246,29 @@ class _Runner:
         n0 = len(c.trace)
         eps_min = [math.inf]
         horizon = min(seg.duration + 0.5, self.t_end - t0)
-        log = w.run(max(horizon, w.dt), c, control_rate=self.s.control_rate, stop=c.stop)
+        c0 = c.sensing.est.centre.copy()
+        moved = [False]
+
+        def stop(t, world):
+            # phases 2/3: the held object must stay where it is; a sensed centre that moved
+            # HOLD_SLIP means the explorer drags it (a ridge caught the round right tip and
+            # rolled the ball 30 deg back along the palm before this check)
+            if kind != 1 and math.hypot(*(c.sensing.est.centre - c0)) > HOLD_SLIP:
+                moved[0] = True
+                return "object moved"
+            return c.stop(t, world)
+
+        log = w.run(max(horizon, w.dt), c, control_rate=self.s.control_rate, stop=stop)
         self.logs.append(log)
         self.theta = c.theta
-        event = c.event or "time limit"
+        if kind != 1 and len(c.trace) > n0 + 1:
+            # phases 2/3 hold the object on the palm, where it rolls (the explorer's friction
+            # rolled the ball back 1-5 deg per phase): theta -= dx / R from the sensed centre
+            self.theta -= (c.trace[-1][CX] - c.trace[n0][CX]) / self.ctrl.sensing.radius
+        event = "object moved" if moved[0] else (c.event or "time limit")
+        if c.event_data:
+            self.events.append({"t": w.time, "kind": "phase_end", "phase": kind,
+                                "message": f"{event}: {c.event_data}"})  # fmt: skip
         if log.status == "failed":
             event = "object dropped" if "drop" in log.reason else "sim fault"
             self.events.append({"t": w.time, "kind": "sim", "message": log.reason})

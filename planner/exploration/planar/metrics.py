@@ -61,6 +61,21 @@ MIN_SLIDE_SPEED = 0.002
 MERGE_ANGLE = math.radians(3.0)
 
 
+def object_rotation(trace: dict, radius: float) -> np.ndarray:
+    """The sensed object rotation [rad] of every trace row: the controller's rolling
+    estimate (eq. 2.4) in phase 1; in phases 2/3 the object lies on the palm and rolls on it,
+    so its rotation follows the sensed centre, ``theta_0 - (c_x - c_x0) / R`` from the
+    phase's first row (the controller holds theta there)."""
+    th = np.array(trace["theta"], float)
+    kind, cx = trace["kind"], trace["cx"]
+    idx = np.flatnonzero(kind > 1)
+    if idx.size:
+        breaks = np.flatnonzero((np.diff(idx) > 1) | (np.diff(kind[idx]) != 0)) + 1
+        for run in np.split(idx, breaks):
+            th[run] = th[run[0]] - (cx[run] - cx[run[0]]) / radius
+    return th
+
+
 def steady_sliding(trace: dict, explore_force: float = 0.3) -> np.ndarray:
     """Rows of ``trace`` where the left pad explores in steady sliding contact (phase 3,
     touching, past the startup ramps, normal force near ``explore_force`` [N], contact
@@ -100,6 +115,7 @@ def detect_pad_features(
     """
     if len(trace.get("t", ())) == 0:
         return []
+    trace = {**trace, "theta": object_rotation(trace, radius)}
     sel = steady_sliding(trace, explore_force)
     truth = [math.atan2(f.position[1], f.position[0])
              for f in profile.curvature_features(VIRTUAL_RADIUS)]  # fmt: skip
@@ -218,6 +234,7 @@ def summary_metrics(res, ridge_angle, explore_force: float, internal_force: floa
 __all__ = [
     "VIRTUAL_RADIUS",
     "coverage_of",
+    "object_rotation",
     "detect_pad_features",
     "slip_distance",
     "steady_sliding",

@@ -13,29 +13,38 @@ from the current sensed estimate; §2.2.2-2.2.3).
 
 from __future__ import annotations
 
+import bisect
 import math
 
 import numpy as np
 
 from planner.exploration.planar.controller import Segment
-from planner.exploration.planar.heuristics import pad_angle, preferred_orientation
+from planner.exploration.planar.heuristics import pad_angle, regrasp_orientation
 from planner.exploration.planar.sensing import round_contact_arclength
 from planner.trajectory import ForceRamp, QuinticSpline
 
-#: largest change of the round exploring tip's orientation in one phase [rad] (0: the tip
-#: slides without re-orienting; 0.15 still ended runs in simulator faults, see the report)
-MAX_REORIENT = 0.0
+#: largest change of the round exploring tip's orientation in one phase [rad] (the faults
+#: that made it 0 this morning were the simulator's open-outline corner bug)
+MAX_REORIENT = 0.6
 
 
 def _interp(times: np.ndarray, values: np.ndarray):
-    """Piecewise-linear ``t -> (value, rate)`` through knots (held outside)."""
+    """Piecewise-linear ``t -> (value, rate)`` through knots (held outside), as lists of
+    floats (plain Python: it runs in every control step)."""
+    ts = [float(x) for x in times]
+    vs = np.asarray(values, float).tolist()
+    n = len(ts)
 
     def f(t: float):
-        k = int(np.clip(np.searchsorted(times, t) - 1, 0, len(times) - 2))
-        h = times[k + 1] - times[k]
-        w = min(max((t - times[k]) / h, 0.0), 1.0)
-        rate = (values[k + 1] - values[k]) / h if times[0] <= t <= times[-1] else 0 * values[0]
-        return values[k] + w * (values[k + 1] - values[k]), rate
+        k = min(max(bisect.bisect_left(ts, t) - 1, 0), n - 2)  # == clip(searchsorted - 1)
+        a, b = vs[k], vs[k + 1]
+        h = ts[k + 1] - ts[k]
+        w = min(max((t - ts[k]) / h, 0.0), 1.0)
+        inside = ts[0] <= t <= ts[-1]
+        return (
+            [x + w * (y - x) for x, y in zip(a, b, strict=True)],
+            [(y - x) / h if inside else 0.0 for x, y in zip(a, b, strict=True)],
+        )
 
     return f
 
@@ -78,9 +87,22 @@ def phase1_segment(plan, est, q, theta0: float, settings, hand, lift: float) -> 
     )
 
 
-def explore_segment(kind: int, est, q, target_beta: float, theta0: float, settings, hand):
+def friction_lag(settings) -> float:
+    """How far [m] the sliding explorer's contact trails its command: the tangential
+    fingertip impedance (``tip_kp`` [N/m]) must pull the Coulomb friction ``mu f_n`` [N]
+    along. Measured on the 10 cm ball: 5-7 mm (5-8 deg) behind, so phase 3 ended with the
+    flat pad tilted on the ball and the pad-based centre estimate 7 mm off. The executor
+    leads the command by this much while the contact moves (friction feed-forward)."""
+    return settings.mu * settings.explore_force / settings.tip_kp
+
+
+def explore_segment(
+    kind: int, est, q, target_beta: float, theta0: float, settings, hand, travel: float = 0.35
+):
     """The phase-2 (``kind`` 2: right explores) or phase-3 (left explores) segment that
-    moves the explorer's contact from its sensed angle to ``target_beta`` [rad]."""
+    moves the explorer's contact from its sensed angle to ``target_beta`` [rad];
+    ``travel`` [rad] is the contact travel expected in the next phase 1 (for the
+    orientation heuristic)."""
     s = settings
     k = 1 if kind == 2 else 0
     radius = float(np.linalg.norm(est.p[k] - est.centre))
@@ -93,15 +115,12 @@ def explore_segment(kind: int, est, q, target_beta: float, theta0: float, settin
     r = hand.params.right.tip_radius
     if k == 1:
         phi0 = float(q[3:6].sum())
-        end = c + (radius + r) * np.array([math.cos(b1), math.sin(b1)])
-        apex = b1 + 0.5 * math.pi
-        pref = preferred_orientation(hand, "right", end)
-        lim = 0.5  # keep the contact within 0.5 rad of the apex
-        phi1 = apex + float(np.clip(pref - apex, -lim, lim))
-        # turn the tip towards that orientation by at most MAX_REORIENT per phase: on a
-        # 10 cm ball the full turn twisted the finger into its joint-2 stop, phase 2 ended
-        # at the workspace limit and the gait stalled (transition 4 on every cycle)
-        phi1 = phi0 + float(np.clip(phi1 - phi0, -MAX_REORIENT, MAX_REORIENT))
+        # §2.2.3: the orientation that keeps the finger farthest from its joint limits over
+        # the new grasp and the next rotation (without it the right finger started phase 1
+        # near its joint-1 stop and every rotation ended at its workspace limit after ~7 deg)
+        phi1 = regrasp_orientation(hand, c, radius, b1, travel)
+        turn = math.atan2(math.sin(phi1 - phi0), math.cos(phi1 - phi0))
+        phi1 = phi0 + float(np.clip(turn, -MAX_REORIENT, MAX_REORIENT))
 
         def phi_of(t, b):
             w = min(max((t - s.startup_time) / T_move, 0.0), 1.0)
@@ -112,22 +131,27 @@ def explore_segment(kind: int, est, q, target_beta: float, theta0: float, settin
         def phi_of(t, b):
             return pad_angle(b, phi0)
 
+    lag = friction_lag(s) * math.copysign(1.0, b1 - b0)
+    path = spline.scalar()
+    cx, cy = float(c[0]), float(c[1])
+
     def explore(t: float):
-        (b,), (bd,), _ = spline(t - s.startup_time)
-        n = np.array([math.cos(b), math.sin(b)])
-        tang = np.array([-math.sin(b), math.cos(b)])
-        p = c + radius * n
-        v = radius * bd * tang
-        return (p[0], p[1]), (v[0], v[1]), phi_of(t, b)
+        tm = t - s.startup_time
+        b, bd, _ = path(tm)
+        cb, sb = math.cos(b), math.sin(b)
+        w = min(max(min(tm, T_move - tm) / s.startup_time, 0.0), 1.0)
+        p = (cx + radius * cb - w * lag * sb, cy + radius * sb + w * lag * cb)
+        v = (-radius * bd * sb, radius * bd * cb)
+        return p, v, phi_of(t, b)
 
     holder = 0 if kind == 2 else 1
     f_hold0 = float(max(est.normal_force[holder], 0.0))
-    hold = ForceRamp(f_hold0, s.internal_force, s.startup_time)
+    hold = ForceRamp(f_hold0, s.hold_force, s.startup_time)
     f_exp0 = float(max(est.normal_force[k], 0.0))
     fexp = ForceRamp(f_exp0, s.explore_force, s.startup_time)
     phiR = float(q[3:6].sum())
-    keep = (est.u, round_contact_arclength(est.beta[1], phiR, r),
-            np.array([q[0:3].sum(), phiR]), np.zeros(2))  # fmt: skip
+    keep = (float(est.u), round_contact_arclength(est.beta[1], phiR, r),
+            [float(q[0:3].sum()), phiR], [0.0, 0.0])  # fmt: skip
     return Segment(
         kind=kind,
         duration=T + 0.02,
@@ -139,4 +163,4 @@ def explore_segment(kind: int, est, q, target_beta: float, theta0: float, settin
     )
 
 
-__all__ = ["explore_segment", "phase1_segment"]
+__all__ = ["explore_segment", "friction_lag", "phase1_segment"]

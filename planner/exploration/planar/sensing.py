@@ -15,25 +15,54 @@ Here:
 * object rotation during rolling (eq. 2.4 integrated): ``theta = Δbeta_L - Δu / R`` with
   ``beta_L = phi_L - pi/2`` the world angle of the pad contact;
 * strain gauges give the fingertip forces (applied on the object, WCS).
+
+The whole update is one compiled call (:func:`sense_kernel`, numba) writing into one flat
+buffer; the :class:`GraspEstimate`'s arrays are views of that buffer, so an update allocates
+nothing and the controller reads every sensed scalar with one ``buffer.tolist()``.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 #: tactile force [N] above which the pad is considered in contact
 TOUCH_FORCE = 0.02
 
+#: where the centre estimate comes from (``source`` of :meth:`GraspSensing.update`)
+SOURCES = {"auto": 0, "pad": 1, "palm": 2}
 
-@dataclass
+# layout of the estimate buffer (indices; the controller reads it by these names)
+B_U, B_TOUCH = 0, 1
+B_P = slice(2, 6)  # (2, 2) contact points
+B_N = slice(6, 10)  # (2, 2) outward object normals
+B_C = slice(10, 12)  # object centre
+B_BETA = slice(12, 14)
+B_F = slice(14, 18)  # (2, 2) strain-gauge forces
+B_FN = slice(18, 20)
+B_OFF = slice(20, 24)
+B_TN = slice(24, 28)
+B_TIPS = slice(28, 32)  # (2, 2) fingertip points
+B_PHI = slice(32, 34)  # fingertip orientations phi_L, phi_R [rad]
+N_BUF = 34
+
+# layout of the geometry vector of the kernel
+_G_BASE_L, _G_LEN_L, _G_BASE_R, _G_LEN_R = 0, 2, 5, 7
+_G_R, _G_TIP_R, _G_PITCH2, _G_TOUCH = 10, 11, 12, 13
+N_GEO = 14
+
+
 class GraspEstimate:
-    """The sensed grasp at one instant (mutable, updated in place each control step).
+    """The sensed grasp at one instant (updated in place by every :meth:`GraspSensing.update`).
+
+    Every array is a view of the sensing buffer (do not keep it across updates without a
+    ``copy()``).
 
     Attributes:
-        u: contact position across the left pad [m] (tactile centroid).
+        u: contact position across the left pad [m] (tactile centroid; kept while the pad
+            does not touch).
         pad_touch: whether the tactile array sees a contact.
         p: (2, 2) contact points of the left and right fingers [m].
         n: (2, 2) outward object normals at them (the fingers push along ``-n``).
@@ -44,19 +73,37 @@ class GraspEstimate:
         offsets: (4,) contact points in the fingertip frames [m] (for the control step).
         tip_normals: (4,) tip-frame unit normals pointing into the object.
         tips: (2, 2) fingertip points from the encoders (pad centre, tip-disc centre) [m].
+        phi: (2,) fingertip orientations ``q1 + q2 + q3`` of the two fingers [rad].
     """
 
-    u: float = 0.0
-    pad_touch: bool = False
-    p: np.ndarray = None  # type: ignore[assignment]
-    n: np.ndarray = None  # type: ignore[assignment]
-    centre: np.ndarray = None  # type: ignore[assignment]
-    beta: np.ndarray = None  # type: ignore[assignment]
-    forces: np.ndarray = None  # type: ignore[assignment]
-    normal_force: np.ndarray = None  # type: ignore[assignment]
-    offsets: np.ndarray = None  # type: ignore[assignment]
-    tip_normals: np.ndarray = None  # type: ignore[assignment]
-    tips: np.ndarray = None  # type: ignore[assignment]
+    def __init__(self, buffer: np.ndarray) -> None:
+        self.buffer = buffer
+        self.p = buffer[B_P].reshape(2, 2)
+        self.n = buffer[B_N].reshape(2, 2)
+        self.centre = buffer[B_C]
+        self.beta = buffer[B_BETA]
+        self.forces = buffer[B_F].reshape(2, 2)
+        self.normal_force = buffer[B_FN]
+        self.offsets = buffer[B_OFF]
+        self.tip_normals = buffer[B_TN]
+        self.tips = buffer[B_TIPS].reshape(2, 2)
+        self.phi = buffer[B_PHI]
+
+    @property
+    def u(self) -> float:
+        return float(self.buffer[B_U])
+
+    @u.setter
+    def u(self, value: float) -> None:
+        self.buffer[B_U] = value
+
+    @property
+    def pad_touch(self) -> bool:
+        return bool(self.buffer[B_TOUCH])
+
+    @pad_touch.setter
+    def pad_touch(self, value: bool) -> None:
+        self.buffer[B_TOUCH] = 1.0 if value else 0.0
 
 
 class GraspSensing:
@@ -79,22 +126,19 @@ class GraspSensing:
             (tuple(float(v) for v in f.base), tuple(float(v) for v in f.lengths))
             for f in (hand.params.left, hand.params.right)
         )
-        self.est = GraspEstimate(
-            p=np.zeros((2, 2)),
-            n=np.zeros((2, 2)),
-            centre=np.zeros(2),
-            beta=np.zeros(2),
-            forces=np.zeros((2, 2)),
-            normal_force=np.zeros(2),
-            offsets=np.zeros(4),
-            tip_normals=np.array([0.0, 1.0, 0.0, 1.0]),
-            tips=np.zeros((2, 2)),
+        (bl, ll), (br, lr) = self._geom
+        self.geo = np.array(
+            [*bl, *ll, *br, *lr, self.radius, self.r, self.array.pitch**2, TOUCH_FORCE]
         )
+        self.taxel_u = np.ascontiguousarray(self.array.u, dtype=float)
+        self._no_image = np.zeros((self.array.rows, self.array.cols))
+        self.buffer = np.zeros(N_BUF)
+        self.buffer[B_TN] = (0.0, 1.0, 0.0, 1.0)
+        self.est = GraspEstimate(self.buffer)
 
     def _tip(self, k: int, q) -> np.ndarray:
         """Fingertip point of finger ``k`` (0 left, 1 right) [m]: the closed-form forward
-        kinematics of ``PlanarHand.fingertip_pose`` in Python scalars (5x faster per call;
-        equal to it to rounding, tested)."""
+        kinematics of ``PlanarHand.fingertip_pose`` (equal to it to rounding, tested)."""
         (bx, by), lengths = self._geom[k]
         a, x, y = 0.0, bx, by
         for i in range(3):
@@ -111,42 +155,90 @@ class GraspSensing:
             source: where the object centre comes from: ``"pad"`` (left pad + nominal
                 radius), ``"palm"`` (right tip + palm), ``"auto"`` (pad while it touches).
         """
-        e = self.est
-        q = obs.q
-        if obs.tactile is not None and "left" in obs.tactile:
-            reading = self.array.read(obs.tactile["left"])
-            e.pad_touch = bool(reading.in_contact and reading.force > TOUCH_FORCE)
-            if e.pad_touch:
-                e.u = float(reading.centroid[0])
-        phiL = float(q[0] + q[1] + q[2])
-        cL, sL = math.cos(phiL), math.sin(phiL)
-        tipL = self._tip(0, q)
-        e.p[0] = tipL + e.u * np.array([cL, sL])
-        e.n[0] = (sL, -cL)
-        tipR = self._tip(1, q)
-        e.tips[0], e.tips[1] = tipL, tipR
-        R, r = self.radius, self.r
-        if source == "pad" or (source == "auto" and e.pad_touch):
-            e.centre[:] = e.p[0] - R * e.n[0]
-        else:  # resting on the palm, touching the right tip
-            dy = R - tipR[1]
-            dx = math.sqrt(max((R + r) ** 2 - dy * dy, 0.0))
-            e.centre[:] = (tipR[0] - dx, R)
-        d = e.centre - tipR
-        d /= max(float(np.hypot(d[0], d[1])), 1e-12)
-        e.p[1] = tipR + r * d
-        e.n[1] = -d
-        for k in range(2):
-            v = e.p[k] - e.centre
-            e.beta[k] = math.atan2(v[1], v[0])
-        e.forces[:] = obs.tip_forces
-        e.normal_force[:] = -np.sum(e.forces * e.n, axis=1)
-        phiR = float(q[3] + q[4] + q[5])
-        cR, sR = math.cos(phiR), math.sin(phiR)
-        dt = (cR * d[0] + sR * d[1], -sR * d[0] + cR * d[1])  # d in the right tip frame
-        e.offsets[:] = (e.u, 0.0, r * dt[0], r * dt[1])
-        e.tip_normals[:] = (0.0, 1.0, dt[0], dt[1])
-        return e
+        self.update_raw(obs, SOURCES[source])
+        return self.est
+
+    def update_raw(self, obs, source: int) -> np.ndarray:
+        """:meth:`update` with the source as its code in :data:`SOURCES`; returns the
+        buffer (layout ``B_*``)."""
+        tactile = obs.tactile
+        image = tactile.get("left") if tactile is not None else None
+        if image is None:
+            sense_kernel(obs.q, obs.tip_forces, self._no_image, False, source, self.geo,
+                         self.taxel_u, self.buffer)  # fmt: skip
+        else:
+            sense_kernel(obs.q, obs.tip_forces, image, True, source, self.geo, self.taxel_u,
+                         self.buffer)  # fmt: skip
+        return self.buffer
+
+
+@njit(cache=True, nogil=True)
+def sense_kernel(q, forces, image, has_image, source, geo, taxel_u, out):  # pragma: no cover
+    """The estimate of :class:`GraspSensing` written into ``out`` (layout ``B_*``).
+
+    Args:
+        q: (6,) encoder angles [rad]; forces: (2, 2) strain-gauge forces on the object [N].
+        image: (rows, cols) left tactile image [Pa] (ignored unless ``has_image``).
+        source: 0 auto, 1 pad, 2 palm (:data:`SOURCES`).
+        geo: (14,) finger bases and link lengths, ``R``, tip radius, taxel area, touch force.
+        taxel_u: (cols,) taxel centres across the pad [m].
+        out: (N_BUF,) the buffer; its ``u`` and pad-contact entries are kept when no image.
+    """
+    if has_image:
+        total = 0.0
+        moment = 0.0
+        for j in range(image.shape[1]):
+            col = 0.0
+            for i in range(image.shape[0]):
+                col += image[i, j]
+            total += col
+            moment += col * taxel_u[j]
+        touch = total > 0.0 and total * geo[_G_PITCH2] > geo[_G_TOUCH]
+        out[B_TOUCH] = 1.0 if touch else 0.0
+        if touch:
+            out[B_U] = moment / total
+    u = out[B_U]
+    tLx, tLy, out[32] = _fingertip(q, 0, geo, _G_BASE_L, _G_LEN_L)
+    tRx, tRy, out[33] = _fingertip(q, 3, geo, _G_BASE_R, _G_LEN_R)
+    cL, sL = math.cos(out[32]), math.sin(out[32])
+    R, r = geo[_G_R], geo[_G_TIP_R]
+    pLx, pLy = tLx + u * cL, tLy + u * sL
+    nLx, nLy = sL, -cL
+    if source == 1 or (source == 0 and out[B_TOUCH] != 0.0):
+        cx, cy = pLx - R * nLx, pLy - R * nLy
+    else:  # resting on the palm, touching the right tip
+        dy = R - tRy
+        cx, cy = tRx - math.sqrt(max((R + r) ** 2 - dy * dy, 0.0)), R
+    dx, dy = cx - tRx, cy - tRy
+    norm = max(math.hypot(dx, dy), 1e-12)
+    dx, dy = dx / norm, dy / norm
+    pRx, pRy = tRx + r * dx, tRy + r * dy
+    out[2], out[3], out[4], out[5] = pLx, pLy, pRx, pRy
+    out[6], out[7], out[8], out[9] = nLx, nLy, -dx, -dy
+    out[10], out[11] = cx, cy
+    out[12] = math.atan2(pLy - cy, pLx - cx)
+    out[13] = math.atan2(pRy - cy, pRx - cx)
+    for k in range(2):
+        fx, fy = forces[k, 0], forces[k, 1]
+        out[14 + 2 * k], out[15 + 2 * k] = fx, fy
+        out[18 + k] = -(fx * out[6 + 2 * k] + fy * out[7 + 2 * k])
+    cR, sR = math.cos(out[33]), math.sin(out[33])
+    tx, ty = cR * dx + sR * dy, -sR * dx + cR * dy  # d in the right tip frame
+    out[20], out[21], out[22], out[23] = u, 0.0, r * tx, r * ty
+    out[24], out[25], out[26], out[27] = 0.0, 1.0, tx, ty
+    out[28], out[29], out[30], out[31] = tLx, tLy, tRx, tRy
+
+
+@njit(cache=True, nogil=True)
+def _fingertip(q, first, geo, base, length):  # pragma: no cover
+    """Fingertip point (x, y) [m] and orientation [rad] of the finger whose joints start at
+    ``q[first]`` (the closed-form forward kinematics of ``PlanarHand.fingertip_pose``)."""
+    a, x, y = 0.0, geo[base], geo[base + 1]
+    for i in range(3):
+        a += q[first + i]
+        x -= geo[length + i] * math.sin(a)
+        y += geo[length + i] * math.cos(a)
+    return x, y, a
 
 
 def round_contact_arclength(beta: float, phi: float, tip_radius: float) -> float:
@@ -158,4 +250,12 @@ def round_contact_arclength(beta: float, phi: float, tip_radius: float) -> float
     return tip_radius * (a - 0.5 * math.pi)
 
 
-__all__ = ["GraspEstimate", "GraspSensing", "TOUCH_FORCE", "round_contact_arclength"]
+__all__ = [
+    "GraspEstimate",
+    "GraspSensing",
+    "N_BUF",
+    "SOURCES",
+    "TOUCH_FORCE",
+    "round_contact_arclength",
+    "sense_kernel",
+]

@@ -15,7 +15,11 @@ class GaitSettings:
     Attributes:
         mu: friction coefficient the planner assumes [-] (the world uses the true one).
         friction_margin: fraction of ``mu`` kept in reserve in the controllers' cones [-].
-        internal_force: commanded internal (squeeze) force of grasping/holding [N].
+        internal_force: commanded internal (squeeze) force of the phase-1 grasp [N].
+        hold_force: force pressing the object against the palm in phases 2/3 [N]. With
+            1 N the explorer's friction rolled the ball back along the palm (1-3.4 deg per
+            phase 3) and a 3 mm ridge under the sliding right tip dragged it 30 deg; with
+            2 N the tip slides over the ridge and phase 3 loses 0.6-1.3 deg.
         explore_force: normal force of the exploring finger (0.3 N, §2.3.2) [N].
         object_mass: the planner's guess of the object mass [kg].
         object_kp, object_kv: object impedance gains (eq. 2.7).
@@ -43,6 +47,7 @@ class GaitSettings:
     mu: float = 1.0
     friction_margin: float = 0.2
     internal_force: float = 1.0
+    hold_force: float = 2.0
     explore_force: float = 0.3
     object_mass: float = 0.05
     object_kp: tuple[float, float, float] = (80.0, 80.0, 0.8)
@@ -75,9 +80,9 @@ class GaitSettings:
     def __post_init__(self) -> None:
         checks.positive("mu", self.mu)
         checks.in_range("friction_margin", self.friction_margin, 0.0, 0.9)
-        for name in ("internal_force", "explore_force", "object_mass", "tip_kp", "phi_kp",
-                     "rotation_speed", "explore_speed", "startup_time", "dt", "control_rate",
-                     "lost_time", "torque_limit", "hold_stiffness"):  # fmt: skip
+        for name in ("internal_force", "hold_force", "explore_force", "object_mass", "tip_kp",
+                     "phi_kp", "rotation_speed", "explore_speed", "startup_time", "dt",
+                     "control_rate", "lost_time", "torque_limit", "hold_stiffness"):  # fmt: skip
             checks.positive(name, getattr(self, name))
         for name in ("tip_kv", "phi_kv", "min_force", "joint_margin", "min_epsilon",
                      "lost_force", "nlp_margin", "hold_damping"):  # fmt: skip

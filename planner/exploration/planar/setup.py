@@ -45,6 +45,18 @@ def _place(hand, profile, origin, beta, q_ref):
     return np.r_[qL, qR]
 
 
+def prior_world_grasp(prior) -> tuple[float, float]:
+    """World polar angles ``(beta_left, beta_right)`` [rad] of the first phase-1 grasp of a
+    map-space gait. ``plan_gait`` gives object-frame contact angles at pose index
+    ``pose_start``, where the object has turned by ``-pose_start 2 pi / resolution`` (they
+    were used as world angles before, which put the prior's grasp 20 deg off)."""
+    ph = prior.phases[0]
+    theta = -2.0 * math.pi * ph.pose_start / prior.resolution
+    left = (ph.start["left"] + theta) % (2 * math.pi)
+    right = math.remainder(ph.start["right"] + theta, 2 * math.pi)
+    return float(left), float(right)
+
+
 #: a start grasp whose fingertips penetrate the palm or the object deeper than this is
 #: rejected [m] (with wider joint ranges the best-margin grasp can fold the pad into the palm)
 START_PENETRATION = 5e-4
@@ -98,8 +110,7 @@ def build_world(
     origin = np.array([0.0, h])
     first = None
     if prior is not None and prior.feasible and prior.phases:
-        st = prior.phases[0].start
-        first = (st["left"], st["right"])
+        first = prior_world_grasp(prior)
     found = None
     mu_eff = mu * (1 - settings.friction_margin)
     cands = start_grasp_candidates(hand, (0.0, radius), radius, mu_eff, first, settings.nlp_margin)
@@ -122,4 +133,4 @@ def build_world(
     return world, {"beta": (bl, br), "q": q, "rest": np.array([0.0, h, 0.0])}
 
 
-__all__ = ["build_world", "gait_prior"]
+__all__ = ["build_world", "gait_prior", "prior_world_grasp"]

@@ -16,7 +16,10 @@ corners (two candidates for a box on a plane, the classical contact manifold). T
 points from B toward A; the gap is ``(p_A - p_B) . n``. Duplicates (a corner found from
 both sides, an arc pair found from both centres) are merged. Limits: a concave piece of A
 touches B only through B's convex features; a parametric piece against a concave arc is not
-searched (no catalogue shape needs it).
+searched (no catalogue shape needs it). An open outline (a pad, the palm) is one-sided:
+beyond its ends the distance to it is unsigned (see
+:func:`~planner.sim.planar.outline.closest_point`). The compiled twin of this module, used
+by the stepper, is :mod:`planner.sim.planar.geometry_kernel` (same candidates to round-off).
 """
 
 from __future__ import annotations

@@ -26,6 +26,7 @@ import pinocchio as pin
 from planner.geometry import shapes
 from planner.geometry.primitives import Line
 from planner.geometry.profiles import Profile
+from planner.sim.planar.step_kernel import hand_parameters
 from robots.planar_hand import PlanarHand
 from robots.planar_hand.model import EFFORT_LIMIT
 
@@ -54,6 +55,8 @@ class HandModel:
         self.limits = hand.joint_limits.copy()
         self.torque_limits = np.full(6, float(EFFORT_LIMIT))
         self._zeros = np.zeros(6)
+        self.packed = hand_parameters(self.model, [ln[2] for ln in self.lengths])
+        """(2, 4, 6) chain parameters of the compiled kernels (:func:`hand_parameters`)."""
 
     def mass_bias(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Joint-space inertia (6, 6) [kg m^2] and bias ``C qd + g`` (6,) [N m]."""

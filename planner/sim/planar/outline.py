@@ -80,6 +80,7 @@ class Outline:
         corners: (nc, 2) sharp convex corners and open-profile ends [m].
         closed: whether the outline bounds a region.
         bound: radius of a circle about the body origin containing the outline [m].
+        ends: an open outline's two end points ((x0, y0), (x1, y1)) [m]; () when closed.
     """
 
     lines: np.ndarray
@@ -92,6 +93,7 @@ class Outline:
     line_list: tuple = ()
     arc_list: tuple = ()
     corner_list: tuple = ()
+    ends: tuple = ()
 
 
 def compile_outline(profile: Profile) -> Outline:
@@ -144,6 +146,7 @@ def compile_outline(profile: Profile) -> Outline:
         tuple(tuple(map(float, r)) for r in L),
         tuple(tuple(map(float, r)) for r in A),
         tuple(tuple(map(float, r)) for r in C),
+        () if profile.closed else tuple(tuple(map(float, r)) for r in C[-2:]),
     )
 
 
@@ -167,6 +170,8 @@ def _newton(fun, u: float, lo: float, hi: float) -> float:
             hi = u
         step = g / dg if dg != 0.0 else 0.0
         un = u - step
+        if dg != 0.0 and abs(step) <= 1e-15 * max(1.0, abs(u)):
+            return un  # converged: the Newton step is below the resolution of u
         if not (lo < un < hi) or dg == 0.0:
             un = 0.5 * (lo + hi)
         if abs(un - u) <= 1e-15 * max(1.0, abs(u)):
@@ -204,7 +209,11 @@ def closest_point(ol: Outline, px: float, py: float):
     Returns:
         ``(d, qx, qy, nx, ny)``: signed distance [m] (< 0 inside the material), the closest
         point q and the unit normal n (outward; at a corner the direction q -> p) with
-        ``p = q + d n``.
+        ``p = q + d n``. An open outline (a pad, the palm) is a one-sided face: a point is
+        behind it only within the slab of its pieces; when the closest point is one of its
+        two ends the distance is unsigned (d >= 0, n from q to p) - signing it by the face
+        normal would put every point of the half-plane behind the face "inside" (a phantom
+        penetration of the pad's corner 9 cm behind the palm ended a gait run).
     """
     best = (math.inf, 0.0, 0.0, 0.0, 0.0, True, -math.inf)  # d2, q, n, interior, signed
     for ax, ay, bx, by, nx, ny in ol.line_list:
@@ -236,10 +245,15 @@ def closest_point(ol: Outline, px: float, py: float):
     d2, qx, qy, nx, ny, inner, signed = best
     d = math.sqrt(d2)
     if not inner and d > 1e-13:
-        s = 1.0 if signed >= 0 else -1.0
+        s = 1.0 if signed >= 0 or is_end(ol.ends, qx, qy) else -1.0
         return s * d, qx, qy, s * (px - qx) / d, s * (py - qy) / d
     sd = (px - qx) * nx + (py - qy) * ny
     return sd, qx, qy, nx, ny
+
+
+def is_end(ends, qx: float, qy: float) -> bool:
+    """Whether (qx, qy) is one of an open outline's ``ends`` (to round-off)."""
+    return any(abs(qx - ex) + abs(qy - ey) <= 1e-12 * (1.0 + abs(ex) + abs(ey)) for ex, ey in ends)
 
 
 def _keep(best, d2, qx, qy, nx, ny, inner, px, py):

@@ -25,6 +25,8 @@ import numpy as np
 import pinocchio as pin
 
 from planner import checks
+from planner.sim.lcp import njit
+from planner.sim.planar.step_kernel import hand_dynamics, hand_kinematics
 from robots.planar_hand import PlanarHand
 
 __all__ = ["FingerTask", "FingertipForceControl"]
@@ -94,7 +96,39 @@ class FingertipForceControl:
             k.finger: float(self.q_ref[self.hand.finger_slice(k.finger)].sum()) for k in self.tasks
         }
 
+        from planner.sim.planar.step_kernel import hand_parameters
+
+        lengths = [self.hand.params.finger(f).lengths[2] for f in ("left", "right")]
+        self._packed = hand_parameters(self._model, lengths)
+        self._tasks = np.array(
+            [
+                (
+                    0.0 if k.finger == "left" else 1.0,
+                    *k.target,
+                    *k.force,
+                    *k.velocity,
+                    k.stiffness,
+                    k.damping,
+                    k.angle_stiffness,
+                    k.angle_damping,
+                    self._phi0[k.finger],
+                )
+                for k in self.tasks
+            ],
+            float,
+        ).reshape(-1, 12)
+
     def __call__(self, t: float, obs) -> np.ndarray:
+        """Joint torques (6,) [N m] at time ``t`` [s] from the observation's encoders
+        (compiled: :func:`_task_torques`; :meth:`reference` is the same law in Python)."""
+        return _task_torques(
+            float(t), np.asarray(obs.q, float), np.asarray(obs.qd, float), self.q_ref,
+            self.joint_stiffness, self.joint_damping, self.gravity[0], self.gravity[1],
+            self._packed, self._tasks,
+        )  # fmt: skip
+
+    def reference(self, t: float, obs) -> np.ndarray:
+        """The control law with the hand's Pinocchio model and Python kinematics."""
         q, qd = obs.q, obs.qd
         tau = np.array(pin.computeGeneralizedGravity(self._model, self._data, q))
         tau += self.joint_stiffness * (self.q_ref - q) - self.joint_damping * qd
@@ -114,3 +148,36 @@ class FingertipForceControl:
             tau[sl] += task.angle_stiffness * (self._phi0[task.finger] - phi)
             tau[sl] -= task.angle_damping * phid
         return tau
+
+
+@njit(cache=True)
+def _task_torques(t, q, qd, q_ref, kq, dq, gx, gy, P, tasks):
+    """The control law of :class:`FingertipForceControl` (module docstring), compiled."""
+    M = np.zeros((6, 6))
+    tau = np.zeros(6)
+    hand_dynamics(q, np.zeros(6), gx, gy, P, M, tau)  # bias at qd = 0: g(q)
+    joints = np.zeros((2, 3, 2))
+    tips = np.zeros((2, 3))
+    hand_kinematics(q, P, joints, tips)
+    for i in range(6):
+        tau[i] += kq * (q_ref[i] - q[i]) - dq * qd[i]
+    for k in range(tasks.shape[0]):
+        f = int(tasks[k, 0])
+        o = 3 * f
+        x, y = tips[f, 0], tips[f, 1]
+        J = np.zeros((2, 3))
+        for j in range(3):
+            J[0, j] = -(y - joints[f, j, 1])
+            J[1, j] = x - joints[f, j, 0]
+        vx = J[0, 0] * qd[o] + J[0, 1] * qd[o + 1] + J[0, 2] * qd[o + 2]
+        vy = J[1, 0] * qd[o] + J[1, 1] * qd[o + 1] + J[1, 2] * qd[o + 2]
+        xs, ys = tasks[k, 1] + t * tasks[k, 5], tasks[k, 2] + t * tasks[k, 6]
+        K, D = tasks[k, 7], tasks[k, 8]
+        Fx = tasks[k, 3] + K * (xs - x) - D * (vx - tasks[k, 5])
+        Fy = tasks[k, 4] + K * (ys - y) - D * (vy - tasks[k, 6])
+        phi = q[o] + q[o + 1] + q[o + 2]
+        phid = qd[o] + qd[o + 1] + qd[o + 2]
+        extra = tasks[k, 9] * (tasks[k, 11] - phi) - tasks[k, 10] * phid
+        for j in range(3):
+            tau[o + j] += J[0, j] * Fx + J[1, j] * Fy + extra
+    return tau

@@ -32,6 +32,14 @@ projection (post-stabilization, Cline & Pai 2003) when a gap is below
 ``-projection_tolerance``: the minimum-kinetic-metric displacement ``dq = M^-1 N^T z`` with
 ``0 <= z perp phi + N M^-1 N^T z >= 0``, velocities untouched.
 
+**Verification.** Every LCP answer is checked (``z >= 0``, ``w >= 0``, ``z.w = 0`` to 1e-9
+relative, :func:`planner.sim.lcp.lcp_residual`); a projection whose Lemke path fails is
+retried on the regularized ``N M^-1 N^T + eps I`` and still checked on the original problem;
+a step whose problem has no verified answer raises :class:`planner.errors.InfeasibleProblem`
+(a ``stopped`` event of the run), never returns an unchecked impulse. Open outlines (pads,
+the palm) are one-sided faces: beyond their ends the distance to them is unsigned
+(:func:`_unsigned_at_open_end`), so no phantom penetration enters a projection.
+
 **Limits.** Restitution is zero (inelastic impacts). Contact forces are impulses / h (step
 averages). Contact sets are re-detected every step within ``margin`` plus twice the distance
 each body's points can travel in the step (no tunnelling at the scene's speeds). Rolling
@@ -46,11 +54,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from planner.errors import InfeasibleProblem
-from planner.sim.lcp import solve_lcp
+from planner.sim.lcp import COVERS, lcp_residual, solve_lcp
 from planner.sim.planar.bodies import FIXED, FREE, TIP
 from planner.sim.planar.contacts import Pose, candidates
 
-__all__ = ["StepResult", "find_contacts", "point_velocity", "step"]
+__all__ = ["StepResult", "find_contacts", "point_velocity", "step", "step_fast"]
 
 
 @dataclass(frozen=True)
@@ -106,9 +114,71 @@ def find_contacts(world, margin: float, placements=None) -> list[tuple]:
             if a.kind == FIXED and b.kind == FIXED:
                 continue
             m = margin + reach[i] + reach[j]
-            for c in candidates(a.outline, P[i], b.outline, P[j], m):
-                out.append((i, j, *c))
+            cs = candidates(a.outline, P[i], b.outline, P[j], m)
+            if not (a.outline.closed and b.outline.closed) and any(c[0] < 0.0 for c in cs):
+                cs = _fix_open_ends(cs, a, P[i], b, P[j], m)
+            out.extend((i, j, *c) for c in cs)
     return out
+
+
+def _fix_open_ends(cs: list, a, pa, b, pb, margin: float) -> list:
+    """Candidates of a pair with an open outline, penetrations through its ends re-signed."""
+    ca = [pa.to_world(*p) for p in a.outline.corner_list]
+    cb = [pb.to_world(*p) for p in b.outline.corner_list]
+    ea = ca[-2:] if not a.outline.closed else []
+    eb = cb[-2:] if not b.outline.closed else []
+    kept: list[tuple] = []
+    for c in cs:
+        if c[0] < 0.0:
+            c = _unsigned_at_open_end(c, ca, ea, cb, eb)
+            if c[0] >= margin:
+                continue
+        if not any(
+            abs(c[1] - k[1]) + abs(c[2] - k[2]) + abs(c[3] - k[3]) + abs(c[4] - k[4]) < 4e-9
+            for k in kept
+        ):
+            kept.append(c)
+    return kept
+
+
+def _at(px: float, py: float, points: list) -> bool:
+    return any(abs(px - ex) + abs(py - ey) <= 1e-12 for ex, ey in points)
+
+
+def _unsigned_at_open_end(c: tuple, corners_a, ends_a, corners_b, ends_b) -> tuple:
+    """Re-sign a candidate whose closest point is the END of an open outline.
+
+    An open outline (a pad, the palm) is a one-sided face: a point is behind it only within
+    the face's slab. Beyond its ends the distance to it is unsigned, but the closest-point
+    query of :mod:`planner.sim.planar.outline` signs it by the face normal, so a corner or
+    an arc centre anywhere in the half-plane behind the face came back as a deep phantom
+    penetration (the left pad's corner 9 cm "inside" the palm threw the fingers to their
+    limits in the ball_with_ridge gait at t = 8.64 s). A candidate is of this kind when its
+    point on an open outline is an end and the query was the other body's corner (its
+    point there is a corner too) or arc (finite curvature: the query was the arc's centre).
+    Returns the candidate with the unsigned gap, normal and touching points (unchanged
+    when the sign was right).
+    """
+    gap, pax, pay, pbx, pby, nx, ny, k = c
+    end_a, end_b = _at(pax, pay, ends_a), _at(pbx, pby, ends_b)
+    if math.isinf(k):  # a corner of one body against the other's outline
+        if (end_b and _at(pax, pay, corners_a)) or (end_a and _at(pbx, pby, corners_b)):
+            d = math.hypot(pax - pbx, pay - pby)
+            if d > 0.0:
+                return (d, pax, pay, pbx, pby, (pax - pbx) / d, (pay - pby) / d, k)
+        return c
+    if k <= 0.0 or end_a == end_b:  # parametric pieces have their own (inner) rules
+        return c
+    r = 1.0 / k
+    if end_b:  # the arc is A's: centre w = p_a + r n
+        wx, wy = pax + r * nx, pay + r * ny
+        d = math.hypot(wx - pbx, wy - pby)
+        ux, uy = (wx - pbx) / d, (wy - pby) / d
+        return (d - r, wx - r * ux, wy - r * uy, pbx, pby, ux, uy, k)
+    wx, wy = pbx - r * nx, pby - r * ny  # the arc is B's
+    d = math.hypot(pax - wx, pay - wy)
+    ux, uy = (pax - wx) / d, (pay - wy) / d
+    return (d - r, pax, pay, wx + r * ux, wy + r * uy, ux, uy, k)
 
 
 def _reach(world) -> list[float]:
@@ -211,15 +281,28 @@ def _limit_rows(world, nv, h):
     return np.array(rows), np.array(phi), np.array(idx)
 
 
-def _solve(M, q, what):
+def _solve(M, q, what, regularize: float = 0.0):
+    """Lemke's solution of the LCP (M, q), verified (see :func:`planner.sim.lcp.solve_lcp`).
+
+    With ``regularize > 0`` a failed solve is retried on ``M + eps I`` (eps = ``regularize``
+    times the largest diagonal entry): for the position projection, whose matrix
+    ``N M^-1 N^T`` is only positive semidefinite when contacts jam, that makes it a P-matrix
+    with a unique solution - a projection that is exact to eps, which is all a projection
+    needs. The answer is still checked on the original problem (residual <= 1e-6).
+    """
     z, status, _ = solve_lcp(M, q)
-    if status != 0:
-        raise InfeasibleProblem(
-            f"{what}: Lemke stopped on a {'ray' if status == 1 else 'pivot limit'}",
-            problem={"M": M, "q": q},
-            solver="lemke",
-        )
-    return z
+    if status == 0:
+        return z
+    if regularize > 0.0 and len(q):
+        eps = regularize * max(1.0, float(np.abs(np.diag(M)).max()))
+        zr, st, _ = solve_lcp(M + eps * np.eye(len(q)), q)
+        if st == 0 and lcp_residual(M, q, zr) <= 1e-6:
+            return zr
+    raise InfeasibleProblem(
+        f"{what}: Lemke stopped on a {'ray' if status == 1 else 'pivot limit'}",
+        problem={"M": M, "q": q},
+        solver="lemke",
+    )
 
 
 def _project(world, frames, cands, Minv):
@@ -229,7 +312,7 @@ def _project(world, frames, cands, Minv):
     phi = np.array([c[2] for c in cands])
     L, lphi, _ = _limit_rows(world, nv, 0.0)
     N, phi = np.vstack([N, L]), np.concatenate([phi, lphi])
-    z = _solve(N @ Minv @ N.T, phi, "position projection")
+    z = _solve(N @ Minv @ N.T, phi, "position projection", regularize=1e-9)
     dq = Minv @ (N.T @ z)
     nb = len(world._x)
     world._x += dq[: 3 * nb].reshape(nb, 3)
@@ -303,4 +386,70 @@ def step(world, tau) -> StepResult:
         T @ nu_new,
         lidx,
         pl,
+    )
+
+
+def _packed_bodies(world):
+    """(kind, index, friction, mass, inertia) arrays of the bodies, cached per body count."""
+    cache = getattr(world, "_packed", None)
+    if cache is None or cache[0] != len(world.bodies):
+        bodies = world.bodies
+        free = [b for b in bodies if b.kind == FREE]
+        cache = (
+            len(bodies),
+            np.array([b.kind for b in bodies], np.int64),
+            np.array([b.index for b in bodies], np.int64),
+            np.array([b.friction for b in bodies], float),
+            np.array([b.mass for b in free], float),
+            np.array([b.inertia for b in free], float),
+        )
+        world._packed = cache
+    return cache
+
+
+_NO_HAND = (np.zeros(6), np.zeros((2, 4, 6)), np.zeros((6, 2)))
+
+
+def step_fast(world, tau) -> StepResult:
+    """:func:`step` with everything after the contact search in one compiled call.
+
+    Same equations and solver (:func:`planner.sim.planar.step_kernel.contact_step`); a step
+    that needs a position projection, or whose LCP the kernel cannot answer, is done by
+    :func:`step` instead (which projects, retries and raises), so both give the same state.
+    """
+    from planner.sim.planar.step_kernel import contact_step
+
+    P, _ = _placements(world)
+    cands = find_contacts(world, world.margin, P)
+    if cands and min(c[2] for c in cands) < -world.projection_tolerance:
+        return step(world, tau)
+    _, kind, index, mu_b, mass, inertia = _packed_bodies(world)
+    arr = np.array(cands, float).reshape(-1, 10)
+    hand = world.hand
+    if hand is not None:
+        q, qd, tau_arr, packed, limits = world.q, world.qd, tau, hand.packed, hand.limits
+    else:
+        q, qd, tau_arr = _NO_HAND[0].copy(), _NO_HAND[0].copy(), _NO_HAND[0]
+        packed, limits = _NO_HAND[1], _NO_HAND[2]
+    gx, gy = world.gravity
+    status, pn, pt, slip, mu, lj, lp = contact_step(
+        world.dt, gx, gy, arr, kind, index, mu_b, world._x, world._v, mass, inertia,
+        hand is not None, q, qd, np.asarray(tau_arr, float), packed, limits, COVERS,
+    )  # fmt: skip
+    if status != 0:  # nothing was updated
+        return step(world, tau)
+    return StepResult(
+        arr[:, 0].astype(int),
+        arr[:, 1].astype(int),
+        arr[:, 2].copy(),
+        arr[:, 3:5],
+        arr[:, 5:7],
+        arr[:, 7:9],
+        arr[:, 9],
+        mu,
+        pn,
+        pt,
+        slip,
+        lj,
+        lp,
     )

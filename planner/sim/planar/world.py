@@ -27,7 +27,7 @@ from planner.sim.planar.contacts import Pose
 from planner.sim.planar.hand import HandModel, tip_profile
 from planner.sim.planar.outline import compile_outline
 from planner.sim.planar.records import contact_records
-from planner.sim.planar.stepper import StepResult, step
+from planner.sim.planar.stepper import StepResult, step, step_fast
 from planner.sim.records import Contact
 from planner.sim.world import WorldBase
 
@@ -48,6 +48,9 @@ class PlanarWorld(WorldBase):
         projection_tolerance: penetration above which positions are projected out [m].
         drop_time: a body touched by a fingertip and then by none for this long is reported
             ``object_dropped`` [s].
+        compiled: run the step's dynamics, contact rows and LCP in the compiled kernel
+            (:func:`planner.sim.planar.stepper.step_fast`); False: the Python reference
+            (:func:`planner.sim.planar.stepper.step`). Both give the same state to ~1e-15.
     """
 
     pose_size, velocity_size, contact_dim = 3, 3, 2
@@ -61,6 +64,7 @@ class PlanarWorld(WorldBase):
         margin: float = 1e-3,
         projection_tolerance: float = 1e-7,
         drop_time: float = 0.1,
+        compiled: bool = True,
     ) -> None:
         self.dt = checks.positive("dt", dt, "s")
         self.gravity = tuple(checks.vector("gravity", gravity, 2, "m/s^2"))
@@ -69,6 +73,7 @@ class PlanarWorld(WorldBase):
             "projection_tolerance", projection_tolerance, "m"
         )
         self.drop_time = checks.positive("drop_time", drop_time, "s")
+        self.compiled = bool(compiled)
         self.sensors = sensors if sensors is not None else SensorSettings()
         self.rng = np.random.default_rng(seed)
         self.time = 0.0
@@ -258,7 +263,7 @@ class PlanarWorld(WorldBase):
         """Advance one step ``dt`` with joint torques ``tau`` (6,) [N m] (None: zeros)."""
         if self.hand is not None:
             tau = np.zeros(6) if tau is None else np.asarray(tau, float)
-        res = step(self, tau)
+        res = step_fast(self, tau) if self.compiled else step(self, tau)
         self._last, self._records = res, None
         self.time += self.dt
         self._watch(res)
