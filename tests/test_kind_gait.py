@@ -31,11 +31,13 @@ CIRCLE = "kind: gait\nobject:\n  shape: circle\n  radius: 0.05\n"  # fits the ha
         (CIRCLE + "gains:\n  object_kp: [80, -1, 0.8]\n", "gains.object_kp", "[0, 1e4]"),
         (CIRCLE + "gains:\n  tip_kp: 5000\n", "gains.tip_kp", "less than or equal to 1000"),
         (CIRCLE + "gains:\n  hold_kv: -0.1\n", "gains.hold_kv", "greater than or equal to 0"),
+        (CIRCLE + "hold_force: 0\n", "hold_force", "greater than 0"),
         (CIRCLE + "hand:\n  joint_lower_deg: [10, 0, -10]\n  joint_upper_deg: [5, 110, 100]\n",
          "hand", "lower < upper"),
     ],
     ids=["unknown-object", "unknown-nominal", "mu-zero", "mu-negative", "too-big",
-         "too-thin", "gain-negative", "gain-too-high", "damping-negative", "joint-range"],
+         "too-thin", "gain-negative", "gain-too-high", "damping-negative", "hold-force",
+         "joint-range"],
 )  # fmt: skip
 def test_bad_input_exits_2_with_key_path_and_writes_nothing(cli, tmp_path, text, key, words):
     scenario = tmp_path / "bad.yaml"

@@ -24,11 +24,12 @@ def report(config, ctx, res, profile, duration: float, hand):
 
     ridge = (math.radians(config.object.ridge_angle_deg)
              if config.object.shape == "circle_with_ridge" else None)  # fmt: skip
-    metrics = _metrics(config, res, profile, ridge, duration)
+    theta = _rotation(config, res, profile)
+    metrics = _metrics(config, res, profile, ridge, duration, theta)
     arrays = {f"log/{k}": v for k, v in res.log.arrays().items() if k != "pairs"}
     arrays.update({f"trace/{k}": np.asarray(v) for k, v in res.trace.items()})
     events = _events(res)
-    figures = _figures(ctx, res, profile, hand, ridge) if ctx.plots else {}
+    figures = _figures(ctx, res, profile, hand, ridge, theta) if ctx.plots else {}
     files = {"phases.json": json.dumps([p.to_json() for p in res.phases], indent=2)}
     if config.output.animation and ctx.plots:
         gif = _animation(ctx, res, profile, hand, events)
@@ -50,7 +51,19 @@ def _failure(res) -> str:
     return res.reason
 
 
-def _metrics(config, res, profile, ridge, duration: float) -> dict:
+def _rotation(config, res, profile):
+    """(N,) sensed object rotation [rad] of every trace row (rolling on the palm in phases
+    2/3 included), with the planner's radius (the nominal shape's, else the object's)."""
+    from planner.exploration.planar.metrics import object_rotation
+    from planner.exploration.planar.objects import mean_radius
+
+    if not len(res.trace.get("t", ())):
+        return None
+    nominal = config.nominal.profile() if config.nominal is not None else profile
+    return object_rotation(res.trace, mean_radius(nominal))
+
+
+def _metrics(config, res, profile, ridge, duration: float, theta) -> dict:
     """The listed metrics (``summary_metrics``) plus the features against the truth, the
     last phase and the timing spreads."""
     import numpy as np
@@ -74,7 +87,7 @@ def _metrics(config, res, profile, ridge, duration: float) -> dict:
     m["controller_call_p95_us"] = float(np.percentile(steps, 95)) if steps.size else None
     m["nlp_solve_max_ms"] = float(np.max(nlp)) if nlp.size else None
     m["nlp_solves"] = int(nlp.size)
-    m.update(fig214_measures(res, ridge))
+    m.update(fig214_measures(res, ridge, theta=theta))
     return m
 
 
@@ -94,14 +107,14 @@ def _events(res) -> list:
     return events
 
 
-def _figures(ctx, res, profile, hand, ridge) -> dict:
+def _figures(ctx, res, profile, hand, ridge, theta) -> dict:
     from planner.exploration.planar import plots
 
     with ctx.timer("plots"):
         return {
             "timeline": plots.plot_timeline(res),
             "contacts": plots.plot_contacts(res),
-            "forces": plots.plot_forces(res, ridge),
+            "forces": plots.plot_forces(res, ridge, theta=theta),
             "snapshots": plots.plot_snapshots(res, profile, hand),
         }
 

@@ -16,7 +16,8 @@ Keys (SI units)::
     nominal: null                # the planner's model (same keys); default: feature-less circle
     mu: 1.0                      # friction of fingers/palm/object [-]
     explore_force: 0.3           # normal force of the exploring finger [N]
-    internal_force: 1.0          # squeeze of grasping/holding [N]
+    internal_force: 1.0          # squeeze of the two-finger grasp (phase 1) [N]
+    hold_force: 2.0              # press of the holding finger against the palm (phases 2/3) [N]
     object_mass: 0.05            # [kg]
     rotation_speed: 0.4          # phase-1 rotation speed [rad/s]
     explore_speed: 0.03          # exploring contact speed [m/s]
@@ -181,6 +182,7 @@ class Config(ScenarioBase):
     mu: float = Field(1.0, gt=0, le=10, description="friction coefficient [-]")
     explore_force: float = Field(0.3, gt=0, le=5, description="[N]")
     internal_force: float = Field(1.0, gt=0, le=20, description="[N]")
+    hold_force: float = Field(2.0, gt=0, le=20, description="phases 2/3 press [N]")
     object_mass: float = Field(0.05, gt=0, le=2, description="[kg]")
     rotation_speed: float = Field(0.4, gt=0, le=3, description="[rad/s]")
     explore_speed: float = Field(0.03, gt=0, le=0.5, description="[m/s]")
@@ -208,7 +210,8 @@ class Config(ScenarioBase):
 
         g = self.gains
         return GaitSettings(
-            mu=self.mu, internal_force=self.internal_force, explore_force=self.explore_force,
+            mu=self.mu, internal_force=self.internal_force, hold_force=self.hold_force,
+            explore_force=self.explore_force,
             object_mass=self.object_mass, object_kp=g.object_kp, object_kv=g.object_kv,
             rolling_gains=g.rolling, hold_kp=g.hold_kp, hold_kv=g.hold_kv, tip_kp=g.tip_kp,
             tip_kv=g.tip_kv, rotation_speed=self.rotation_speed,

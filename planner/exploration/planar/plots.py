@@ -154,19 +154,22 @@ def left_forces(trace: dict) -> tuple[np.ndarray, np.ndarray]:
     return -np.sum(f * n, axis=1), np.sum(f * tang, axis=1)
 
 
-def ridge_distance(trace: dict, ridge_angle: float) -> np.ndarray:
-    """Polar-angle distance [rad] of the left pad's sensed contact from the ridge (object
-    frame, with the sensed rotation ``theta``), per trace row."""
-    a = np.arctan2(trace["pLy"] - trace["cy"], trace["pLx"] - trace["cx"]) - trace["theta"]
+def ridge_distance(trace: dict, ridge_angle: float, theta=None) -> np.ndarray:
+    """Polar-angle distance [rad] of the left pad's sensed contact from the ridge in the
+    object frame, per trace row; ``theta``: (N,) sensed object rotation [rad] per row
+    (default the controller's ``trace["theta"]``; better
+    :func:`planner.exploration.planar.metrics.object_rotation`)."""
+    th = trace["theta"] if theta is None else np.asarray(theta, float)
+    a = np.arctan2(trace["pLy"] - trace["cy"], trace["pLx"] - trace["cx"]) - th
     return np.abs(np.angle(np.exp(1j * (a - ridge_angle))))
 
 
-def plot_forces(result, ridge_angle: float | None = None, images: int = 4):
+def plot_forces(result, ridge_angle: float | None = None, images: int = 4, theta=None):
     """Fig. 2.14: the left finger's normal and tangential force vs time (strain gauges,
     :func:`left_forces`) over the phase bands, the rows where the pad touches the ridge
     (``ridge_angle`` [rad] given) marked in red, and ``images`` tactile images of the left
     pad (those at the ridge plus one far from it; evenly spread without a ridge), their
-    times marked a, b, c, ... on the force axis."""
+    times marked a, b, c, ... on the force axis. ``theta``: see :func:`ridge_distance`."""
     import matplotlib.pyplot as plt
 
     tr = result.trace
@@ -179,7 +182,8 @@ def plot_forces(result, ridge_angle: float | None = None, images: int = 4):
         ax.plot(t, fn, label="normal [N]", color="tab:blue", lw=1)
         ax.plot(t, ft, label="tangential [N]", color="tab:orange", lw=1)
         if ridge_angle is not None:
-            at = (ridge_distance(tr, ridge_angle) < RIDGE_WINDOW) & (tr["pad_touch"] > 0)
+            d = ridge_distance(tr, ridge_angle, theta)
+            at = (d < RIDGE_WINDOW) & (tr["pad_touch"] > 0)
             if at.any():
                 ax.plot(t[at], fn[at], ".", ms=2, color="tab:red", label="pad at the ridge")
     else:
@@ -189,7 +193,7 @@ def plot_forces(result, ridge_angle: float | None = None, images: int = 4):
     ax.set_ylabel("left finger force [N]")
     imgs, ti = tr.get("images", np.zeros((0, 8, 8))), tr.get("image_t", np.zeros(0))
     if len(imgs):
-        pick = pick_images(tr, ridge_angle, images)
+        pick = pick_images(tr, ridge_angle, images, theta)
         vmax = max(float(np.max(imgs[pick])), 1e-9)
         for j, k in enumerate(pick):
             label = chr(ord("a") + j)
@@ -205,7 +209,7 @@ def plot_forces(result, ridge_angle: float | None = None, images: int = 4):
     return fig
 
 
-def pick_images(trace: dict, ridge_angle: float | None, count: int) -> list[int]:
+def pick_images(trace: dict, ridge_angle: float | None, count: int, theta=None) -> list[int]:
     """Indices of ``count`` tactile images of ``trace["images"]``: with a ridge, those whose
     pad contact is closest to it plus the farthest one (the round pattern to compare
     with); without, evenly spread in time."""
@@ -215,7 +219,7 @@ def pick_images(trace: dict, ridge_angle: float | None, count: int) -> list[int]
     if ridge_angle is None or not len(trace["t"]):
         return list(np.unique(np.linspace(0, len(ti) - 1, min(count, len(ti))).astype(int)))
     rows = np.searchsorted(trace["t"], ti).clip(0, len(trace["t"]) - 1)
-    d = ridge_distance(trace, ridge_angle)[rows]
+    d = ridge_distance(trace, ridge_angle, theta)[rows]
     d = np.where(trace["pad_touch"][rows] > 0, d, np.inf)  # images of a touching pad only
     if not np.isfinite(d).any():
         return list(np.unique(np.linspace(0, len(ti) - 1, min(count, len(ti))).astype(int)))
@@ -252,7 +256,7 @@ def tactile_elongation(image: np.ndarray) -> float:
     return float(math.sqrt(hi / lo))
 
 
-def fig214_measures(result, ridge_angle: float | None, window: float = 0.2) -> dict:
+def fig214_measures(result, ridge_angle: float | None, window: float = 0.2, theta=None) -> dict:
     """The claims of Fig. 2.14 measured on the sensed data of the left finger.
 
     * ``tangential_sign_changes_2to3``: at how many phase 2 -> 3 switches the mean
@@ -260,7 +264,8 @@ def fig214_measures(result, ridge_angle: float | None, window: float = 0.2) -> d
       ``window`` after the first 0.1 s of phase 3 have opposite signs, over the switches;
     * with ``ridge_angle`` [rad]: the median tangential force magnitude [N] and the median
       :func:`tactile_elongation` of the pad touching the object while exploring (phase 3)
-      at the ridge (within :data:`RIDGE_WINDOW`) and away from it.
+      at the ridge (within :data:`RIDGE_WINDOW`) and away from it (``theta``: see
+      :func:`ridge_distance`).
     """
     tr, phases = result.trace, list(result.phases)
     out: dict = {}
@@ -281,7 +286,7 @@ def fig214_measures(result, ridge_angle: float | None, window: float = 0.2) -> d
     if ridge_angle is None:
         return out
     touch = (tr["kind"] == 3) & (tr["pad_touch"] > 0)
-    at = ridge_distance(tr, ridge_angle) < RIDGE_WINDOW
+    at = ridge_distance(tr, ridge_angle, theta) < RIDGE_WINDOW
     for name, sel in (("at_ridge", touch & at), ("off_ridge", touch & ~at)):
         out[f"tangential_{name}_N"] = float(np.median(np.abs(ft[sel]))) if sel.any() else None
     ti, imgs = tr.get("image_t", np.zeros(0)), tr.get("images", np.zeros((0, 8, 8)))
