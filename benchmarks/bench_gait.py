@@ -239,12 +239,26 @@ def run_parallel(
     return [r or {} for r in out]
 
 
+def interleaved(objs: list[BatchObject]) -> list[BatchObject]:
+    """Round-robin over the shape groups (circle, square, ellipse, polygon), so a batch cut
+    short by its budget still covers every group."""
+    groups: dict[str, list[BatchObject]] = {}
+    for o in objs:
+        groups.setdefault(o.family.split()[0], []).append(o)
+    out: list[BatchObject] = []
+    while any(groups.values()):
+        for g in groups.values():
+            if g:
+                out.append(g.pop(0))
+    return out
+
+
 def bench_batch(args) -> list[dict]:
     from planner.exploration import explore_object
     from planner.geometry import shapes
 
     explore_object(shapes.circle(0.05), hand=batch_hand(), duration=0.05)  # warm-up, shared
-    objs = objects(args.quick)
+    objs = interleaved(objects(args.quick))
     tasks = [(o, args.duration, args.min_rotation, 1.0) for o in objs]
     rows = run_parallel(tasks, run_object, args.jobs, args.wall_cap, args.budget)
     for o, r in zip(objs, rows, strict=True):
