@@ -269,7 +269,8 @@ def bench_batch(args) -> list[dict]:
         r.setdefault("plan_gait_reason", "")
         r["agree"] = explain(r) if "verdict" in r else ""
         r["plan_gait_reason"] = str(r["plan_gait_reason"])[:120]
-    return rows
+    rank = {o.name: k for k, o in enumerate(objects(args.quick))}
+    return sorted(rows, key=lambda r: rank[r["object"]])  # the table by shape group
 
 
 def summary(rows: list[dict]) -> list[str]:
