@@ -184,3 +184,24 @@ def test_friction_lead_balances_the_impedance():
     s = GaitSettings(mu=0.9, explore_force=0.3, tip_kp=150.0)
     # kp * lag = mu * f_n: the tangential spring pulls the Coulomb friction along
     assert s.tip_kp * friction_lag(s) == pytest.approx(s.mu * s.explore_force)
+
+
+def test_macro_regions_find_a_ridge_seen_twice():
+    from planner.exploration.planar.macro import macro_regions
+
+    rng = np.random.default_rng(0)
+    a = np.linspace(0.5, 1.5, 400)
+    ridge = np.where(np.abs(a - 1.0) < 0.04, 3e-3, 0.0)  # 3 mm high, centred at 1.0 rad
+    h = ridge + rng.normal(0, 1e-4, a.size)
+    one = macro_regions(a, h, np.zeros(a.size, int))
+    assert one == []  # a single pass is not enough
+    two = macro_regions(np.r_[a, a], np.r_[h, h], np.r_[np.zeros(400), np.ones(400)].astype(int))
+    assert len(two) == 1
+    ang, sign = two[0]
+    assert sign == 1 and abs(ang - 1.0) < math.radians(0.5)
+    groove = macro_regions(np.r_[a, a], -np.r_[h, h], np.r_[np.zeros(400), np.ones(400)])
+    assert [s for _, s in groove] == [-1]
+    # wraps around +-pi
+    w = np.remainder(a + (math.pi - 1.0) + math.pi, 2 * math.pi) - math.pi
+    wrapped = macro_regions(np.r_[w, w], np.r_[h, h], np.r_[np.zeros(400), np.ones(400)])
+    assert len(wrapped) == 1 and abs(math.remainder(wrapped[0][0] - math.pi, 2 * math.pi)) < 0.01

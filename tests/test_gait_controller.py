@@ -101,7 +101,8 @@ def test_kernel_internal_force_equals_the_library(v):
     from planner.exploration.planar.controller_kernel import _internal_force
 
     ref = sensed_internal_force(v[0:2], v[2:4], v[4:6], v[6:8])
-    assert _internal_force(*v) == ref
+    # numba's hypot (libm) and CPython's math.hypot may differ in the last bit
+    assert _internal_force(*v) == pytest.approx(ref, rel=1e-14, abs=1e-14)
     assert _internal_force(1.0, 2.0, 1.0, 2.0, *v[4:]) == 0.0  # coincident points
 
 
@@ -152,4 +153,20 @@ def test_plain_numpy_controller_gives_the_same_torques(recording):
                                       zip(recording["windows"], calls, strict=True)]}  # fmt: skip
     for call, tau, _, event in gait_replay.replay(ctrl, short):
         np.testing.assert_allclose(tau, call["tau"], rtol=0, atol=1e-7)
+        assert event == call["event"]
+
+
+def test_replay_with_the_step_run_from_python(recording):
+    """Without the C entry (a DAQP build the step cannot bind) Python runs the step."""
+    from planner.exploration.planar import controller_kernel as ck
+
+    ctrl = gait_replay.make_controller(recording)
+    assert ctrl.step.c_entry is not None
+    ctrl._ks[ck.K_STEP_FN] = 0.0
+    ctrl._python_step = True
+    calls = [w["calls"][:30] for w in recording["windows"]]
+    short = {**recording, "windows": [{**w, "calls": c} for w, c in
+                                      zip(recording["windows"], calls, strict=True)]}  # fmt: skip
+    for call, tau, _, event in gait_replay.replay(ctrl, short):
+        np.testing.assert_allclose(tau, call["tau"], rtol=0, atol=1e-9)
         assert event == call["event"]

@@ -254,3 +254,28 @@ def test_pruned_seed_scans_are_numpys_argmin(name, p, angle):
     D = (pts[:, None, 0] - bx[None, :]) ** 2 + (pts[:, None, 1] - by[None, :]) ** 2
     i, j = _nearest_pair(packed.F, ha, hb, bx, by, c, s, p[0], p[1])
     assert (i, j) == np.unravel_index(int(np.argmin(D)), D.shape)
+
+
+def test_unknown_pieces_are_left_to_python_even_when_they_refuse_foreign_parameters():
+    from planner.geometry.primitives import Parametric
+
+    def guard(u):
+        if np.any(np.abs(u) > 1.0):
+            raise ValueError("u off the piece's range")
+        return u
+
+    piece = Parametric(
+        lambda u: np.stack([guard(u), u**3], axis=-1),
+        lambda u: np.stack([np.ones_like(guard(u)), 3 * u**2], axis=-1),
+        lambda u: np.stack([np.zeros_like(guard(u)), 6 * u], axis=-1),
+        -1.0,
+        1.0,
+    )
+    ol = compile_outline(Profile((piece,), name="cubic"))
+    assert param_model(ol.params[0]) is None
+    packed = PackedOutlines.from_outlines([ol, OUTLINES["circle"]])
+    assert packed.I[:, 8].tolist() == [0, 1]
+    poses = np.array([[0.0, 0.0, 0.0], [0.2, 0.02, 0.0]])
+    got = find_contacts_packed(packed, poses, 0.01)
+    _assert_same(got, _reference(packed.outlines, poses, [(0, 1)], [0.01]))
+    assert len(got) == 1

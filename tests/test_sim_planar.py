@@ -241,3 +241,27 @@ def test_compiled_step_equals_the_python_reference(scene, seed):
     for name in ("p_n", "p_t", "slip", "limit_impulses"):
         assert np.allclose(getattr(ref, name), getattr(fast, name), rtol=0, atol=1e-12), name
     assert np.array_equal(ref.limit_joints, fast.limit_joints)
+
+
+@pytest.mark.parametrize("scene", ["slide", "roll"])
+def test_fast_record_and_pairs_equal_the_generic_ones(scene):
+    from planner.sim.log import SimLog
+    from planner.sim.planar import scenes
+    from planner.sim.world import WorldBase
+
+    build = {"slide": scenes.palm_hold_slide_scene, "roll": scenes.palm_roll_scene}[scene]
+    world, ctrl, _ = build()
+    for _ in range(20):
+        world.step(ctrl(world.time, world.observe()))
+    logs = [SimLog.allocate(2, world.body_names, 3, 3, 6, 8, 2) for _ in range(2)]
+    world.record(logs[0], 1, np.ones(6))
+    WorldBase.record(world, logs[1], 1, np.ones(6))
+    a, b = logs[0].arrays(), logs[1].arrays()
+    assert a.keys() == b.keys()
+    for key in a:
+        if a[key].dtype.kind in "iU":
+            assert np.array_equal(a[key], b[key]), key
+        else:
+            assert np.allclose(a[key], b[key], rtol=0, atol=1e-15, equal_nan=True), key
+    assert world.active_pairs() == WorldBase.active_pairs(world)
+    assert world.active_pairs()  # the scene is in contact

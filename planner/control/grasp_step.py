@@ -227,6 +227,16 @@ class GraspStep:
         self._bound = lib.hx_bind(*self._args) if self._ctx else None
         self._run = lib.hx_run
 
+    @property
+    def c_entry(self) -> tuple[int, int] | None:
+        """``(address of int hx_run(void*), its argument)`` for compiled callers that run
+        the step themselves (it reads and writes the arrays of this object; :attr:`flag` is
+        then not updated, the caller gets it as the return value); ``None`` without the C
+        backend."""
+        if self.backend != "c-daqp":
+            return None
+        return ctypes.cast(self._run, ctypes.c_void_p).value, int(self._bound)
+
     def _selftest(self) -> bool:
         """Solve two QPs through the C workspace path (setup, then update) and compare with
         ``daqp.solve`` from Python; False when the struct layouts do not match."""

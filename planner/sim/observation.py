@@ -8,6 +8,7 @@ strain-gauge fingertip force sensors, the 8x8 tactile array of flat fingertips, 
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -60,7 +61,9 @@ class Observation:
         fingers: names of the fingers, in the order of the rows of ``tip_forces``.
         tip_forces: (n_fingers, 2|3) strain-gauge fingertip forces in the world frame
             (force the finger applies on what it touches) [N] (noisy, quantized).
-        tactile: ``{finger: (8, 8) taxel pressures [Pa]}`` of flat fingertips, or ``None``.
+        tactile: ``{finger: (8, 8) taxel pressures [Pa]}`` of flat fingertips (a read-only
+            mapping; the planar world computes each image when it is first read), or
+            ``None``.
         owts: the OWTS reading of the 3GM tip (spatial world), or ``None``.
         truth: ``None`` unless observed with ``oracle=True``: then a dict of the true state
             (for debugging controllers only).
@@ -71,7 +74,7 @@ class Observation:
     qd: np.ndarray
     fingers: tuple[str, ...] = ()
     tip_forces: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
-    tactile: dict[str, np.ndarray] | None = None
+    tactile: Mapping[str, np.ndarray] | None = None
     owts: Any = None
     truth: dict[str, Any] | None = None
 

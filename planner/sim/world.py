@@ -11,8 +11,9 @@ A world subclass provides the physics and these members:
   ``velocity_vector()`` (for the runaway guard);
 * world events are appended to ``self._events`` during ``step`` (drained by the loop).
 
-It inherits :meth:`run` (:func:`planner.sim.loop.run`), :meth:`record` (one log row; a
-subclass may override it with a faster version) and :meth:`drain_events`.
+It inherits :meth:`run` (:func:`planner.sim.loop.run`), :meth:`record` (one log row),
+:meth:`active_pairs` (a subclass may override both with faster versions) and
+:meth:`drain_events`.
 """
 
 from __future__ import annotations
@@ -37,6 +38,11 @@ class WorldBase:
         """The world events since the last call (and forget them)."""
         out, self._events = self._events, []
         return out
+
+    def active_pairs(self) -> set[tuple[str, str]]:
+        """Body-name pairs carrying a normal force after the last step (a subclass may
+        override it with a version that builds no contact records)."""
+        return {c.bodies for c in self.contacts() if c.normal_force > 0.0}
 
     def record(self, log: SimLog, k: int, tau: np.ndarray) -> None:
         """Write the current state into row ``k`` of ``log``."""

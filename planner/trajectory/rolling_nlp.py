@@ -172,7 +172,11 @@ class RollingNLP:
             lo_st = 0 if k > 0 else -cs.inf  # the start is what it is
             add(cs.dot(-nL, ud) - cos_cone, lo_st, cs.inf)
             add(cs.dot(nR, ud) - cos_cone, lo_st, cs.inf)
-            add(c[1] - R, 0, cs.inf)  # above the palm
+            if k > 0:
+                # above the palm: not lower than the start or the circle resting on it (an
+                # object that is not the model circle rests lower than R; c_y >= R made
+                # the start itself infeasible for a 12 x 10 cm ellipse)
+                add(c[1] - cs.fmin(R, X[2]), 0, cs.inf)
             add(cs.sumsqr(c - X[1:3]), 0, self.travel**2)
         obj += X[nk * N]  # theta_N (negative): minimize = rotate as far as possible
         # bring the object back over the hand's middle: the explorers' friction rolls it along

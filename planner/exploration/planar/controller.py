@@ -4,11 +4,12 @@ Per control step it (1) evaluates the phase's references (plan of phase 1, or th
 finger's path of phases 2/3, with the startup ramps of §2.2.3: the segment's callables),
 (2) runs one compiled kernel (:func:`.controller_kernel.gait_kernel`): the sensed grasp of
 :mod:`.sensing`, the object rotation estimate, the internal-force PI and the rolling PD
-(eq. 2.8), the step's inputs, the trace row and the checks of the events that end a phase
-(workspace limit, contact lost, grasp stability lost, path finished), (3) runs the compiled
-step (:class:`planner.control.grasp_step.GraspStep`: kinematics, Jacobians, object impedance
-eq. 2.7, fingertip impedance and the QP, one C call) and (4) rejects a command beyond
-:data:`FALLBACK_RATIO` torque limits. The first event is kept in
+(eq. 2.8), the step's inputs, the compiled step itself
+(:class:`planner.control.grasp_step.GraspStep`: kinematics, Jacobians, object impedance
+eq. 2.7, fingertip impedance and the QP, called through its C entry point), the check of
+its command (a command beyond :data:`FALLBACK_RATIO` torque limits is replaced), the trace
+row and the checks of the events that end a phase (workspace limit, contact lost, grasp
+stability lost, path finished). The first event is kept in
 :attr:`GaitController.event`; the world's ``stop`` callback returns it.
 
 The laws themselves live in :mod:`planner.control` (the reference implementations, used by
@@ -118,6 +119,12 @@ class GaitController:
         self._row = np.zeros(len(TRACE_NAMES))
         self._pack_sv = struct.Struct(f"{ck.N_SV}d").pack_into
         self._tau_bound = FALLBACK_RATIO * s.torque_limit
+        self._tau = self.step.tau
+        entry = self.step.c_entry  # the kernel runs the compiled step itself
+        self._python_step = entry is None
+        if entry is not None:  # addresses < 2**53: exact as float64
+            self._ks[ck.K_STEP_FN], self._ks[ck.K_STEP_ARG] = entry
+        self._ks[ck.K_TAU_BOUND] = self._tau_bound
         self.segment: Segment | None = None
         self.t0 = 0.0
         self.event: str | None = None
@@ -169,24 +176,27 @@ class GaitController:
         code = gait_kernel(
             obs.q, obs.qd, obs.tip_forces, sensing._no_image if image is None else image,
             image is not None, sensing.geo, sensing.taxel_u, sensing.buffer, self._sv,
-            self._ks, self._inputs, self._row,
+            self._ks, self._inputs, self._row, self._tau,
         )  # fmt: skip
-        tau = self.step()
-        taus = tau.tolist()
-        bound = self._tau_bound
-        if math.isfinite(sum(taus)) and max(taus) <= bound and min(taus) >= -bound:
-            tau = self._last_tau = tau.copy()
-        else:
+        if self._python_step:
+            tau = self.step()
+            taus = tau.tolist()
+            bound = self._tau_bound
+            ok = math.isfinite(sum(taus)) and max(taus) <= bound and min(taus) >= -bound
+            code |= 0 if ok else ck.REJECTED
+        if code & ck.REJECTED:
             # a near-singular finger Jacobian or an infeasible QP gave a command of tens of
             # N m: saturated at the torque limits it threw the light fingers into the object
             # (simulator faults); hold the last good command, damped, for this step instead
             tau = self._last_tau - FALLBACK_DAMPING * np.asarray(obs.qd, float)
             self.fallbacks += 1
+        else:
+            tau = self._last_tau = self._tau.copy()
         self.trace.append(tuple(self._row.tolist()))
         if image is not None and len(self.trace) % 5 == 0:
             self.images.append((t, image.copy()))
-        if code:
-            self._event(code)
+        if code & 7:
+            self._event(code & 7)
         self.step_times.append(time.perf_counter() - tau_t0)
         return tau
 

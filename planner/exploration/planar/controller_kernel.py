@@ -1,12 +1,14 @@
-"""The compiled body of one gait-controller call (numba): everything between the phase's
-reference values and the compiled grasp step (:class:`planner.control.grasp_step.GraspStep`).
+"""The compiled body of one gait-controller call (numba): everything after the phase's
+reference values, the compiled grasp step (:class:`planner.control.grasp_step.GraspStep`,
+called through its C entry point) included.
 
 :func:`gait_kernel` does, on flat arrays and without allocating: the sensing of
 :mod:`.sensing` (:func:`~.sensing.sense_kernel`), the rolling integration of the object
 rotation (eq. 2.4), the sensed internal force and its PI servo
 (:mod:`planner.control.internal_force`), the rolling PD of eq. 2.8 and the fingertip
 orientation moments (:mod:`planner.control.rolling_pd`), the step's inputs ``q, qd, geo,
-ref`` (layout :mod:`planner.control.grasp_layout`), the trace row
+ref`` (layout :mod:`planner.control.grasp_layout`), the step and the check of its command,
+the trace row
 (:data:`~.controller.TRACE_NAMES`) and the event checks that end a phase. The laws are the
 library's Python functions, transcribed with the same operation order (the replay test
 compares the torques, the trace and the events with the recorded Python controller).
@@ -24,7 +26,9 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from llvmlite import ir
+from numba import njit, types
+from numba.extending import intrinsic
 
 from planner.control.grasp_stability import epsilon_two_scalar
 from planner.exploration.planar.sensing import sense_kernel
@@ -49,10 +53,29 @@ K_KIND, K_SOURCE, K_HOLDER, K_EX0, K_EX1, K_GRASP, K_THETA0, K_DURATION = range(
 # --- ks: state
 S_THETA, S_U0, S_BETA0, S_INT, S_WEAK, S_HOLD = 38, 39, 40, 41, 42, 43  # S_HOLD: 2
 S_TRIG, S_LO, S_HI, S_DONE, S_EPS, S_HIT = 45, 46, 52, 58, 59, 60  # S_LO, S_HI: 6 each
-N_KS = 61
+S_FLAG = 61  # DAQP exit flag of the step
+K_STEP_FN, K_STEP_ARG, K_TAU_BOUND = 62, 63, 64  # the compiled step (0: run by Python)
+N_KS = 65
+#: bit of the kernel's return value: the step ran and its command is rejected (fallback)
+REJECTED = 8
 
 #: event codes returned by :func:`gait_kernel`
 EVENTS = {1: "workspace limit", 2: "contact lost", 3: "grasp stability lost", 4: "path finished"}
+
+
+@intrinsic
+def _call_step(typingctx, address, argument):  # pragma: no cover
+    """``int f(void*)`` called through its address (both as integers): the compiled grasp
+    step ``hx_run`` of :mod:`planner.control.grasp_step` on its bound arrays."""
+    sig = types.int32(types.intp, types.intp)
+
+    def codegen(context, builder, signature, args):
+        i8p = ir.IntType(8).as_pointer()
+        fnty = ir.FunctionType(ir.IntType(32), [i8p])
+        fptr = builder.inttoptr(args[0], fnty.as_pointer())
+        return builder.call(fptr, [builder.inttoptr(args[1], i8p)])
+
+    return sig, codegen
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -94,10 +117,10 @@ def _arclength(beta, phi, tip_radius):  # pragma: no cover
 
 
 @njit(cache=True, nogil=True)
-def gait_kernel(
-    q, qd, forces, image, has_image, geo, taxel_u, b, sv, ks, inputs, row
-):  # pragma: no cover  # noqa: E501
-    """One controller call up to the grasp step (see the module docstring).
+def gait_kernel(  # pragma: no cover
+    q, qd, forces, image, has_image, geo, taxel_u, b, sv, ks, inputs, row, tau
+):
+    """One controller call (see the module docstring).
 
     Args:
         q, qd: (6,) encoder angles [rad] and rates [rad/s]; forces: (2, 2) strain gauges [N].
@@ -106,9 +129,14 @@ def gait_kernel(
         sv, ks: the references and the constants/state (layouts above).
         inputs: the step's input block (``q, qd, geo, ref, par``), written here.
         row: (29,) the trace row, written here.
+        tau: (6,) the step's torque array [N m].
+
+    With ``ks[K_STEP_FN]`` set, the kernel also runs the compiled step on ``inputs`` and
+    checks its command (finite, within ``ks[K_TAU_BOUND]``).
 
     Returns:
-        the event code (0: none; :data:`EVENTS`).
+        the event code (0: none; :data:`EVENTS`), plus :data:`REJECTED` when the step ran
+        and its command must be replaced by the fallback.
     """
     kind = int(ks[K_KIND])
     sense_kernel(q, forces, image, has_image, int(ks[K_SOURCE]), geo, taxel_u, b)
@@ -153,6 +181,13 @@ def gait_kernel(
         phid = qd[3] + qd[4] + qd[5]
         m1 += kp * (sv[V_PHI + 1] - b[33]) - kv * (phid - sv[V_PHID + 1])
     _write_inputs(q, qd, b, sv, ks, inputs, kind, h, theta, f_cmd, m0, m1)
+    rejected = 0
+    if ks[K_STEP_FN] != 0.0:
+        ks[S_FLAG] = _call_step(int(ks[K_STEP_FN]), int(ks[K_STEP_ARG]))
+        bound = ks[K_TAU_BOUND]
+        for i in range(6):
+            if not abs(tau[i]) <= bound:  # NaN and inf fail too
+                rejected = REJECTED
     has_exp = sv[V_HAS_EXP] != 0.0
     row[0], row[1] = sv[V_T], kind
     for i in range(12):
@@ -164,8 +199,8 @@ def gait_kernel(
     for i in range(4):
         row[25 + i] = b[14 + i]
     if ks[S_DONE] != 0.0:
-        return 0
-    return _events(q, b, ks, kind, sv[V_TL])
+        return rejected
+    return rejected + _events(q, b, ks, kind, sv[V_TL])
 
 
 @njit(cache=True, nogil=True)
@@ -240,4 +275,4 @@ def _events(q, b, ks, kind, tl):  # pragma: no cover
     return 0
 
 
-__all__ = ["EVENTS", "N_KS", "N_SV", "gait_kernel"]
+__all__ = ["EVENTS", "N_KS", "N_SV", "REJECTED", "gait_kernel"]

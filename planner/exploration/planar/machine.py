@@ -20,7 +20,7 @@ import numpy as np
 
 from planner.errors import InvalidParameter
 from planner.exploration.planar.controller import TRACE_NAMES, GaitController
-from planner.exploration.planar.heuristics import regrasp_left_angle
+from planner.exploration.planar.heuristics import regrasp_left_angle, stable_pair
 from planner.exploration.planar.logs import concat_logs
 from planner.exploration.planar.objects import mean_radius
 from planner.exploration.planar.result import ExplorationResult, PhaseRecord
@@ -36,6 +36,8 @@ PHASE1_TRAVEL = math.radians(22.0)
 #: the gait terminates when this many cycles together turned the object less than
 #: ``STALL_ROTATION`` [rad]
 STALL_CYCLES = 3
+#: range of the fitted local radius, in nominal radii [-]
+RADIUS_FIT = (0.85, 1.2)
 #: phases 2/3 end when the sensed object centre moved this far from its start [m] (a
 #: safety net: the sliding pad rolls the ball 1-5 mm per phase 3, more over the ridge)
 HOLD_SLIP = 0.01
@@ -102,7 +104,9 @@ def explore_object(
     from planner.exploration.planar.metrics import coverage_of, detect_pad_features
 
     trace = trace_arrays(ctrl)
-    features = detect_pad_features(trace, profile, start["rest"], R, s.explore_force)
+    moved = [(p.start, p.end) for p in runner.records if p.event == "object moved"]
+    tip_r = hand.params.right.tip_radius
+    features = detect_pad_features(trace, profile, start["rest"], R, s.explore_force, tip_r, moved)
     timings = {
         "nlp_build_s": nlp_build,
         "nlp_solve_ms": [1e3 * p.nlp_time_s for p in runner.records if p.kind == 1],
@@ -139,6 +143,7 @@ class _Runner:
         self.theta = 0.0
         self.angle0 = float(world.pose("object")[2])
         self._traces: list = []
+        self.R_nominal = float(ctrl.sensing.radius)
 
     def rotation(self) -> float:
         """True rotation of the object so far [rad] (unwrapped from the logs)."""
@@ -205,12 +210,15 @@ class _Runner:
         if kind == 1:
             r = self.hand.params.right.tip_radius
             mu = s.mu * (1 - s.friction_margin)
-            R = self.ctrl.sensing.radius
+            R = self._fit_radius(est, r)
+            self.ctrl.sensing.radius = R
+            est = self.ctrl.sensing.update(self.world.observe(), "auto")
             plan = self.nlp.solve(q, est.centre, R, r, mu, est.beta, est.u, margin=s.nlp_margin,
                                   joint_margin=s.joint_margin + 0.02,
                                   home_x=self.start["rest"][0])  # fmt: skip
             if not plan.success or abs(plan.rotation) < math.radians(1.0):
-                return None, 0.0, plan.solve_time_s, f"phase-1 NLP: {plan.stop}"
+                why = self._blocking(est, q, mu)
+                return None, 0.0, plan.solve_time_s, f"phase-1 NLP: {plan.stop}; {why}"
             seg = phase1_segment(plan, est, q, self.theta, s, self.hand, lift=0.0015)
             return seg, plan.rotation, plan.solve_time_s, ""
         if kind == 2:
@@ -220,7 +228,43 @@ class _Runner:
         seg = explore_segment(kind, est, q, target, self.theta, s, self.hand, PHASE1_TRAVEL)
         return seg, 0.0, 0.0, ""
 
-    def _left_regrasp_angle(self, est) -> float:
+    def _blocking(self, est, q, mu: float) -> str:
+        """Which constraint blocks phase 1 at the sensed grasp (the issue's three):
+        force closure (the contact line outside the friction cones), workspace (a joint
+        at its limit) or reach (no stable left grasp within the pad's reach)."""
+        stab = stable_pair(float(est.beta[0]), float(est.beta[1]), mu, 0.0)
+        if stab < 0:
+            return (f"blocking: force closure (contact line {math.degrees(-stab):.0f} deg "
+                    "outside the friction cones)")  # fmt: skip
+        lim = self.hand.joint_limits
+        margin = np.minimum(np.asarray(q) - lim[:, 0], lim[:, 1] - np.asarray(q))
+        j = int(np.argmin(margin))
+        if margin[j] < self.s.joint_margin + 0.02:
+            return (
+                f"blocking: workspace (joint {j} {math.degrees(margin[j]):.1f} deg from its limit)"
+            )
+        if self._left_regrasp_angle(est, fallback=False) is None:
+            return "blocking: reach (no stable left grasp within the pad's reach)"
+        return "blocking: none of force closure / workspace / reach at the start (IPOPT failed)"
+
+    def _fit_radius(self, est, r: float) -> float:
+        """The local radius [m] of the object between the two fingers (§2.2.3: "planning is
+        done ... using a current estimate of the object curvature"): the circle tangent to
+        the left pad at its sensed contact and touching the round right tip,
+        ``|T - p + R n| = R + r`` solved for ``R`` (``T`` tip centre, ``p``, ``n`` the pad's
+        contact point and outward normal), clamped to ``RADIUS_FIT`` times the nominal one.
+        On a non-circular object the nominal circle put the NLP's start out of reach of the
+        fingers (solver failed at the start of the ellipse)."""
+        R0 = self.R_nominal
+        d = est.tips[1] - est.p[0]
+        den = 2.0 * (float(d @ est.n[0]) - r)
+        if abs(den) < 1e-9 or not est.pad_touch:
+            return R0
+        R = (r * r - float(d @ d)) / den
+        lo, hi = RADIUS_FIT
+        return float(min(max(R, lo * R0), hi * R0))
+
+    def _left_regrasp_angle(self, est, fallback: bool = True):
         """Where the left pad goes in phase 3 (world polar angle [rad]): the §2.2.3 choice of
         :func:`regrasp_left_angle` for the right contact it will grasp with; the start
         grasp's angle when none is stable and reachable (phase 1 then reports it)."""
@@ -228,7 +272,9 @@ class _Runner:
         mu = s.mu * (1 - s.friction_margin)
         b = regrasp_left_angle(self.hand, est.centre, self.ctrl.sensing.radius, float(est.beta[1]),
                                mu, s.nlp_margin, PHASE1_TRAVEL)  # fmt: skip
-        return self.start["beta"][0] if b is None else b
+        if b is None and fallback:
+            return self.start["beta"][0]
+        return b
 
     def _right_hold_angle(self) -> float:
         """Lowest polar angle [rad] of the right contact from which the right finger can
@@ -246,14 +292,16 @@ class _Runner:
         n0 = len(c.trace)
         eps_min = [math.inf]
         horizon = min(seg.duration + 0.5, self.t_end - t0)
-        c0 = c.sensing.est.centre.copy()
+        c0 = []  # the centre as this phase senses it (its own source), at its first step
         moved = [False]
 
         def stop(t, world):
+            if not c0:
+                c0.append(c.sensing.est.centre.copy())
             # phases 2/3: the held object must stay where it is; a sensed centre that moved
             # HOLD_SLIP means the explorer drags it (a ridge caught the round right tip and
             # rolled the ball 30 deg back along the palm before this check)
-            if kind != 1 and math.hypot(*(c.sensing.est.centre - c0)) > HOLD_SLIP:
+            if kind != 1 and math.hypot(*(c.sensing.est.centre - c0[0])) > HOLD_SLIP:
                 moved[0] = True
                 return "object moved"
             return c.stop(t, world)

@@ -102,8 +102,40 @@ def steady_sliding(trace: dict, explore_force: float = 0.3) -> np.ndarray:
     return sel
 
 
+#: a pass of the pad continues over this many unselected trace rows (20 ms at 500 Hz)
+MAX_GAP_ROWS = 10
+#: angular bin of the sensed outline a pass is resampled on before detection [rad]
+BIN_ANGLE = math.radians(0.25)
+
+
+def outline_bins(points: np.ndarray, normals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """One pass of the pad as an outline: its object-frame points (N, 2) [m] and normals
+    (N, 2) resampled on :data:`BIN_ANGLE` polar-angle bins (median radius, mean normal per
+    occupied bin), in increasing angle.
+
+    The sliding pad sticks and slips (it stalls, then jumps 1-2 deg, and creeps back under
+    the holder's compliance): in time order that trace folds back on itself, and the
+    detector read every fold as a convex/concave pair (one spurious pair per phase 3).
+    Binning by polar angle keeps the shape and drops the time order."""
+    a = np.unwrap(np.arctan2(points[:, 1], points[:, 0]))
+    r = np.hypot(points[:, 0], points[:, 1])
+    k = np.floor((a - a.min()) / BIN_ANGLE).astype(int)
+    occupied = np.unique(k)
+    rad = np.array([np.median(r[k == i]) for i in occupied])
+    ang = np.array([np.mean(a[k == i]) for i in occupied])
+    nrm = np.array([normals[k == i].mean(axis=0) for i in occupied])
+    nrm /= np.maximum(np.linalg.norm(nrm, axis=1, keepdims=True), 1e-12)
+    return np.column_stack([rad * np.cos(ang), rad * np.sin(ang)]), nrm
+
+
 def detect_pad_features(
-    trace: dict, profile, rest, radius: float, explore_force: float = 0.3
+    trace: dict,
+    profile,
+    rest,
+    radius: float,
+    explore_force: float = 0.3,
+    tip_radius: float = 0.025,
+    exclude=(),
 ) -> list[DetectedFeature]:
     """Features in the left pad's sensed trace while it explores (phase 3).
 
@@ -111,11 +143,23 @@ def detect_pad_features(
     mapped to the object frame with the *estimated* pose (centre and rotation from the
     sensors), detected per contiguous run, reported as polar angles on the object (one per
     feature: repeated detections within :data:`MERGE_ANGLE` are merged) and matched to the
-    nearest true curvature feature of ``profile``.
+    nearest true curvature feature of ``profile``. Macro features (ridges, grooves) come
+    from :mod:`.macro`. ``exclude``: ``(t0, t1)`` windows [s] left out (phases that ended
+    with "object moved": the held object moved, so the sensed pose there is wrong - each
+    gave a phantom ridge or groove next to the true ridge).
     """
     if len(trace.get("t", ())) == 0:
         return []
     trace = {**trace, "theta": object_rotation(trace, radius)}
+    if exclude:  # rows of phases whose estimate is invalid (the held object moved)
+        kind = np.array(trace["kind"], float)
+        for t0, t1 in exclude:
+            kind[(trace["t"] >= t0) & (trace["t"] <= t1)] = 0.0
+        trace["kind"] = kind
+    from planner.exploration.planar.macro import detect_macro_features
+
+    band = (FORCE_BAND[0] * explore_force, FORCE_BAND[1] * explore_force)
+    macro = detect_macro_features(trace, trace["theta"], profile, radius, tip_radius, band)
     sel = steady_sliding(trace, explore_force)
     truth = [math.atan2(f.position[1], f.position[0])
              for f in profile.curvature_features(VIRTUAL_RADIUS)]  # fmt: skip
@@ -123,7 +167,9 @@ def detect_pad_features(
     idx = np.flatnonzero(sel)
     if idx.size == 0:
         return []
-    runs = np.split(idx, np.flatnonzero(np.diff(idx) > 1) + 1)
+    # a pass is split only at gaps longer than MAX_GAP_ROWS: the pad bounces off for single
+    # control steps (touch flicker), which cut every pass into 0.1 s pieces of 1-2 deg
+    runs = np.split(idx, np.flatnonzero(np.diff(idx) > MAX_GAP_ROWS) + 1)
     for run in runs:
         if run.size < 20:
             continue
@@ -133,8 +179,7 @@ def detect_pad_features(
         nx, ny = trace["nLx"][run], trace["nLy"][run]
         P = np.column_stack([c * px - s * py, s * px + c * py])
         N = np.column_stack([c * nx - s * ny, s * nx + c * ny])
-        keep = np.concatenate([[True], np.any(np.abs(np.diff(P, axis=0)) > 1e-6, axis=1)])
-        P, N = P[keep], N[keep]
+        P, N = outline_bins(P, N)
         if len(P) < 10:
             continue
         try:
@@ -151,7 +196,7 @@ def detect_pad_features(
                 )
             else:
                 out.append(DetectedFeature(a, "convex" if sign > 0 else "concave"))
-    return _merge(out)
+    return macro + _merge(out)
 
 
 def _merge(found: list[DetectedFeature]) -> list[DetectedFeature]:
@@ -235,6 +280,7 @@ __all__ = [
     "VIRTUAL_RADIUS",
     "coverage_of",
     "object_rotation",
+    "outline_bins",
     "detect_pad_features",
     "slip_distance",
     "steady_sliding",

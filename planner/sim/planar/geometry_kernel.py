@@ -54,7 +54,7 @@ CLOSEST, EXTREME = 0, 1  # the two root problems on a parametric piece
 @njit(cache=True)
 def peval(F, h, u):
     """Point, first and second derivative of the piece at ``u``: 6 floats (x, y, x', y',
-    x'', y'')."""
+    x'', y'') of its closed form (kind 1 ellipse, 2 parabola, 3 Gaussian)."""
     c0x, c0y, c1x, c1y, c2x, c2y = F[h + 7], F[h + 8], F[h + 9], F[h + 10], F[h + 11], F[h + 12]
     if F[h] == 3.0:
         m, s = F[h + 15], F[h + 16]
@@ -541,7 +541,7 @@ def _params_vs_params(F, I, a, Pa, b, Pb, margin, out, n, i, j):  # noqa: E741
             sx, sy = _to_world(Pa, px, py)
             wx, wy = _to_world(Pa, qx, qy)
             vx, vy = _rotate(Pa, nx, ny)
-            _push(out, n, i, j, gap, sx, sy, wx, wy, vx, vy, 0.0, False)
+            _push(out, n, i, j, gap, sx, sy, wx, wy, vx, vy, 0.0, n < 0)
             n += 1
     return n
 
@@ -585,7 +585,11 @@ def contacts_into(F, I, poses, pairs, margins, out, counts):  # noqa: E741
     When ``n > cap`` the buffer was too small (its rows are incomplete and n is an upper
     bound): call again with at least n rows.
     """
-    n = 0
+    # runtime (non-literal) values: one compiled specialization of each helper instead of
+    # one per literal argument (compile time)
+    n = counts.shape[0] * 0
+    no = n < 0
+    yes = not no
     cap = out.shape[0]
     T = np.empty((poses.shape[0], 4))  # placements (cos, sin, x, y), one per body
     for b in range(poses.shape[0]):
@@ -603,12 +607,12 @@ def contacts_into(F, I, poses, pairs, margins, out, counts):  # noqa: E741
         if math.hypot(Pa[2] - Pb[2], Pa[3] - Pb[3]) > F[a] + F[b] + m:
             continue
         start = n
-        n = _corners_vs(F, I, a, Pa, b, Pb, m, False, out, n, a, b)
-        n = _corners_vs(F, I, b, Pb, a, Pa, m, True, out, n, a, b)
-        n = _arcs_vs(F, I, a, Pa, b, Pb, m, False, out, n, a, b)
-        n = _arcs_vs(F, I, b, Pb, a, Pa, m, True, out, n, a, b)
-        n = _params_vs_lines(F, I, a, Pa, b, Pb, m, False, out, n, a, b)
-        n = _params_vs_lines(F, I, b, Pb, a, Pa, m, True, out, n, a, b)
+        n = _corners_vs(F, I, a, Pa, b, Pb, m, no, out, n, a, b)
+        n = _corners_vs(F, I, b, Pb, a, Pa, m, yes, out, n, a, b)
+        n = _arcs_vs(F, I, a, Pa, b, Pb, m, no, out, n, a, b)
+        n = _arcs_vs(F, I, b, Pb, a, Pa, m, yes, out, n, a, b)
+        n = _params_vs_lines(F, I, a, Pa, b, Pb, m, no, out, n, a, b)
+        n = _params_vs_lines(F, I, b, Pb, a, Pa, m, yes, out, n, a, b)
         n = _params_vs_params(F, I, a, Pa, b, Pb, m, out, n, a, b)
         if n - start >= 2 and n <= cap:
             n = _merge(out, start, n)

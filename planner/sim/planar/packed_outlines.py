@@ -178,10 +178,14 @@ def param_model(pp: ParamPiece):
     piece, u = pp.piece, pp.u
     exact = piece.f(u), piece.df(u), piece.ddf(u)
     for kind, fit in ((TRIG, _fit_trig), (QUAD, _fit_quad), (GAUSS, _fit_gauss)):
-        c = fit(piece, u)
-        if c is None:
+        try:  # a piece may refuse parameters off its range: then it is not this form
+            with np.errstate(all="ignore"):
+                c = fit(piece, u)
+                model = model_eval(kind, c, u) if c is not None else None
+        except (ArithmeticError, ValueError):
             continue
-        model = model_eval(kind, c, u)
+        if model is None:
+            continue
         if all(
             np.abs(m - e).max() <= FIT_TOL * max(float(np.abs(e).max()), 1e-300)
             for m, e in zip(model, exact, strict=True)

@@ -14,60 +14,112 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 
 import numpy as np
 
 from planner.sim.observation import Observation, read_forces, read_joints
 from planner.sim.planar.bodies import FREE, TIP
 
-__all__ = ["observe"]
+__all__ = ["TactileImages", "observe"]
 
 FINGERS = ("left", "right")
 
 
 def _tip_forces(world):
-    forces = np.zeros((2, 2))
+    """True fingertip forces (2, 2) [N] and each tip's touches (point, f_n [N], curvature)."""
+    f = [0.0, 0.0, 0.0, 0.0]
     per_tip: list[list[tuple]] = [[], []]
     res = world._last
     if res is None:
-        return forces, per_tip
+        return np.zeros((2, 2)), per_tip
     h = world.dt
-    for k in range(len(res.gap)):
-        if res.p_n[k] <= 0:
+    bodies = world.bodies
+    pn, pt = res.p_n.tolist(), res.p_t.tolist()
+    for k, (ia, ib) in enumerate(zip(res.body_a.tolist(), res.body_b.tolist(), strict=True)):
+        if pn[k] <= 0:
             continue
-        n = res.normal[k]
-        t = np.array([-n[1], n[0]])
-        f_on_a = (res.p_n[k] * n + res.p_t[k] * t) / h
-        for idx, sign in ((res.body_a[k], -1.0), (res.body_b[k], 1.0)):
-            b = world.bodies[idx]
-            if b.kind == TIP:
-                forces[b.index] += sign * f_on_a
-                point = res.point_a[k] if sign < 0 else res.point_b[k]
-                per_tip[b.index].append((point, res.p_n[k] / h, res.curvature[k]))
-    return forces, per_tip
+        a, b = bodies[ia], bodies[ib]
+        if a.kind != TIP and b.kind != TIP:
+            continue
+        nx, ny = res.normal[k].tolist()
+        fx, fy = (pn[k] * nx - pt[k] * ny) / h, (pn[k] * ny + pt[k] * nx) / h  # on a
+        if a.kind == TIP:
+            f[2 * a.index] -= fx
+            f[2 * a.index + 1] -= fy
+            per_tip[a.index].append((res.point_a[k], pn[k] / h, float(res.curvature[k])))
+        if b.kind == TIP:
+            f[2 * b.index] += fx
+            f[2 * b.index + 1] += fy
+            per_tip[b.index].append((res.point_b[k], pn[k] / h, float(res.curvature[k])))
+    return np.array(f).reshape(2, 2), per_tip
+
+
+class TactileImages(Mapping):
+    """``{finger: (8, 8) taxel pressures [Pa]}`` of the flat fingertips, computed on access.
+
+    A read-only mapping (what :attr:`Observation.tactile` holds): the keys are known at
+    once, each image is computed the first time it is read (about 100-250 us each, the
+    largest part of an observation) and then kept. The contacts it is computed from are
+    copied at observation time, so a late read gives the image of that instant.
+    """
+
+    def __init__(self, array, hand, q: np.ndarray, fingers: dict, touches: dict) -> None:
+        self._array = array
+        self._hand, self._q = hand, q  # the fingertip frames are computed when needed
+        self._frames = fingers  # finger -> its index (0 left, 1 right)
+        self._touches = touches  # finger -> [(point (2,), normal force [N], curvature)]
+        self._images: dict[str, np.ndarray] = {}
+
+    def __getitem__(self, finger: str) -> np.ndarray:
+        img = self._images.get(finger)
+        if img is None:
+            if finger not in self._frames:
+                raise KeyError(finger)
+            img = self._image(finger)
+            self._images[finger] = img
+        return img
+
+    def __contains__(self, finger) -> bool:
+        return finger in self._frames
+
+    def __iter__(self):
+        return iter(self._frames)
+
+    def __len__(self) -> int:
+        return len(self._frames)
+
+    def _image(self, finger: str) -> np.ndarray:
+        arr = self._array
+        img = np.zeros((arr.rows, arr.cols))
+        touches = self._touches[finger]
+        if touches:
+            x, y, phi = self._hand.frames(self._q)[1][self._frames[finger]]
+            c, s = math.cos(phi), math.sin(phi)
+            for point, fn, kappa in touches:
+                u = c * (point[0] - x) + s * (point[1] - y)
+                radius = 1e-3 if math.isinf(kappa) else (1.0 if kappa < 1.0 else 1.0 / kappa)
+                img += arr.sphere_images(np.array([u, 0.0]), radius, fn)
+        return img
+
+    def __repr__(self) -> str:
+        return f"TactileImages({sorted(self._frames)})"
 
 
 def _tactile(world, per_tip):
     arr = world.sensors.tactile
     if arr is None or world.hand is None:
         return None
-    out = {}
-    P, _ = None, None
-    for k, f in enumerate(FINGERS):
-        if world.hand.hand.params.finger(f).tip != "flat":
-            continue
-        img = np.zeros((arr.rows, arr.cols))
-        if per_tip[k]:
-            _, tips = world.hand.frames(world.q)
-            x, y, phi = tips[k]
-            c, s = math.cos(phi), math.sin(phi)
-            for point, fn, kappa in per_tip[k]:
-                u = c * (point[0] - x) + s * (point[1] - y)
-                radius = 1e-3 if math.isinf(kappa) else (1.0 if kappa < 1.0 else 1.0 / kappa)
-                img += arr.sphere_images(np.array([u, 0.0]), radius, fn)
-        out[f] = img
-    del P
-    return out
+    flat = getattr(world.hand, "_flat", None)
+    if flat is None:
+        params = world.hand.hand.params
+        flat = tuple(k for k, f in enumerate(FINGERS) if params.finger(f).tip == "flat")
+        world.hand._flat = flat
+    if not flat:
+        return {}
+    fingers = {FINGERS[k]: k for k in flat}
+    touches = {FINGERS[k]: per_tip[k] for k in flat}
+    return TactileImages(arr, world.hand, world.q.copy(), fingers, touches)
 
 
 def observe(world, oracle: bool = False) -> Observation:

@@ -33,9 +33,11 @@ import numpy as np
 
 from planner.errors import InvalidParameter
 from planner.sim.lcp import lemke_verified, njit
+from planner.sim.planar.geometry_kernel import contacts_into
 
 __all__ = [
     "contact_step",
+    "full_step",
     "hand_dynamics",
     "hand_kinematics",
     "hand_parameters",
@@ -312,3 +314,62 @@ def contact_step(
             qd[i] = nu_new[3 * nfree + i]
             q[i] += h * qd[i]
     return 0, pn, pt, slip, mu, lim_joint[:nlim], pl
+
+
+@njit(cache=True)
+def full_step(
+    h, gx, gy, margin, proj_tol, F, I, pairs, poses, kind, index, mu_body, x, v, mass,
+    inertia, has_hand, q, qd, tau, P, limits, covers, out, counts,
+):  # noqa: E741  # fmt: skip
+    """The whole step in one call: kinematics, contact search, :func:`contact_step`.
+
+    The contact search is :func:`planner.sim.planar.geometry_kernel.contacts_into` over the
+    packed outlines ``F, I`` and body ``pairs``; ``poses`` (nbodies, 3) holds the fixed
+    bodies' poses (the others are written here), ``out`` (cap, 10) and ``counts`` (npairs,)
+    are its buffers. The margin of a pair is ``margin`` plus twice the distance each of its
+    bodies can move in the step (as :func:`planner.sim.planar.stepper.find_contacts`).
+
+    Returns:
+        ``(status, n, pn, pt, slip, mu, lim_joint, lim_impulse)``: status 0 ok (the n
+        candidates are ``out[:n]``), 1/2 no verified LCP answer, 3 a penetration needs the
+        position projection, 4 ``out`` too small (n rows needed), 5 a pair needs the Python
+        geometry; nothing is updated unless the status is 0.
+    """
+    nb = kind.shape[0]
+    joints = np.zeros((2, 3, 2))
+    tips = np.zeros((2, 3))
+    tip_speed = 0.0
+    if has_hand:
+        hand_kinematics(q, P, joints, tips)
+        for i in range(6):
+            tip_speed = max(tip_speed, abs(qd[i]))
+        tip_speed *= 0.25  # links + tip radius < 0.25 m
+    reach = np.zeros(nb)
+    for b in range(nb):
+        if kind[b] == FREE:
+            k = index[b]
+            poses[b, 0], poses[b, 1], poses[b, 2] = x[k, 0], x[k, 1], x[k, 2]
+            sp = np.hypot(v[k, 0], v[k, 1]) + abs(v[k, 2]) * F[b]
+            reach[b] = 2.0 * h * sp
+        elif kind[b] == TIP:
+            k = index[b]
+            poses[b, 0], poses[b, 1], poses[b, 2] = tips[k, 0], tips[k, 1], tips[k, 2]
+            reach[b] = 2.0 * h * tip_speed
+    margins = np.empty(pairs.shape[0])
+    for k in range(pairs.shape[0]):
+        margins[k] = margin + reach[pairs[k, 0]] + reach[pairs[k, 1]]
+    e0, e1 = np.zeros(0), np.zeros(0, np.int64)
+    n = contacts_into(F, I, poses, pairs, margins, out, counts)
+    if n > out.shape[0]:
+        return 4, n, e0, e0, e0, e0, e1, e0
+    for k in range(pairs.shape[0]):
+        if counts[k] < 0:
+            return 5, n, e0, e0, e0, e0, e1, e0
+    for r in range(n):
+        if out[r, 2] < -proj_tol:
+            return 3, n, e0, e0, e0, e0, e1, e0
+    st, pn, pt, slip, mu, lj, lp = contact_step(
+        h, gx, gy, out[:n], kind, index, mu_body, x, v, mass, inertia, has_hand, q, qd, tau,
+        P, limits, covers,
+    )  # fmt: skip
+    return st, n, pn, pt, slip, mu, lj, lp

@@ -389,59 +389,81 @@ def step(world, tau) -> StepResult:
     )
 
 
-def _packed_bodies(world):
-    """(kind, index, friction, mass, inertia) arrays of the bodies, cached per body count."""
-    cache = getattr(world, "_packed", None)
-    if cache is None or cache[0] != len(world.bodies):
+class _Compiled:
+    """What the compiled step needs of a world's bodies (rebuilt when bodies are added)."""
+
+    def __init__(self, world) -> None:
+        from planner.sim.planar.packed_outlines import PackedOutlines
+
         bodies = world.bodies
         free = [b for b in bodies if b.kind == FREE]
-        cache = (
-            len(bodies),
-            np.array([b.kind for b in bodies], np.int64),
-            np.array([b.index for b in bodies], np.int64),
-            np.array([b.friction for b in bodies], float),
-            np.array([b.mass for b in free], float),
-            np.array([b.inertia for b in free], float),
-        )
-        world._packed = cache
-    return cache
+        self.count = len(bodies)
+        self.kind = np.array([b.kind for b in bodies], np.int64)
+        self.index = np.array([b.index for b in bodies], np.int64)
+        self.mu = np.array([b.friction for b in bodies], float)
+        self.mass = np.array([b.mass for b in free], float)
+        self.inertia = np.array([b.inertia for b in free], float)
+        self.packed = PackedOutlines.from_bodies(bodies)
+        self.poses = np.array([b.pose for b in bodies], float).reshape(-1, 3)
+        self.out = np.empty((32, 10))
+        self.counts = np.empty(len(self.packed.pairs), np.int64)
+
+
+def _compiled(world) -> _Compiled:
+    ck = getattr(world, "_compiled_data", None)
+    if ck is None or ck.count != len(world.bodies):
+        ck = _Compiled(world)
+        world._compiled_data = ck
+    return ck
 
 
 _NO_HAND = (np.zeros(6), np.zeros((2, 4, 6)), np.zeros((6, 2)))
 
 
 def step_fast(world, tau) -> StepResult:
-    """:func:`step` with everything after the contact search in one compiled call.
+    """:func:`step` with the whole step in one compiled call (same state to ~1e-15).
 
-    Same equations and solver (:func:`planner.sim.planar.step_kernel.contact_step`); a step
-    that needs a position projection, or whose LCP the kernel cannot answer, is done by
-    :func:`step` instead (which projects, retries and raises), so both give the same state.
+    Kinematics, the contact search (:mod:`planner.sim.planar.geometry_kernel`), dynamics,
+    contact rows, the LCP and the update run in
+    :func:`planner.sim.planar.step_kernel.full_step`. A step that needs a position
+    projection, or whose LCP the kernel cannot answer, is done by :func:`step` instead
+    (which projects, retries and raises); bodies with pieces the compiled search does not
+    know (Gaussian bumps, splines) use the Python search with the compiled rest.
     """
-    from planner.sim.planar.step_kernel import contact_step
+    from planner.sim.planar.step_kernel import full_step
 
-    P, _ = _placements(world)
-    cands = find_contacts(world, world.margin, P)
-    if cands and min(c[2] for c in cands) < -world.projection_tolerance:
-        return step(world, tau)
-    _, kind, index, mu_b, mass, inertia = _packed_bodies(world)
-    arr = np.array(cands, float).reshape(-1, 10)
+    ck = _compiled(world)
     hand = world.hand
     if hand is not None:
         q, qd, tau_arr, packed, limits = world.q, world.qd, tau, hand.packed, hand.limits
     else:
         q, qd, tau_arr = _NO_HAND[0].copy(), _NO_HAND[0].copy(), _NO_HAND[0]
         packed, limits = _NO_HAND[1], _NO_HAND[2]
+    tau_arr = np.asarray(tau_arr, float)
     gx, gy = world.gravity
-    status, pn, pt, slip, mu, lj, lp = contact_step(
-        world.dt, gx, gy, arr, kind, index, mu_b, world._x, world._v, mass, inertia,
-        hand is not None, q, qd, np.asarray(tau_arr, float), packed, limits, COVERS,
-    )  # fmt: skip
+    pk = ck.packed
+    while True:
+        status, n, pn, pt, slip, mu, lj, lp = full_step(
+            world.dt, gx, gy, world.margin, world.projection_tolerance, pk.F, pk.I,
+            pk.pairs, ck.poses, ck.kind, ck.index, ck.mu, world._x, world._v, ck.mass,
+            ck.inertia, hand is not None, q, qd, tau_arr, packed, limits, COVERS, ck.out,
+            ck.counts,
+        )  # fmt: skip
+        if status != 4:
+            break
+        ck.out = np.empty((2 * n, 10))
+    if status == 5:
+        return _step_python_search(world, tau, ck, q, qd, tau_arr, packed, limits)
     if status != 0:  # nothing was updated
         return step(world, tau)
+    return _result(ck.out[:n].copy(), mu, pn, pt, slip, lj, lp)
+
+
+def _result(arr, mu, pn, pt, slip, lj, lp) -> StepResult:
     return StepResult(
         arr[:, 0].astype(int),
         arr[:, 1].astype(int),
-        arr[:, 2].copy(),
+        arr[:, 2],
         arr[:, 3:5],
         arr[:, 5:7],
         arr[:, 7:9],
@@ -453,3 +475,22 @@ def step_fast(world, tau) -> StepResult:
         lj,
         lp,
     )
+
+
+def _step_python_search(world, tau, ck, q, qd, tau_arr, packed, limits) -> StepResult:
+    """The compiled step after the Python contact search (bodies the kernel does not know)."""
+    from planner.sim.planar.step_kernel import contact_step
+
+    P, _ = _placements(world)
+    cands = find_contacts(world, world.margin, P)
+    if cands and min(c[2] for c in cands) < -world.projection_tolerance:
+        return step(world, tau)
+    arr = np.array(cands, float).reshape(-1, 10)
+    gx, gy = world.gravity
+    status, pn, pt, slip, mu, lj, lp = contact_step(
+        world.dt, gx, gy, arr, ck.kind, ck.index, ck.mu, world._x, world._v, ck.mass,
+        ck.inertia, world.hand is not None, q, qd, tau_arr, packed, limits, COVERS,
+    )  # fmt: skip
+    if status != 0:  # nothing was updated
+        return step(world, tau)
+    return _result(arr, mu, pn, pt, slip, lj, lp)

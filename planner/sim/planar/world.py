@@ -270,13 +270,15 @@ class PlanarWorld(WorldBase):
 
     def _watch(self, res: StepResult) -> None:
         """World events: joint limits reached, objects dropped by the fingers."""
-        on = {int(k) for k, p in zip(res.limit_joints, res.limit_impulses, strict=True) if p > 0}
+        lj, lp = res.limit_joints.tolist(), res.limit_impulses.tolist()
+        on = {int(k) for k, p in zip(lj, lp, strict=True) if p > 0}
         for k in sorted(on - self._limits_on):
             self._events.append(
                 _event(self.time, "joint_limit", f"joint {k} reached its limit", joint=k)
             )
         self._limits_on = on
-        for i, j, pn in zip(res.body_a, res.body_b, res.p_n, strict=True):
+        ia, ib, pns = res.body_a.tolist(), res.body_b.tolist(), res.p_n.tolist()
+        for i, j, pn in zip(ia, ib, pns, strict=True):
             a, b = self.bodies[i], self.bodies[j]
             if pn > 0 and (a.kind == TIP or b.kind == TIP):
                 other = b if a.kind == TIP else a
@@ -289,6 +291,55 @@ class PlanarWorld(WorldBase):
                 self._events.append(
                     _event(self.time, "object_dropped", f"{name} left the fingers", body=name)
                 )
+
+    def active_pairs(self) -> set[tuple[str, str]]:
+        """Body-name pairs carrying a normal force after the last step."""
+        res = self._last
+        if res is None:
+            return set()
+        b = self.bodies
+        ia, ib, pn = res.body_a.tolist(), res.body_b.tolist(), res.p_n.tolist()
+        return {(b[i].name, b[j].name) for i, j, p in zip(ia, ib, pn, strict=True) if p > 0.0}
+
+    def record(self, log, k: int, tau) -> None:
+        """Write the current state into row ``k`` of ``log`` (from the step's arrays; the
+        same values as :meth:`WorldBase.record` from :meth:`contacts`)."""
+        log.t[k] = self.time
+        for name in log.poses:
+            b = self._names[name]
+            if b.kind != FREE:
+                log.poses[name][k] = self.pose(name)
+                log.velocities[name][k] = self.velocity(name)
+                continue
+            x, y, a = self._x[b.index].tolist()
+            vx, vy, w = self._v[b.index].tolist()
+            c, s = math.cos(a), math.sin(a)
+            rx, ry = -c * b.com[0] + s * b.com[1], -s * b.com[0] - c * b.com[1]
+            log.poses[name][k] = (x + rx, y + ry, a)
+            log.velocities[name][k] = (vx - w * ry, vy + w * rx, w)
+        if self.hand is not None:
+            log.q[k], log.qd[k], log.tau[k] = self.q, self.qd, tau
+        res = self._last
+        n = 0 if res is None else len(res.gap)
+        log.contact_count[k] = n
+        m = min(n, log.max_contacts)
+        if m == 0:
+            return
+        h = self.dt
+        b = self.bodies
+        ia, ib = res.body_a[:m].tolist(), res.body_b[:m].tolist()
+        cache = log.__dict__.setdefault("_pair_of_bodies", {})
+        for i, key in enumerate(zip(ia, ib, strict=True)):
+            p = cache.get(key)
+            if p is None:
+                p = cache[key] = log.pair_index(b[key[0]].name, b[key[1]].name)
+            log.contact_pair[k, i] = p
+        log.contact_point[k, :m] = res.point_b[:m]
+        log.contact_normal[k, :m] = res.normal[:m]
+        log.normal_force[k, :m] = res.p_n[:m] / h
+        log.tangential_force[k, :m] = res.p_t[:m] / h
+        log.slip_velocity[k, :m] = res.slip[:m]
+        log.gap[k, :m] = res.gap[:m]
 
     def contacts(self) -> tuple[Contact, ...]:
         """Contacts of the last step: geometry at its start, forces over it, slip after it."""

@@ -1,0 +1,222 @@
+"""Macro features (ridges, grooves) from the exploring fingertips' sensed outline (§2.3.2).
+
+The planner's model is a feature-less circle of radius ``R``. Every trace row where a finger
+explores gives a sensed point on the object (object frame, with the sensed rotation of
+:func:`~.metrics.object_rotation`): the flat left pad's tactile contact point in phase 3,
+the round right tip's centre (encoders) in phase 2. Its distance from the estimated centre
+minus the model's (``R`` for the pad contact, ``R + r`` for the tip centre) is the sensed
+height of the surface above the model. Binned by polar angle (median per bin), the regions
+higher (lower) than :data:`MACRO_HEIGHT` are ridges (grooves); a feature is reported at the
+middle of its region, regions of both fingers within :data:`MACRO_MERGE` merged.
+
+Why not only the curvature detector of ch. 3: the rectangular 3 mm ridge stops the sliding
+flat pad (its edge meets the ridge's wall) and the round tip rolls over it with its 25 mm
+radius, so neither trace has the sharp curvature extrema that detector looks for; the height
+above the model is what both traces show clearly (3 mm, against 0.1-0.3 mm of noise).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from planner.exploration.planar.result import DetectedFeature
+
+#: a region at least this far above (below) the model is a ridge (groove) [m]
+MACRO_HEIGHT = 1.0e-3
+#: polar-angle bin of the sensed outline [rad]
+MACRO_BIN = math.radians(0.5)
+#: a region needs at least this many samples [-]
+MACRO_MIN_SAMPLES = 8
+#: regions of different passes closer than this are one feature [rad]: a round tip of
+#: radius r rides over a feature of height h on a circle of radius R within
+#: +-sqrt(2 r h) / R of it (14 deg for the 3 mm ridge), and a pass that ends on the
+#: feature sees only one side of it (the ridge at 170 deg was seen at 165 and 177 deg)
+MACRO_MERGE = math.radians(15.0)
+#: a region covering this fraction of its pass's bins is not local (a whole pass lifted by
+#: an estimate 3 mm off, e.g. with the ridge under the palm), so it is no feature [-]
+MACRO_LOCAL = 0.8
+#: pass numbers of the pad's rows are offset by this (the locality test applies to them:
+#: in phase 3 the centre comes from the right tip and the palm) [-]
+PAD_PASS = 1_000_000
+#: a region must be seen in this many separate passes (phases) [-]: a single pass can be
+#: off by the holder's estimate (in phase 3 the centre comes from the right tip and the
+#: palm, 3 mm off while the ridge is under either; that gave two phantom ridges)
+MACRO_MIN_PASSES = 2
+
+
+def sensed_heights(trace: dict, theta, radius: float, tip_radius: float, band) -> tuple:
+    """Object-frame polar angles [rad], heights above the model [m] and pass numbers (the
+    phase each row belongs to) of every row where a finger explores (``band``: normal-force
+    range [N] of a touching explorer)."""
+    t_kind = trace["kind"]
+    c, s = np.cos(-theta), np.sin(-theta)
+    out_a, out_h, out_p = [], [], []
+    passes = np.concatenate([[0], np.cumsum(np.diff(t_kind) != 0)])
+    pad = (t_kind == 3) & (trace["pad_touch"] > 0)
+    pad &= (trace["fnL"] >= band[0]) & (trace["fnL"] <= band[1])
+    px, py = trace["pLx"] - trace["cx"], trace["pLy"] - trace["cy"]
+    tip = (t_kind == 2) & (trace["fnR"] >= band[0]) & (trace["fnR"] <= band[1])
+    rx = trace["pRx"] + tip_radius * trace["nRx"] - trace["cx"]
+    ry = trace["pRy"] + tip_radius * trace["nRy"] - trace["cy"]
+    for sel, x, y, model, off in (
+        (pad, px, py, radius, PAD_PASS),
+        (tip, rx, ry, radius + tip_radius, 0),
+    ):
+        X, Y = c[sel] * x[sel] - s[sel] * y[sel], s[sel] * x[sel] + c[sel] * y[sel]
+        out_a.append(np.arctan2(Y, X))
+        ang = np.arctan2(Y, X)
+        out_h.append(_detrend(ang, np.hypot(X, Y) - model))
+        out_p.append(passes[sel] + off)
+    return np.concatenate(out_a), np.concatenate(out_h), np.concatenate(out_p)
+
+
+#: harmonics of the smooth outline removed from the heights (an ellipse is harmonic 2) [-]
+DETREND_ORDER = 4
+#: ridge regularization of that fit [m^2] (keeps it bounded over unexplored angles)
+DETREND_RIDGE = 1e-2
+
+
+def _detrend(angles: np.ndarray, heights: np.ndarray) -> np.ndarray:
+    """Heights minus their least-squares Fourier series of order :data:`DETREND_ORDER`
+    in the polar angle: what is left are features narrower than ~360 / (2 order) deg (a
+    12 x 10 cm ellipse is +-5 mm off its equal-area circle, which read as ridges and
+    grooves; the ball's 4 mm ridge keeps ~90 % of its height)."""
+    if angles.size < 4 * DETREND_ORDER + 2:
+        return heights
+    cols = [np.ones_like(angles)]
+    for k in range(1, DETREND_ORDER + 1):
+        cols += [np.cos(k * angles), np.sin(k * angles)]
+    A = np.column_stack(cols)
+    keep = np.ones(angles.size, dtype=bool)
+    for _ in range(3):  # robust: refit without the features (no side-lobes beside a ridge)
+        Ak = A[keep]
+        coef = np.linalg.solve(Ak.T @ Ak + DETREND_RIDGE * np.eye(A.shape[1]), Ak.T @ heights[keep])
+        res = heights - A @ coef
+        keep = np.abs(res) < 0.5 * MACRO_HEIGHT
+        if keep.sum() < A.shape[1]:
+            break
+    return res
+
+
+def macro_regions(angles: np.ndarray, heights: np.ndarray, passes=None) -> list:
+    """``[(angle [rad], sign), ...]`` of the features of the sensed heights (sign +1
+    ridge, -1 groove).
+
+    Each pass (``passes`` (N,) pass numbers; None: one pass) is binned by polar angle
+    (median height per bin); its feature regions are the contiguous bins beyond
+    :data:`MACRO_HEIGHT`, located at the middle of the bins beyond half their peak (the
+    round tip's centre rises as soon as the tip touches the ridge's corner, 10-14 deg
+    before it is over the ridge, and stalls on one side: the middle of the half-height
+    bins is the ridge's middle, the median of the samples was not). Regions of all passes
+    within :data:`MACRO_MERGE` form one feature, reported at their median when at least
+    :data:`MACRO_MIN_PASSES` passes saw it.
+    """
+    if angles.size == 0:
+        return []
+    passes = np.zeros(angles.size, int) if passes is None else np.asarray(passes)
+    seen: list[tuple[float, int, int]] = []
+    for q in np.unique(passes):
+        m = passes == q
+        regions = _pass_regions(angles[m], heights[m], local=q >= PAD_PASS)
+        seen += [(a, sg, int(q)) for a, sg in regions]
+    out = []
+    for sign in (1, -1):
+        pts = sorted((a, q) for a, sg, q in seen if sg == sign)
+        groups: list[list[tuple[float, int]]] = []
+        for a, q in pts:
+            if groups and abs(math.remainder(a - groups[-1][-1][0], 2 * math.pi)) < MACRO_MERGE:
+                groups[-1].append((a, q))
+            else:
+                groups.append([(a, q)])
+        if (
+            len(groups) > 1
+            and abs(math.remainder(groups[0][0][0] - groups[-1][-1][0], 2 * math.pi)) < MACRO_MERGE
+        ):
+            groups[0] = groups.pop() + groups[0]
+        for g in groups:
+            if len({q for _, q in g}) >= MACRO_MIN_PASSES:
+                out.append((_circular_median(np.array([a for a, _ in g])), sign))
+    return out
+
+
+def _pass_regions(angles: np.ndarray, heights: np.ndarray, local: bool = False) -> list:
+    """Feature regions of one pass: ``[(middle angle [rad], sign), ...]``; ``local``: drop
+    regions covering :data:`MACRO_LOCAL` of the pass."""
+    n = int(round(2 * math.pi / MACRO_BIN))
+    k = np.floor(np.mod(angles, 2 * math.pi) / MACRO_BIN).astype(int) % n
+    count = np.bincount(k, minlength=n)
+    med = np.zeros(n)
+    for i in np.flatnonzero(count):
+        med[i] = np.median(heights[k == i])
+    out = []
+    for sign in (1, -1):
+        flag = (count > 0) & (sign * med > MACRO_HEIGHT)
+        if not flag.any() or flag.all():
+            continue
+        start = int(np.flatnonzero(~flag)[0])  # walk the circle from an unflagged bin
+        run: list[int] = []
+        for j in range(start, start + n + 1):
+            if flag[j % n] and j < start + n:
+                run.append(j)
+                continue
+            ok = not local or len(run) < MACRO_LOCAL * np.count_nonzero(count)
+            if run and ok and count[np.array(run) % n].sum() >= MACRO_MIN_SAMPLES:
+                h = sign * med[np.array(run) % n]
+                top = [b for b, x in zip(run, h, strict=True) if x >= 0.5 * h.max()]
+                mid = (0.5 * (top[0] + top[-1]) + 0.5) * MACRO_BIN
+                out.append((math.remainder(mid, 2 * math.pi), sign))
+            run = []
+    return out
+
+
+def _circular_median(a: np.ndarray) -> float:
+    """Median of angles [rad] spanning less than pi (unwrapped about their mean)."""
+    m = math.atan2(float(np.mean(np.sin(a))), float(np.mean(np.cos(a))))
+    return math.remainder(
+        m + float(np.median(np.remainder(a - m + math.pi, 2 * math.pi) - math.pi)), 2 * math.pi
+    )
+
+
+def detect_macro_features(
+    trace: dict, theta, profile, radius: float, tip_radius: float, band
+) -> list[DetectedFeature]:
+    """Ridges and grooves of the sensed outline (module docstring), each compared with the
+    nearest true feature of ``profile`` (the middle of its cluster of curvature features)."""
+    a, h, p = sensed_heights(trace, theta, radius, tip_radius, band)
+    found = macro_regions(a, h, p)
+    merged = found
+    truth = _truth_clusters(profile)
+    out = []
+    for ang, sign in merged:
+        kind = "ridge" if sign > 0 else "groove"
+        if truth:
+            err = [math.remainder(ang - b, 2 * math.pi) for b in truth]
+            j = int(np.argmin(np.abs(err)))
+            out.append(DetectedFeature(ang, kind, truth[j], err[j]))
+        else:
+            out.append(DetectedFeature(ang, kind))
+    return out
+
+
+def _truth_clusters(profile) -> list[float]:
+    """Polar angles [rad] of the profile's features: its curvature features within
+    :data:`MACRO_MERGE` of each other taken as one (a ridge has four edges)."""
+    from planner.exploration.planar.metrics import VIRTUAL_RADIUS
+
+    angs = sorted(
+        math.atan2(f.position[1], f.position[0]) for f in profile.curvature_features(VIRTUAL_RADIUS)
+    )
+    clusters: list[list[float]] = []
+    for x in angs:
+        if clusters and x - clusters[-1][-1] < MACRO_MERGE:
+            clusters[-1].append(x)
+        else:
+            clusters.append([x])
+    if len(clusters) > 1 and angs[0] + 2 * math.pi - angs[-1] < MACRO_MERGE:
+        clusters[0] = [x - 2 * math.pi for x in clusters.pop()] + clusters[0]
+    return [math.remainder(float(np.mean(c)), 2 * math.pi) for c in clusters]
+
+
+__all__ = ["detect_macro_features", "macro_regions", "sensed_heights"]
