@@ -11,7 +11,8 @@ Run directory layout::
                        "events", "timings_s", "versions", "files"}
     trajectory.npz    the arrays (time series, traces, maps)
     plots/*.png       figures (other formats if the scenario's output.formats asks)
-    *                 extra files a runner adds (e.g. gait.json, features.geojson)
+    *                 extra files a runner adds (e.g. gait.json, features.geojson,
+                      plots/animation.gif): text, bytes, or written by a callback
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ import os
 import platform
 import shutil
 import tempfile
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from datetime import datetime, timezone
 from importlib.metadata import PackageNotFoundError, version
@@ -35,6 +36,13 @@ import yaml
 from planner.errors import HapexError
 
 SCHEMA_VERSION = 1
+
+#: What an extra file of a run directory holds: text (UTF-8), raw bytes, or a writer called
+#: with the file's path inside the (temporary) run directory, which must create that file.
+FileContent = str | bytes | Callable[[Path], None]
+
+#: Names the run directory writes itself; an extra file may not take them.
+_RESERVED = ("scenario.yaml", "result.json", "trajectory.npz")
 _VERSIONED = (
     "hapex",
     "pin",
@@ -80,8 +88,12 @@ class RunResult:
         arrays: named numpy arrays written to ``trajectory.npz``.
         events: what happened during the run, in order.
         figures: name -> matplotlib Figure, saved as ``plots/<name>.<fmt>``.
-        files: name -> text content of extra files written at the top of the run directory
-            (e.g. ``{"gait.json": "..."}``).
+        files: relative path -> content of extra files of the run directory: ``str``
+            (written as UTF-8 text, e.g. ``{"gait.json": "..."}``), ``bytes`` (written as
+            is, e.g. ``{"plots/animation.gif": b"GIF89a..."}``), or a writer callback
+            ``f(path)`` that creates the file at ``path`` (for large outputs streamed to
+            disk). Every file is written inside the temporary run directory, so a writer
+            that raises leaves nothing behind (see :func:`write_run_directory`).
     """
 
     status: Literal["ok", "failed"] = "ok"
@@ -90,7 +102,7 @@ class RunResult:
     arrays: dict[str, np.ndarray] = field(default_factory=dict)
     events: list[Event] = field(default_factory=list)
     figures: dict[str, Any] = field(default_factory=dict)
-    files: dict[str, str] = field(default_factory=dict)
+    files: dict[str, FileContent] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if self.status not in ("ok", "failed"):
@@ -160,6 +172,41 @@ def _save_figures(
     return files
 
 
+def _check_file_name(name: str) -> Path:
+    """``name`` as a relative path that stays inside the run directory."""
+    rel = Path(name)
+    if not name or rel.is_absolute() or ".." in rel.parts or name in _RESERVED:
+        raise HapexError(
+            f"RunResult.files: {name!r} is not a valid extra file name (expected a relative "
+            f"path inside the run directory, not one of {list(_RESERVED)})"
+        )
+    return rel
+
+
+def _write_files(folder: Path, files: Mapping[str, FileContent]) -> dict[str, str]:
+    """Write the extra files (text, bytes or writer callbacks) under ``folder``; the
+    ``files`` entries of result.json."""
+    out = {}
+    for name, content in files.items():
+        target = folder / _check_file_name(name)
+        target.parent.mkdir(parents=True, exist_ok=True)
+        if isinstance(content, str):
+            target.write_text(content, encoding="utf-8")
+        elif isinstance(content, (bytes, bytearray, memoryview)):
+            target.write_bytes(bytes(content))
+        elif callable(content):
+            content(target)
+            if not target.is_file():
+                raise HapexError(f"RunResult.files: the writer of {name!r} did not create it")
+        else:
+            raise HapexError(
+                f"RunResult.files: {name!r} holds a {type(content).__name__}; expected str, "
+                "bytes or a writer callback f(path)"
+            )
+        out[name] = name
+    return out
+
+
 def replace_directory(tmp: Path, target: Path) -> None:
     """Move the complete folder ``tmp`` to ``target`` by renames, replacing a previous
     ``target`` (moved aside first, then removed), so ``target`` is never half-written."""
@@ -198,6 +245,11 @@ def write_run_directory(
 
     Returns:
         ``out_dir``.
+
+    Raises:
+        HapexError: ``out_dir`` is not replaceable, or an extra file has a bad name or
+            content; like any exception while writing (a failing writer callback included),
+            nothing is left behind and a previous run at ``out_dir`` stays as it was.
     """
     out_dir = Path(out_dir)
     _prepare_target(out_dir)
@@ -214,11 +266,7 @@ def write_run_directory(
             files["trajectory"] = "trajectory.npz"
         if result.figures:
             files.update(_save_figures(tmp, result.figures, plot_formats, dpi))
-        for fname, text in result.files.items():
-            target = tmp / fname
-            target.parent.mkdir(parents=True, exist_ok=True)
-            target.write_text(text)
-            files[fname] = fname
+        files.update(_write_files(tmp, result.files))
         doc = {
             "schema": SCHEMA_VERSION,
             "name": name,
@@ -244,6 +292,7 @@ def write_run_directory(
 
 __all__ = [
     "Event",
+    "FileContent",
     "RunResult",
     "package_versions",
     "replace_directory",

@@ -16,7 +16,8 @@ Keys (SI units)::
     nominal: null                # the planner's model (same keys); default: feature-less circle
     mu: 1.0                      # friction of fingers/palm/object [-]
     explore_force: 0.3           # normal force of the exploring finger [N]
-    internal_force: 1.0          # squeeze of grasping/holding [N]
+    internal_force: 1.0          # squeeze of the two-finger grasp (phase 1) [N]
+    hold_force: 2.0              # press of the holding finger against the palm (phases 2/3) [N]
     object_mass: 0.05            # [kg]
     rotation_speed: 0.4          # phase-1 rotation speed [rad/s]
     explore_speed: 0.03          # exploring contact speed [m/s]
@@ -30,7 +31,16 @@ Keys (SI units)::
       joint_upper_deg: [70, 110, 100]
     gains: {...}                 # see GainsConfig
     rolling: {amplitude: 0.003, period: 1.0}   # explicit_rolling only
-    output: {animation: false}   # + the usual plots/formats/dpi
+    output: {animation: false}   # true: plots/animation.gif (+ the usual plots/formats/dpi)
+
+Outputs: ``result.json`` metrics (phases, transitions_4, rotation_deg, coverage,
+min_epsilon, slip_distance_m, explore_force_rms_error_N, internal_force_rms_error_N,
+features found vs the true features with angle errors, real_time_factor, NLP and control-step
+timings, last_phase), ``phases.json``, ``trajectory.npz`` (the simulator log ``log/*`` and
+the controller's sensed series ``trace/*``), plots ``snapshots`` (Fig. 2.12), ``forces``
+(Fig. 2.14), ``contacts`` (Fig. 2.10), ``timeline``, and ``plots/animation.gif``.
+A gait that cannot go on ends with status "failed" (exit 1), the reason and the last phase,
+and the same complete outputs up to the failure.
 """
 
 from __future__ import annotations
@@ -172,6 +182,7 @@ class Config(ScenarioBase):
     mu: float = Field(1.0, gt=0, le=10, description="friction coefficient [-]")
     explore_force: float = Field(0.3, gt=0, le=5, description="[N]")
     internal_force: float = Field(1.0, gt=0, le=20, description="[N]")
+    hold_force: float = Field(2.0, gt=0, le=20, description="phases 2/3 press [N]")
     object_mass: float = Field(0.05, gt=0, le=2, description="[kg]")
     rotation_speed: float = Field(0.4, gt=0, le=3, description="[rad/s]")
     explore_speed: float = Field(0.03, gt=0, le=0.5, description="[m/s]")
@@ -199,7 +210,8 @@ class Config(ScenarioBase):
 
         g = self.gains
         return GaitSettings(
-            mu=self.mu, internal_force=self.internal_force, explore_force=self.explore_force,
+            mu=self.mu, internal_force=self.internal_force, hold_force=self.hold_force,
+            explore_force=self.explore_force,
             object_mass=self.object_mass, object_kp=g.object_kp, object_kv=g.object_kv,
             rolling_gains=g.rolling, hold_kp=g.hold_kp, hold_kv=g.hold_kv, tip_kp=g.tip_kp,
             tip_kv=g.tip_kv, rotation_speed=self.rotation_speed,
@@ -219,7 +231,8 @@ def run(config: Config, ctx):
     seed = int(ctx.rng.integers(2**31))
     with ctx.timer("simulation"):
         if config.task == "explicit_rolling":
-            res = explicit_rolling(profile, mu=config.mu, amplitude=config.rolling.amplitude,
+            res = explicit_rolling(profile, hand=_hand(config), mu=config.mu,
+                                   amplitude=config.rolling.amplitude,
                                    period=config.rolling.period, duration=duration, seed=seed,
                                    settings=s)  # fmt: skip
         else:
@@ -227,59 +240,9 @@ def run(config: Config, ctx):
                                  seed=seed,
                                  duration=duration, settings=s,
                                  max_rotation=math.radians(config.max_rotation_deg))  # fmt: skip
-    return _report(config, ctx, res, profile, duration)
+    from planner.kinds._gait_report import report
 
-
-def _report(config: Config, ctx, res, profile, duration: float):
-    import json
-
-    import numpy as np
-
-    from planner.exploration.planar.metrics import summary_metrics
-    from planner.results import Event, RunResult
-
-    ridge = (math.radians(config.object.ridge_angle_deg)
-             if config.object.shape == "circle_with_ridge" else None)  # fmt: skip
-    metrics = summary_metrics(res, ridge, config.explore_force, config.internal_force)
-    metrics["simulated_s"] = float(res.log.t[-1]) if len(res.log.t) else 0.0
-    metrics["duration_limit_s"] = duration
-    events = [Event(e.kind, e.message, t=e.t, data=dict(e.data)) for e in res.log.events]
-    for e in res.events:
-        data = {k: v for k, v in e.items() if k not in ("kind", "message", "t")}
-        events.append(Event(str(e["kind"]), str(e.get("message", "")), t=float(e["t"]),
-                            data=data))  # fmt: skip
-    for k, ph in enumerate(res.phases):
-        events.append(Event("phase", f"phase {ph.kind}: {ph.event}", t=ph.end,
-                            data={"index": k, **ph.to_json()}))  # fmt: skip
-    events.sort(key=lambda e: e.t if e.t is not None else 0.0)
-    arrays = {f"log/{k}": v for k, v in res.log.arrays().items() if k != "pairs"}
-    arrays.update({f"trace/{k}": np.asarray(v) for k, v in res.trace.items()})
-    figures = {}
-    hand = _hand(config)
-    if ctx.plots:
-        from planner.exploration.planar import plots
-
-        with ctx.timer("plots"):
-            figures["timeline"] = plots.plot_timeline(res)
-            figures["contacts"] = plots.plot_contacts(res)
-            figures["forces"] = plots.plot_forces(res, ridge)
-            figures["snapshots"] = plots.plot_snapshots(res, profile, hand)
-    files = {"phases.json": json.dumps([p.to_json() for p in res.phases], indent=2)}
-    if config.output.animation:
-        if "bytes" in str(RunResult.__dataclass_fields__["files"].type):
-            from planner.exploration.planar.plots import animation_gif
-
-            with ctx.timer("animation"):
-                files["plots/animation.gif"] = animation_gif(res, profile, hand)
-        else:  # the run-directory writer takes text files only (see the README)
-            events.append(Event("animation", "skipped: RunResult.files takes text only"))
-    reason = res.reason
-    if res.status == "failed":
-        last = res.phases[-1].kind if res.phases else 0
-        reason = f"{res.reason} (last phase {last})"
-    return RunResult(status=res.status, reason=reason if res.status == "failed" else "",
-                     metrics=metrics, arrays=arrays, events=events, figures=figures,
-                     files=files)  # fmt: skip
+    return report(config, ctx, res, profile, duration, _hand(config))
 
 
 def _hand(config: Config):

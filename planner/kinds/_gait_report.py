@@ -1,0 +1,136 @@
+"""The run result of the ``gait`` scenario kind (planner/kinds/gait.py): metrics, events,
+arrays, figures and the optional GIF of an executed gait, ok or failed."""
+
+from __future__ import annotations
+
+import math
+
+
+def report(config, ctx, res, profile, duration: float, hand):
+    """The :class:`RunResult` of an executed gait, ok or failed: the figures show what ran
+    up to the end, ``result.json`` has the reason and the last phase.
+
+    Args:
+        config: the validated ``gait`` scenario; ctx: the run context.
+        res: the :class:`planner.exploration.planar.ExplorationResult`.
+        profile: the true object profile; duration: the simulated time limit [s].
+        hand: the ``robots.planar_hand.PlanarHand`` that ran it.
+    """
+    import json
+
+    import numpy as np
+
+    from planner.results import RunResult
+
+    ridge = (math.radians(config.object.ridge_angle_deg)
+             if config.object.shape == "circle_with_ridge" else None)  # fmt: skip
+    theta = _rotation(config, res, profile)
+    metrics = _metrics(config, res, profile, ridge, duration, theta)
+    arrays = {f"log/{k}": v for k, v in res.log.arrays().items() if k != "pairs"}
+    arrays.update({f"trace/{k}": np.asarray(v) for k, v in res.trace.items()})
+    events = _events(res)
+    figures = _figures(ctx, res, profile, hand, ridge, theta) if ctx.plots else {}
+    files = {"phases.json": json.dumps([p.to_json() for p in res.phases], indent=2)}
+    if config.output.animation and ctx.plots:
+        gif = _animation(ctx, res, profile, hand, events)
+        if gif is not None:
+            files["plots/animation.gif"] = gif
+    reason = ""
+    if res.status == "failed":
+        reason = f"{_failure(res)} (last phase {metrics['last_phase']})"
+    return RunResult(status=res.status, reason=reason, metrics=metrics, arrays=arrays,
+                     events=events, figures=figures, files=files)  # fmt: skip
+
+
+def _failure(res) -> str:
+    """The executor's reason, with the simulator's own message when the simulator stopped
+    (``"sim fault in phase 1: sim fault"`` says less than the Lemke ray behind it)."""
+    sim = [str(e.get("message", "")) for e in res.events if e.get("kind") == "sim"]
+    if sim and sim[-1] and sim[-1] not in res.reason:
+        return f"{res.reason} ({sim[-1]})"
+    return res.reason
+
+
+def _rotation(config, res, profile):
+    """(N,) sensed object rotation [rad] of every trace row (rolling on the palm in phases
+    2/3 included), with the planner's radius (the nominal shape's, else the object's)."""
+    from planner.exploration.planar.metrics import object_rotation
+    from planner.exploration.planar.objects import mean_radius
+
+    if not len(res.trace.get("t", ())):
+        return None
+    nominal = config.nominal.profile() if config.nominal is not None else profile
+    return object_rotation(res.trace, mean_radius(nominal))
+
+
+def _metrics(config, res, profile, ridge, duration: float, theta) -> dict:
+    """The listed metrics (``summary_metrics``) plus the features against the truth, the
+    last phase and the timing spreads."""
+    import numpy as np
+
+    from planner.exploration.planar.metrics import VIRTUAL_RADIUS, summary_metrics
+    from planner.exploration.planar.plots import fig214_measures
+
+    m = summary_metrics(res, ridge, config.explore_force, config.internal_force)
+    m["simulated_s"] = float(res.log.t[-1]) if len(res.log.t) else 0.0
+    m["duration_limit_s"] = duration
+    m["last_phase"] = res.phases[-1].kind if res.phases else 0
+    truth = [math.degrees(math.atan2(f.position[1], f.position[0]))
+             for f in profile.curvature_features(VIRTUAL_RADIUS)]  # fmt: skip
+    m["true_features"] = len(truth)
+    m["true_feature_angles_deg"] = [round(a, 2) for a in truth[:50]]
+    m["features_within_5deg"] = sum(
+        1 for f in res.features if np.isfinite(f.error) and abs(math.degrees(f.error)) <= 5.0
+    )
+    steps = np.asarray(res.timings.get("control_step_us", []), float)
+    nlp = np.asarray(res.timings.get("nlp_solve_ms", []), float)
+    m["controller_call_p95_us"] = float(np.percentile(steps, 95)) if steps.size else None
+    m["nlp_solve_max_ms"] = float(np.max(nlp)) if nlp.size else None
+    m["nlp_solves"] = int(nlp.size)
+    m.update(fig214_measures(res, ridge, theta=theta))
+    return m
+
+
+def _events(res) -> list:
+    """The simulator's, the gait's and one per phase, in time order."""
+    from planner.results import Event
+
+    events = [Event(e.kind, e.message, t=e.t, data=dict(e.data)) for e in res.log.events]
+    for e in res.events:
+        data = {k: v for k, v in e.items() if k not in ("kind", "message", "t")}
+        events.append(Event(str(e["kind"]), str(e.get("message", "")), t=float(e["t"]),
+                            data=data))  # fmt: skip
+    for k, ph in enumerate(res.phases):
+        events.append(Event("phase", f"phase {ph.kind}: {ph.event}", t=ph.end,
+                            data={"index": k, **ph.to_json()}))  # fmt: skip
+    events.sort(key=lambda e: e.t if e.t is not None else 0.0)
+    return events
+
+
+def _figures(ctx, res, profile, hand, ridge, theta) -> dict:
+    from planner.exploration.planar import plots
+
+    with ctx.timer("plots"):
+        return {
+            "timeline": plots.plot_timeline(res),
+            "contacts": plots.plot_contacts(res),
+            "forces": plots.plot_forces(res, ridge, theta=theta),
+            "snapshots": plots.plot_snapshots(res, profile, hand),
+        }
+
+
+def _animation(ctx, res, profile, hand, events: list) -> bytes | None:
+    """GIF bytes of the run, or ``None`` (with an event saying why) when it cannot be made
+    (Pillow missing, nothing logged): the run's results stay valid without it."""
+    from planner.exploration.planar.plots import animation_gif
+    from planner.results import Event
+
+    try:
+        with ctx.timer("animation"):
+            return animation_gif(res, profile, hand, frames=24 if ctx.quick else 80)
+    except (ImportError, ValueError, OSError) as exc:
+        events.append(Event("animation", f"no animation: {exc}"))
+        return None
+
+
+__all__ = ["report"]
