@@ -8,7 +8,8 @@
   DAQP, one call), :func:`grasp_reference_step` (the same step in numpy + qpsolvers), and the
   compiled stability check :func:`epsilon_two_contacts`;
 * the hybrid force/velocity law of the surface explorer (§4.3): :class:`HybridController`,
-  :class:`HybridSettings`, its frames and :func:`hybrid_reference_step`;
+  :class:`HybridSettings` (normal-force control variants :data:`FORCE_CONTROLS`, the
+  torque-limited :class:`TorqueLimitQP`), its frames and :func:`hybrid_reference_step`;
 * :class:`GraspForceQP` builds the grasp-force distribution problem of one grasp once and
   re-solves it in place (eqs. 2.1, 2.6, 2.9).
 
@@ -59,6 +60,8 @@ _EXPORTS = {
     "GRAVITY_MODES": ("hybrid_law", "GRAVITY_MODES"),
     "HybridController": ("hybrid_law", "HybridController"),
     "HybridSettings": ("hybrid_law", "HybridSettings"),
+    "FORCE_CONTROLS": ("hybrid_variants", "FORCE_CONTROLS"),
+    "TorqueLimitQP": ("hybrid_variants", "TorqueLimitQP"),
     "owts_voltages": ("hybrid_law", "owts_voltages"),
     "SWITCH_SIN2": ("hybrid_frames", "SWITCH_SIN2"),
     "filter_normal": ("hybrid_frames", "filter_normal"),
