@@ -30,10 +30,11 @@ def test_gait_controller_modules_are_fully_exported(module):
 
 
 def test_hybrid_names_are_exported():
-    for module in ("hybrid_law", "hybrid_frames", "hybrid_reference"):
+    for module in ("hybrid_law", "hybrid_frames", "hybrid_reference", "hybrid_variants"):
         mod = importlib.import_module(f"planner.control.{module}")
         for n in mod.__all__:
-            alias = "hybrid_reference_step" if n == "reference_step" else n
+            # the numpy reference implementations carry the prefix hybrid_ in the package
+            alias = f"hybrid_{n}" if n.startswith("reference_") else n
             assert control._EXPORTS[alias] == (module, n)
 
 

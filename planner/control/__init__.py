@@ -63,6 +63,8 @@ _EXPORTS = {
     "FORCE_CONTROLS": ("hybrid_variants", "FORCE_CONTROLS"),
     "TorqueLimitQP": ("hybrid_variants", "TorqueLimitQP"),
     "owts_voltages": ("hybrid_law", "owts_voltages"),
+    "force_parameters": ("hybrid_law", "force_parameters"),
+    "tip_force": ("hybrid_law", "tip_force"),
     "SWITCH_SIN2": ("hybrid_frames", "SWITCH_SIN2"),
     "filter_normal": ("hybrid_frames", "filter_normal"),
     "gain_matrix": ("hybrid_frames", "gain_matrix"),
@@ -70,6 +72,8 @@ _EXPORTS = {
     "tcs_rotation": ("hybrid_frames", "tcs_rotation"),
     "gravity_torque": ("hybrid_reference", "gravity_torque"),
     "hybrid_reference_step": ("hybrid_reference", "reference_step"),
+    "hybrid_reference_closed_loop_step": ("hybrid_reference", "reference_closed_loop_step"),
+    "hybrid_reference_normal_force_pi": ("hybrid_reference", "reference_normal_force_pi"),
 }
 
 __all__ = sorted(_EXPORTS)
