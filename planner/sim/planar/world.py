@@ -292,6 +292,16 @@ class PlanarWorld(WorldBase):
                     _event(self.time, "object_dropped", f"{name} left the fingers", body=name)
                 )
 
+    def compiled_loop(self, state):
+        """The compiled run loop for ``state`` (:mod:`planner.sim.planar.fast_run`), or
+        None with ``compiled=False`` (then :func:`planner.sim.loop.run` runs the reference
+        loop)."""
+        if not self.compiled:
+            return None
+        from planner.sim.planar.fast_run import FastLoop
+
+        return FastLoop(state)
+
     def active_pairs(self) -> set[tuple[str, str]]:
         """Body-name pairs carrying a normal force after the last step."""
         res = self._last
