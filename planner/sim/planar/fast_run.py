@@ -140,19 +140,12 @@ class FastLoop:
         self.flags[NPAIRS] = len(s.log.pairs)
 
     def _from_kernel(self, n_pairs0: int, calls0: int) -> None:
-        """The kernel's arrays -> world, loop and log bookkeeping."""
+        """The kernel's clock, hold, pairs, events and noise draws -> world, loop, log."""
         w, s = self.w, self.s
         w.time, s.next_call = float(self.clock[0]), float(self.clock[1])
         s.saturated = bool(self.flags[SAT])
         if s.n:
             s.tau = self.tau.copy()
-        w._limits_on = {j for j in range(6) if self.watch[0, j] == 1.0}
-        w._touch = {
-            self.names[i]: float(self.watch[1, i]) for i in self.order[: self.flags[NTOUCH]]
-        }
-        w._dropped = {self.names[i] for i in np.flatnonzero(self.watch[2] == 1.0)}
-        ia, ib = np.nonzero(self.active)
-        s.active = {(self.names[i], self.names[j]) for i, j in zip(ia, ib, strict=True)}
         if self.flags[NPAIRS] > n_pairs0:
             self._new_pairs(n_pairs0)
         if self.flags[NEV]:
@@ -160,6 +153,17 @@ class FastLoop:
         calls = int(self.flags[CALLS]) - calls0
         if calls and self.noise:  # the gauge readings of the reference loop's observations
             w.rng.normal(0.0, w.sensors.force.noise_std, (calls, 2, 2))
+
+    def _sync_world(self) -> None:
+        """The kernel's event bookkeeping -> the world's and the loop's (before a Python
+        iteration and at the end of the run; in between only the kernel uses it)."""
+        w, s = self.w, self.s
+        w._limits_on = {j for j in range(6) if self.watch[0, j] == 1.0}
+        order = self.order[: self.flags[NTOUCH]].tolist()
+        w._touch = {self.names[i]: float(self.watch[1, i]) for i in order}
+        w._dropped = {self.names[i] for i in np.flatnonzero(self.watch[2] == 1.0)}
+        ia, ib = np.nonzero(self.active)
+        s.active = {(self.names[i], self.names[j]) for i, j in zip(ia, ib, strict=True)}
 
     def _new_pairs(self, n0: int) -> None:
         log = self.s.log
@@ -258,6 +262,7 @@ class FastLoop:
                 self.clock[1], self.flags[SAT] = s.next_call, 1 if s.saturated else 0
                 self.tau[:] = s.tau
             elif code == PYTHON_STEP:
+                self._sync_world()
                 s.iteration()  # the reference iteration (it checks ``stop`` itself)
                 left -= 1
                 self._to_kernel()
@@ -265,4 +270,5 @@ class FastLoop:
                     return
 
     def close(self) -> None:
-        """Nothing is held between runs (kept for symmetry with other loops)."""
+        """Hand the event bookkeeping back to the world (the run is over)."""
+        self._sync_world()
