@@ -163,3 +163,23 @@ def test_stop_is_checked_after_every_step():
     world, ctrl, _ = scenes.pinch_scene()
     log = world.run(1.0, ctrl, stop=lambda t, w: "t" if t >= 0.0105 else None)
     assert log.reason == "t" and math.isclose(log.t[-1], 0.011, abs_tol=1e-12)
+
+
+def test_compiled_observation_equals_the_sensor_models():
+    """The observation's compiled reading is :func:`read_joints` and the gauges' measure."""
+    import copy
+
+    from planner.sim.observation import read_forces, read_joints
+    from planner.sim.planar.sensing import _read, _true_tip_forces
+
+    world, ctrl, _ = SCENES["hold_slide"]()
+    world.run(0.05, ctrl)
+    world.qd[:] = np.linspace(-0.3, 0.4, 6)  # away from zero: the velocity quantization acts
+    rng = copy.deepcopy(world.rng)
+    q, qd, f = _read(world)
+    q_ref, qd_ref = read_joints(world.sensors, world.q, world.qd)
+    f_ref = read_forces(world.sensors, _true_tip_forces(world), rng)
+    np.testing.assert_array_equal(q, q_ref)
+    np.testing.assert_array_equal(qd, qd_ref)
+    np.testing.assert_array_equal(f, f_ref)
+    assert np.abs(f).max() > 0.1 and world.rng.random() == rng.random()
