@@ -183,3 +183,14 @@ def test_compiled_observation_equals_the_sensor_models():
     np.testing.assert_array_equal(qd, qd_ref)
     np.testing.assert_array_equal(f, f_ref)
     assert np.abs(f).max() > 0.1 and world.rng.random() == rng.random()
+
+
+def test_python_controller_on_a_world_without_hand():
+    logs, calls = [], []
+    for loop in ("auto", "python"):
+        world, _, _ = SCENES["incline_disc"]()
+        seen = []
+        logs.append(world.run(0.05, lambda t, obs, s=seen: s.append(t), 500.0, loop=loop))
+        calls.append(seen)
+    assert_same_log(*logs)
+    assert calls[0] == calls[1] and len(calls[0]) == 25

@@ -260,7 +260,8 @@ class FastLoop:
             if code == CALL_DUE:
                 s.control()
                 self.clock[1], self.flags[SAT] = s.next_call, 1 if s.saturated else 0
-                self.tau[:] = s.tau
+                if s.n:
+                    self.tau[:] = s.tau
             elif code == PYTHON_STEP:
                 self._sync_world()
                 s.iteration()  # the reference iteration (it checks ``stop`` itself)
