@@ -194,3 +194,19 @@ def test_python_controller_on_a_world_without_hand():
         calls.append(seen)
     assert_same_log(*logs)
     assert calls[0] == calls[1] and len(calls[0]) == 25
+
+
+def test_other_sensor_models_are_read_from_python():
+    """A preset with a sensor model the kernel does not know runs as a Python controller."""
+    from robots.sensors import Encoder
+
+    class CoarseEncoder(Encoder):
+        def measure(self, angle):
+            return np.round(np.asarray(angle, float) / self.resolution) * self.resolution
+
+    sensors = SensorSettings(encoder=CoarseEncoder(resolution=0.01))
+    logs = []
+    for loop in ("auto", "python"):
+        world, ctrl, _ = scenes.pinch_scene(sensors=sensors)
+        logs.append(world.run(0.1, ctrl, loop=loop))
+    assert_same_log(*logs)

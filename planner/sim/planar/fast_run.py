@@ -71,6 +71,15 @@ def compiled_law(controller):
     return None
 
 
+def _standard_sensors(sens) -> bool:
+    """Whether the kernel reproduces the readings (:mod:`robots.sensors` encoder and gauge
+    models, or exact readings)."""
+    from robots.sensors import Encoder, ForceSensor
+
+    enc, force = sens.encoder, sens.force
+    return (enc is None or type(enc) is Encoder) and (force is None or type(force) is ForceSensor)
+
+
 class FastLoop:
     """Advances a :class:`planner.sim.loop.LoopState` of a :class:`PlanarWorld` with the
     compiled kernel (module docstring)."""
@@ -83,6 +92,8 @@ class FastLoop:
             law = (2, *compiled_law(None)[1:])
         self.mode, self.q_ref, self.Pc, self.tasks, self.ctrl_s = law
         sens = w.sensors
+        if not _standard_sensors(sens):  # other sensor models: observed from Python
+            self.mode = 2 if self.mode == 1 else self.mode
         enc = 0.0 if sens.encoder is None else float(sens.encoder.resolution)
         self.sens = np.array([enc, float(sens.velocity_resolution)])
         self.noise = sens.force is not None and sens.force.noise_std > 0 and w.hand is not None
@@ -100,6 +111,8 @@ class FastLoop:
         self.pair_code = np.full((nb, nb), -1, np.int64)
         self.ev_i = np.zeros((EVENTS, 4), np.int64)
         self.ev_f = np.zeros((EVENTS, 7))
+        self.obs = np.zeros(16)
+        self.readings = _standard_sensors(sens) and w.hand is not None
         self.sc = np.array([w.dt, *w.gravity, w.margin, w.projection_tolerance, w.drop_time], float)
         lg = state.log
         T = len(lg.t)
@@ -229,7 +242,7 @@ class FastLoop:
             self.q_ref, self.Pc, self.tasks, lim, self.sc, pk.F, pk.I, pk.pairs, ck.poses,
             ck.kind, ck.index, ck.mu, w._x, w._v, ck.mass, ck.inertia, self.com,
             hand is not None, q, qd, P, limits, COVERS, ck.out, ck.counts, self.watch,
-            self.order, self.active, self.pair_code, self.ev_i, self.ev_f, self.lg,
+            self.order, self.active, self.pair_code, self.ev_i, self.ev_f, self.lg, self.obs,
         )  # fmt: skip
         if n >= 0:
             w._last, w._records = _result(ck.out[:n].copy(), mu, pn, pt, slip, lj, lp), None
@@ -258,7 +271,10 @@ class FastLoop:
                 s.check_stop()
                 return
             if code == CALL_DUE:
+                if done and self.readings:  # the kernel read the sensors after its step
+                    self.w._reading = (self.obs[:6], self.obs[6:12], self.obs[12:].reshape(2, 2))
                 s.control()
+                self.w._reading = None
                 self.clock[1], self.flags[SAT] = s.next_call, 1 if s.saturated else 0
                 if s.n:
                     self.tau[:] = s.tau

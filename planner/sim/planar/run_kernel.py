@@ -76,6 +76,31 @@ def _command(t, q, qd, sens, ctrl_s, q_ref, Pc, tasks, lim, tau_new):
 
 
 @njit(cache=True)
+def _reading(q, qd, sens, n, out, pn, pt, kind, index, h, obs):
+    """The hand's readings after the last step into ``obs`` (16,): encoder angles (6,),
+    velocity estimate (6,), true fingertip forces (2, 2) row-major - the operations of
+    :func:`planner.sim.planar.sensing._read_hand`, in the same order."""
+    for i in range(6):
+        obs[i] = q[i] if sens[0] == 0.0 else np.floor(q[i] / sens[0]) * sens[0]
+        obs[6 + i] = qd[i] if sens[1] == 0.0 else np.rint(qd[i] / sens[1]) * sens[1]
+    obs[12:16] = 0.0
+    for r in range(n):
+        if pn[r] <= 0:
+            continue
+        a, b = int(out[r, 0]), int(out[r, 1])
+        if kind[a] != TIP and kind[b] != TIP:
+            continue
+        nx, ny = out[r, 7], out[r, 8]
+        fx, fy = (pn[r] * nx - pt[r] * ny) / h, (pn[r] * ny + pt[r] * nx) / h  # on a
+        if kind[a] == TIP:
+            obs[12 + 2 * index[a]] -= fx
+            obs[13 + 2 * index[a]] -= fy
+        if kind[b] == TIP:
+            obs[12 + 2 * index[b]] += fx
+            obs[13 + 2 * index[b]] += fy
+
+
+@njit(cache=True)
 def _event(ev_i, ev_f, flags, k, kind, a, b, t):
     e = flags[NEV]
     ev_i[e, 0], ev_i[e, 1], ev_i[e, 2], ev_i[e, 3] = k, kind, a, b
@@ -181,7 +206,7 @@ def _record(row, t, x, v, com, q, qd, tau, n, out, pn, pt, slip, h, pair_code, f
 def advance(
     n_max, row0, mode, clock, flags, tau, sens, ctrl_s, q_ref, Pc, tasks, lim, sc, F, I,
     pairs, poses, kind, index, mu_body, x, v, mass, inertia, com, has_hand, q, qd, P,
-    limits, covers, out, counts, watch, order, active, pair_code, ev_i, ev_f, lg,
+    limits, covers, out, counts, watch, order, active, pair_code, ev_i, ev_f, lg, obs,
 ):  # noqa: E741  # fmt: skip
     """Up to ``n_max`` iterations of the run loop (module docstring).
 
@@ -205,6 +230,8 @@ def advance(
         lg: the log arrays (t, poses (nfree, T, 3), velocities, q, qd, tau, contact_count,
             contact_pair, contact_point, contact_normal, normal_force, tangential_force,
             slip_velocity, gap).
+        obs: (16,) the hand's readings (:func:`_reading`), written when a Python
+            controller's call is due after a step of this call.
 
     Returns:
         ``(done, exit, n, pn, pt, slip, mu, lim_joint, lim_impulse)``: iterations done, the
@@ -228,6 +255,8 @@ def advance(
         cmd = tau
         if call:
             if mode == 2:
+                if n_last >= 0 and has_hand:
+                    _reading(q, qd, sens, n_last, out, pn, pt, kind, index, h, obs)
                 return done, CALL_DUE, n_last, pn, pt, slip, mu, lj, lp
             ok, sat, cmd = _command(t, q, qd, sens, ctrl_s, q_ref, Pc, tasks, lim, tau_new)
             if not ok:

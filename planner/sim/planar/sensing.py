@@ -200,6 +200,10 @@ def _read(world) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     ):  # other sensor models: their own measure()
         q, qd = read_joints(sens, world.q, world.qd)
         return q, qd, read_forces(sens, _true_tip_forces(world), world.rng)
+    reading = getattr(world, "_reading", None)
+    if reading is not None:  # read by the compiled loop for this call (fast_run)
+        q, qd, f = (a.copy() for a in reading)
+        return q, qd, _gauges(force, f, world.rng)
     res = world._last
     kind, index = _kinds(world)
     if res is None:
@@ -211,11 +215,17 @@ def _read(world) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     _read_hand(world.q, world.qd, 0.0 if enc is None else enc.resolution,
                sens.velocity_resolution, ia, ib, kind, index, pn, pt, normal, world.dt, q, qd,
                f)  # fmt: skip
+    return q, qd, _gauges(force, f, world.rng)
+
+
+def _gauges(force, f: np.ndarray, rng) -> np.ndarray:
+    """:meth:`robots.sensors.ForceSensor.measure` of true forces ``f`` (2, 2) [N] (same
+    draws and operations; ``force`` None: exact)."""
     if force is None:
-        return q, qd, f
-    if force.noise_std > 0:  # ForceSensor.measure, same draws and operations
-        f = f + world.rng.normal(0.0, force.noise_std, f.shape)
-    return q, qd, np.rint(f / force.resolution) * force.resolution
+        return f
+    if force.noise_std > 0:
+        f = f + rng.normal(0.0, force.noise_std, f.shape)
+    return np.rint(f / force.resolution) * force.resolution
 
 
 def observe(world, oracle: bool = False) -> Observation:
