@@ -27,6 +27,7 @@ from planner.sim.planar.contacts import Pose
 from planner.sim.planar.hand import HandModel, tip_profile
 from planner.sim.planar.outline import compile_outline
 from planner.sim.planar.records import contact_records
+from planner.sim.planar.sensing import observe as _observe
 from planner.sim.planar.stepper import StepResult, step, step_fast
 from planner.sim.records import Contact
 from planner.sim.world import WorldBase
@@ -373,9 +374,7 @@ class PlanarWorld(WorldBase):
     # ------------------------------------------------------------------ sensing
     def observe(self, oracle: bool = False) -> Observation:
         """Sensor readings now (encoders, fingertip gauges, tactile images of flat pads)."""
-        from planner.sim.planar.sensing import observe
-
-        return observe(self, oracle)
+        return _observe(self, oracle)
 
 
 def _event(t, kind, message, **data):
