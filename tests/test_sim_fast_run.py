@@ -210,3 +210,13 @@ def test_other_sensor_models_are_read_from_python():
         world, ctrl, _ = scenes.pinch_scene(sensors=sensors)
         logs.append(world.run(0.1, ctrl, loop=loop))
     assert_same_log(*logs)
+
+
+def test_loop_choice_is_checked_and_chunks_keep_the_progress_bar():
+    from planner.errors import InvalidParameter
+
+    world, ctrl, _ = SCENES["pinch"]()
+    with pytest.raises(InvalidParameter, match="loop"):
+        world.run(0.1, ctrl, loop="numba")
+    log = world.run(1.2, ctrl, progress=True)  # more than one chunk of the compiled loop
+    assert len(log.t) == 1201 and log.status == "ok"

@@ -52,6 +52,8 @@ class PlanarWorld(WorldBase):
         compiled: run the step's dynamics, contact rows and LCP in the compiled kernel
             (:func:`planner.sim.planar.stepper.step_fast`); False: the Python reference
             (:func:`planner.sim.planar.stepper.step`). Both give the same state to ~1e-15.
+            With ``compiled``, :meth:`run` also uses the compiled run loop
+            (:mod:`planner.sim.planar.fast_run`; the same log as ``loop="python"``).
     """
 
     pose_size, velocity_size, contact_dim = 3, 3, 2
