@@ -220,3 +220,17 @@ def test_loop_choice_is_checked_and_chunks_keep_the_progress_bar():
         world.run(0.1, ctrl, loop="numba")
     log = world.run(1.2, ctrl, progress=True)  # more than one chunk of the compiled loop
     assert len(log.t) == 1201 and log.status == "ok"
+
+
+def test_many_bodies():
+    """A pile of discs (event buffer sized by the bodies, many pairs, contact events)."""
+    logs = []
+    for loop in ("auto", "python"):
+        world = PlanarWorld(sensors=SensorSettings.ideal())
+        world.add_fixed(shapes.plane(0.0, 1.0), friction=0.5, name="floor")
+        for k in range(12):
+            x, y = 0.021 * (k % 4) - 0.03, 0.011 + 0.025 * (k // 4)
+            world.add_body(shapes.circle(0.01), (x, y, 0.0), 0.01, friction=0.5)
+        logs.append(world.run(0.15, loop=loop))
+    assert_same_log(*logs)
+    assert [e.kind for e in logs[0].events].count("contact_made") >= 12

@@ -54,10 +54,10 @@ from planner.sim.planar.stepper import _NO_HAND, _compiled, _result
 
 __all__ = ["FastLoop", "compiled_law"]
 
-EVENTS = 256  # rows of the event buffer
+EVENTS = 256  # rows of the event buffer (at least)
 
 
-def compiled_law(controller):
+def compiled_law(controller) -> tuple | None:
     """``(mode, q_ref, Pc, tasks, ctrl_s)`` of a controller the kernel runs (mode 0: none,
     1: the preset), or ``None`` for a Python controller (mode 2)."""
     from planner.sim.planar.presets import FingertipForceControl
@@ -109,8 +109,9 @@ class FastLoop:
         self.order = np.zeros(nb, np.int64)
         self.active = np.zeros((nb, nb), np.bool_)
         self.pair_code = np.full((nb, nb), -1, np.int64)
-        self.ev_i = np.zeros((EVENTS, 4), np.int64)
-        self.ev_f = np.zeros((EVENTS, 7))
+        rows = max(EVENTS, 4 * nb * nb + 64)  # the kernel needs 2 nb^2 + 16 free per step
+        self.ev_i = np.zeros((rows, 4), np.int64)
+        self.ev_f = np.zeros((rows, 7))
         self.obs = np.zeros(16)
         self.readings = _standard_sensors(sens) and w.hand is not None
         self.sc = np.array([w.dt, *w.gravity, w.margin, w.projection_tolerance, w.drop_time], float)
