@@ -109,7 +109,7 @@ class FastLoop:
         self.order = np.zeros(nb, np.int64)
         self.active = np.zeros((nb, nb), np.bool_)
         self.pair_code = np.full((nb, nb), -1, np.int64)
-        rows = max(EVENTS, 4 * nb * nb + 64)  # the kernel needs 2 nb^2 + 16 free per step
+        rows = max(EVENTS, 4 * nb * nb + 64)  # the kernel needs 2 nb^2 + nb + 16 free per step
         self.ev_i = np.zeros((rows, 4), np.int64)
         self.ev_f = np.zeros((rows, 7))
         self.obs = np.zeros(16)

@@ -246,7 +246,7 @@ def advance(
     lj = np.zeros(0, np.int64)
     n_last = -1
     for done in range(n_max):
-        if flags[NEV] + 2 * nb * nb + 16 > ev_i.shape[0]:
+        if flags[NEV] + 2 * nb * nb + nb + 16 > ev_i.shape[0]:  # room for one iteration
             return done, EVENTS_FULL, n_last, pn, pt, slip, mu, lj, lp
         t = clock[0]
         tau_new[:] = tau
