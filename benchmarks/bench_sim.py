@@ -1,6 +1,7 @@
 """Benchmark of the contact simulator (issue 15): hapex and MuJoCo on the same scenes.
 
-Scenes (dt = 1 ms, the same Python controller at 1 kHz for both engines):
+Scenes (dt = 1 ms, the same controller law at 1 kHz for both engines; hapex runs it inside
+its compiled loop and, in a second row, as a Python callable like MuJoCo's loop does):
 
 * ``pinch hold``: a disc pinched by two round fingertips (mu = 1, 4x friction margin), 10 s:
   creep = drift of the disc centre relative to the fingertips' midpoint after the first second
@@ -35,12 +36,15 @@ sys.path.insert(0, str(Path(__file__).parent))
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))  # this checkout's planner
 from _common import arg_parser, write_report  # noqa: E402
 
+REPS = 3  # hapex timings: best of REPS warm runs (the machine is shared)
+
 COLUMNS = [
     "scene",
     "engine",
     "settings",
     "sim_s",
     "build_s",
+    "jit_s",
     "steps_per_s",
     "real_time_factor",
     "cpu_real_time_factor",
@@ -63,21 +67,40 @@ def _mujoco():
     return mujoco
 
 
-def _hapex_run(build, duration):
+def _python(ctrl):
+    """The preset as an opaque Python callable: the loop calls it from Python every step
+    (what the gait's controller does), instead of running it inside the compiled loop."""
+    return None if ctrl is None else (lambda t, obs: ctrl(t, obs))
+
+
+def _hapex_run(build, duration, python_controller=False, reps=REPS):
+    """Build, warm (first run: numba compile or cache load), then best of ``reps`` runs."""
     t0 = time.perf_counter()
     world, ctrl, info = build()
-    world.step(ctrl(0.0, world.observe()) if ctrl else None)  # fills the JIT caches
-    world, ctrl, info = build()
     build_s = time.perf_counter() - t0
-    t0, c0 = time.perf_counter(), time.process_time()
-    log = world.run(duration, ctrl)
-    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+    wrap = _python if python_controller else (lambda c: c)
+    t0 = time.perf_counter()
+    world.run(min(duration, 0.05), wrap(ctrl))  # fills the JIT caches
+    jit_s = time.perf_counter() - t0
+    wall = cpu = math.inf
+    for _ in range(reps):  # the runs are deterministic: the same log every time
+        world, ctrl, info = build()
+        t0, c0 = time.perf_counter(), time.process_time()
+        log = world.run(duration, wrap(ctrl))
+        wall = min(wall, time.perf_counter() - t0)
+        cpu = min(cpu, time.process_time() - c0)
     steps = len(log.t) - 1
+    settings = "exact LCP (no parameters)"
+    if ctrl is not None:
+        settings += (
+            "; Python controller, lean loop" if python_controller else "; preset in the loop"
+        )
     row = {
         "engine": "hapex",
-        "settings": "exact LCP (no parameters)",
+        "settings": settings,
         "sim_s": log.t[-1],
         "build_s": build_s,
+        "jit_s": jit_s,
         "steps_per_s": steps / wall,
         "real_time_factor": log.t[-1] / wall,
         "cpu_real_time_factor": log.t[-1] / cpu,
@@ -171,6 +194,12 @@ def bench_pinch(quick: bool) -> list[dict]:
     row["creep_m"] = _creep(world, log.poses["disc"], log.q, 1.0)
     row["slip_m"] = _slip(world, log, "disc")
     rows = [row]
+    world, info, log, row = _hapex_run(
+        lambda: pinch_scene(squeeze=1.96, friction=1.0), T, python_controller=True
+    )
+    row["creep_m"] = _creep(world, log.poses["disc"], log.q, 1.0)
+    row["slip_m"] = _slip(world, log, "disc")
+    rows.append(row)
     rows += _mj_rows(pinch_scene, dict(squeeze=1.96, friction=1.0), T, ["disc"], "pinch")
     for r in rows:
         r["scene"] = f"pinch hold {T:g} s"
@@ -209,7 +238,12 @@ def bench_roll(quick: bool) -> list[dict]:
     R = info["radius"]
     dx, dth = p[-1, 0] - p[0, 0], p[-1, 2] - p[0, 2]
     row["rolling_err_rel"] = abs(dx + R * dth) / abs(R * dth)
-    rows = [row, *_mj_rows(palm_roll_scene, {}, T, ["disc"], "roll")]
+    rows = [row]
+    _, _, log2, row2 = _hapex_run(palm_roll_scene, T, python_controller=True)
+    p2 = log2.poses["disc"]
+    dx2, dth2 = p2[-1, 0] - p2[0, 0], p2[-1, 2] - p2[0, 2]
+    row2["rolling_err_rel"] = abs(dx2 + R * dth2) / abs(R * dth2)
+    rows += [row2, *_mj_rows(palm_roll_scene, {}, T, ["disc"], "roll")]
     for r in rows:
         r["scene"] = f"palm roll {dth / (2 * math.pi):.2f} rev"
     return rows
@@ -222,7 +256,11 @@ def bench_hold_slide(quick: bool) -> list[dict]:
     world, info, log, row = _hapex_run(palm_hold_slide_scene, T)
     row["creep_m"] = float(np.linalg.norm(log.poses["ball"][-1, :2] - log.poses["ball"][0, :2]))
     row["slip_m"] = _slip(world, log, "ball")  # includes the intended slide of the right tip
-    rows = [row, *_mj_rows(palm_hold_slide_scene, {}, T, ["ball"], "slide")]
+    rows = [row]
+    world, _, log, row = _hapex_run(palm_hold_slide_scene, T, python_controller=True)
+    row["creep_m"] = float(np.linalg.norm(log.poses["ball"][-1, :2] - log.poses["ball"][0, :2]))
+    row["slip_m"] = _slip(world, log, "ball")
+    rows += [row, *_mj_rows(palm_hold_slide_scene, {}, T, ["ball"], "slide")]
     for r in rows:
         r["scene"] = f"hand hold+slide {T:g} s"
     return rows
@@ -301,10 +339,19 @@ def _cpu_us(f, n: int = 300) -> float:
     return best * 1e6
 
 
+def _loop_us(build, T: float, wrap, loop: str) -> float:
+    """Best-of-3 CPU time per step of ``world.run`` [us]."""
+    best = math.inf
+    for _ in range(3):
+        world, ctrl, _ = build()
+        c0 = time.process_time()
+        log = world.run(T, wrap(ctrl), loop=loop)
+        best = min(best, (time.process_time() - c0) / (len(log.t) - 1))
+    return best * 1e6
+
+
 def bench_breakdown(quick: bool) -> list[dict]:
-    """Per-step CPU time of each part of a hand-scene step, warm, in contact [us]."""
-    from planner.sim.log import SimLog
-    from planner.sim.loop import _contact_events, _health
+    """Per-step CPU time of each part of a hand-scene step and of whole runs, warm [us]."""
     from planner.sim.planar import scenes
     from planner.sim.planar.stepper import step
 
@@ -334,21 +381,17 @@ def bench_breakdown(quick: bool) -> list[dict]:
 
         base = _cpu_us(reset)
         obs = world.observe()
-        log = SimLog.allocate(3, world.body_names, 3, 3, 6, 8, 2)
-        active = world.active_pairs()
-        parts = {
-            "step (compiled)": _cpu_us(compiled) - base,
-            "step (Python reference)": _cpu_us(python, 50) - base,
-            "observe": _cpu_us(world.observe),
-            "controller": _cpu_us(lambda c=ctrl, o=obs: c(0.1, o)),
-            "record": _cpu_us(lambda w=world, lg=log, u=tau: w.record(lg, 1, u)),
-            "health + events": _cpu_us(lambda w=world: _health(w))
-            + _cpu_us(lambda w=world, lg=log, a=active: _contact_events(w, lg, a, 0.1)),
-        }
         T = 0.3 if quick else 1.0
-        c0 = time.process_time()
-        run = world.run(T, ctrl)
-        parts["whole loop step"] = (time.process_time() - c0) / (len(run.t) - 1) * 1e6
+        world.run(0.02, _python(ctrl))  # JIT caches of the loops
+        parts = {
+            "world.step (compiled step, one Python call)": _cpu_us(compiled) - base,
+            "world.step (Python reference step)": _cpu_us(python, 50) - base,
+            "world.observe": _cpu_us(world.observe),
+            "preset controller, called from Python": _cpu_us(lambda c=ctrl, o=obs: c(0.1, o)),
+            "run: preset in the compiled loop": _loop_us(build, T, lambda c: c, "auto"),
+            "run: Python controller, lean loop": _loop_us(build, T, _python, "auto"),
+            "run: Python controller, reference loop": _loop_us(build, T, _python, "python"),
+        }
         rows += [{"scene": name, "part": k, "cpu_us_per_step": v} for k, v in parts.items()]
     return rows
 
@@ -364,8 +407,10 @@ def main() -> None:
         title="Planar hand scenes: CPU time per step by part (warm, in contact) [us]",
         out=args.out,
         notes=[
-            "CPU (process) time, best of 3 (the machine is shared); 'whole loop step' is "
-            "world.run with the controller at 1 kHz; 20x real time at dt = 1 ms is 50 us/step",
+            "CPU (process) time, best of 3 (the machine is shared); 'run:' rows are world.run "
+            "per step with the controller at 1 kHz: the preset inside the compiled loop, the "
+            "same law as an opaque Python callable (the gait's case) in the lean loop and in "
+            "the reference loop (loop='python'); 20x real time at dt = 1 ms is 50 us/step",
         ],
     )
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
@@ -379,7 +424,10 @@ def main() -> None:
             "targets: >= 20x real time (planar hand), >= 10x (3GM), creep <= 1 nm / 10 s, "
             "penetration <= 1 um, path error <= 0.1 um RMS / 1 um max, 0 lost steps, "
             "rolling error <= 1e-6",
-            "steps/s include the Python controller at 1 kHz for both engines (warm); "
+            "hapex: best of 3 warm runs (build_s: scene construction; jit_s: the first short "
+            "run, numba compile or cache load); 'preset in the loop': the scene's controller "
+            "runs inside the compiled loop; 'Python controller, lean loop': the same law "
+            "called from Python at 1 kHz (as MuJoCo's rows, whose loop calls it from Python); "
             "cpu_real_time_factor uses process time (less sensitive to the shared machine)",
             f"load average at the end: {load:.2f} (shared machine)",
         ],

@@ -73,6 +73,9 @@ class WorldBase:
         oracle: bool = False,
         stop: Callable | None = None,
         max_contacts: int = 8,
+        loop: str = "auto",
     ) -> SimLog:
         """Simulate for ``duration`` [s]; see :func:`planner.sim.loop.run`."""
-        return _run(self, duration, controller, control_rate, progress, oracle, stop, max_contacts)
+        return _run(
+            self, duration, controller, control_rate, progress, oracle, stop, max_contacts, loop
+        )

@@ -18,41 +18,94 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from planner.sim.lcp import njit
 from planner.sim.observation import Observation, read_forces, read_joints
 from planner.sim.planar.bodies import FREE, TIP
+from robots.sensors import Encoder, ForceSensor
 
 __all__ = ["TactileImages", "observe"]
 
 FINGERS = ("left", "right")
 
 
-def _tip_forces(world):
-    """True fingertip forces (2, 2) [N] and each tip's touches (point, f_n [N], curvature)."""
-    f = [0.0, 0.0, 0.0, 0.0]
-    per_tip: list[list[tuple]] = [[], []]
+@njit(cache=True)
+def _tip_force_sum(ia, ib, kind, index, pn, pt, normal, h, out):
+    """Sum into ``out`` (2, 2) the force each fingertip applies on what it touches [N]."""
+    out[:, :] = 0.0
+    for k in range(pn.shape[0]):
+        if pn[k] <= 0:
+            continue
+        a, b = ia[k], ib[k]
+        if kind[a] != TIP and kind[b] != TIP:
+            continue
+        nx, ny = normal[k, 0], normal[k, 1]
+        fx, fy = (pn[k] * nx - pt[k] * ny) / h, (pn[k] * ny + pt[k] * nx) / h  # on a
+        if kind[a] == TIP:
+            out[index[a], 0] -= fx
+            out[index[a], 1] -= fy
+        if kind[b] == TIP:
+            out[index[b], 0] += fx
+            out[index[b], 1] += fy
+
+
+@njit(cache=True)
+def _read_hand(q, qd, enc, vres, ia, ib, kind, index, pn, pt, normal, h, qm, qdm, forces):
+    """Encoder angles ``qm`` [rad] (``floor`` to ``enc``; exact when 0), the velocity
+    estimate ``qdm`` [rad/s] (``rint`` to ``vres``; exact when 0) and the true fingertip
+    forces (2, 2) [N]: :func:`planner.sim.observation.read_joints` and
+    :func:`_tip_force_sum` in one call (same operations, same results)."""
+    for i in range(q.shape[0]):
+        qm[i] = q[i] if enc == 0.0 else np.floor(q[i] / enc) * enc
+        qdm[i] = qd[i] if vres == 0.0 else np.rint(qd[i] / vres) * vres
+    _tip_force_sum(ia, ib, kind, index, pn, pt, normal, h, forces)
+
+
+def _kinds(world) -> tuple[np.ndarray, np.ndarray]:
+    """(nb,) body kinds and indices (cached until a body is added)."""
+    cached = getattr(world, "_kinds_cache", None)
+    if cached is None or len(cached[0]) != len(world.bodies):
+        cached = (
+            np.array([b.kind for b in world.bodies], np.int64),
+            np.array([b.index for b in world.bodies], np.int64),
+        )
+        world._kinds_cache = cached
+    return cached
+
+
+def _true_tip_forces(world) -> np.ndarray:
+    """True fingertip forces (2, 2) [N] over the last step (world frame, on the touched)."""
+    out = np.zeros((2, 2))
     res = world._last
+    if res is None or len(res.p_n) == 0:
+        return out
+    kind, index = _kinds(world)
+    _tip_force_sum(res.body_a, res.body_b, kind, index, res.p_n, res.p_t, res.normal,
+                   world.dt, out)  # fmt: skip
+    return out
+
+
+def _touches(world, res) -> list[list[tuple]]:
+    """Each fingertip's touches ``(point (2,), f_n [N], curvature [1/m])`` in ``res``."""
+    per_tip: list[list[tuple]] = [[], []]
     if res is None:
-        return np.zeros((2, 2)), per_tip
+        return per_tip
     h = world.dt
     bodies = world.bodies
-    pn, pt = res.p_n.tolist(), res.p_t.tolist()
+    pn = res.p_n.tolist()
     for k, (ia, ib) in enumerate(zip(res.body_a.tolist(), res.body_b.tolist(), strict=True)):
         if pn[k] <= 0:
             continue
         a, b = bodies[ia], bodies[ib]
-        if a.kind != TIP and b.kind != TIP:
-            continue
-        nx, ny = res.normal[k].tolist()
-        fx, fy = (pn[k] * nx - pt[k] * ny) / h, (pn[k] * ny + pt[k] * nx) / h  # on a
         if a.kind == TIP:
-            f[2 * a.index] -= fx
-            f[2 * a.index + 1] -= fy
             per_tip[a.index].append((res.point_a[k], pn[k] / h, float(res.curvature[k])))
         if b.kind == TIP:
-            f[2 * b.index] += fx
-            f[2 * b.index + 1] += fy
             per_tip[b.index].append((res.point_b[k], pn[k] / h, float(res.curvature[k])))
-    return np.array(f).reshape(2, 2), per_tip
+    return per_tip
+
+
+def _tip_forces(world):
+    """True fingertip forces (2, 2) [N] and each tip's touches (point, f_n [N], curvature)."""
+    return _true_tip_forces(world), _touches(world, world._last)
 
 
 class TactileImages(Mapping):
@@ -61,14 +114,25 @@ class TactileImages(Mapping):
     A read-only mapping (what :attr:`Observation.tactile` holds): the keys are known at
     once, each image is computed the first time it is read (about 100-250 us each, the
     largest part of an observation) and then kept. The contacts it is computed from are
-    copied at observation time, so a late read gives the image of that instant.
+    those of the step result held at observation time (immutable), so a late read gives the
+    image of that instant.
+
+    Args:
+        array: the :class:`robots.sensors.TactileArray`; hand: the world's hand model;
+        q: (6,) true joint angles at observation time [rad] (a copy);
+        fingers: ``{finger: index}`` of the flat fingertips;
+        touches: ``{finger: [(point (2,), normal force [N], curvature [1/m])]}``, or None
+            with ``source``: ``(world, step result)`` to find them on first access.
     """
 
-    def __init__(self, array, hand, q: np.ndarray, fingers: dict, touches: dict) -> None:
+    def __init__(
+        self, array, hand, q: np.ndarray, fingers: dict, touches: dict | None, source=None
+    ) -> None:
         self._array = array
         self._hand, self._q = hand, q  # the fingertip frames are computed when needed
         self._frames = fingers  # finger -> its index (0 left, 1 right)
         self._touches = touches  # finger -> [(point (2,), normal force [N], curvature)]
+        self._source = source
         self._images: dict[str, np.ndarray] = {}
 
     def __getitem__(self, finger: str) -> np.ndarray:
@@ -92,6 +156,9 @@ class TactileImages(Mapping):
     def _image(self, finger: str) -> np.ndarray:
         arr = self._array
         img = np.zeros((arr.rows, arr.cols))
+        if self._touches is None:
+            per_tip = _touches(*self._source)
+            self._touches = {f: per_tip[k] for f, k in self._frames.items()}
         touches = self._touches[finger]
         if touches:
             x, y, phi = self._hand.frames(self._q)[1][self._frames[finger]]
@@ -106,7 +173,7 @@ class TactileImages(Mapping):
         return f"TactileImages({sorted(self._frames)})"
 
 
-def _tactile(world, per_tip):
+def _tactile(world):
     arr = world.sensors.tactile
     if arr is None or world.hand is None:
         return None
@@ -118,8 +185,47 @@ def _tactile(world, per_tip):
     if not flat:
         return {}
     fingers = {FINGERS[k]: k for k in flat}
-    touches = {FINGERS[k]: per_tip[k] for k in flat}
-    return TactileImages(arr, world.hand, world.q.copy(), fingers, touches)
+    return TactileImages(arr, world.hand, world.q.copy(), fingers, None, (world, world._last))
+
+
+_EMPTY = (np.zeros(0, np.int64), np.zeros(0), np.zeros((0, 2)))
+
+
+def _read(world) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Encoder angles, velocity estimate and strain-gauge forces of the hand now."""
+    sens = world.sensors
+    enc, force = sens.encoder, sens.force
+    if (enc is not None and type(enc) is not Encoder) or (
+        force is not None and type(force) is not ForceSensor
+    ):  # other sensor models: their own measure()
+        q, qd = read_joints(sens, world.q, world.qd)
+        return q, qd, read_forces(sens, _true_tip_forces(world), world.rng)
+    reading = getattr(world, "_reading", None)
+    if reading is not None:  # read by the compiled loop for this call (fast_run)
+        q, qd, f = (a.copy() for a in reading)
+        return q, qd, _gauges(force, f, world.rng)
+    res = world._last
+    kind, index = _kinds(world)
+    if res is None:
+        ia = ib = _EMPTY[0]
+        pn, pt, normal = _EMPTY[1], _EMPTY[1], _EMPTY[2]
+    else:
+        ia, ib, pn, pt, normal = res.body_a, res.body_b, res.p_n, res.p_t, res.normal
+    q, qd, f = np.empty(6), np.empty(6), np.empty((2, 2))
+    _read_hand(world.q, world.qd, 0.0 if enc is None else enc.resolution,
+               sens.velocity_resolution, ia, ib, kind, index, pn, pt, normal, world.dt, q, qd,
+               f)  # fmt: skip
+    return q, qd, _gauges(force, f, world.rng)
+
+
+def _gauges(force, f: np.ndarray, rng) -> np.ndarray:
+    """:meth:`robots.sensors.ForceSensor.measure` of true forces ``f`` (2, 2) [N] (same
+    draws and operations; ``force`` None: exact)."""
+    if force is None:
+        return f
+    if force.noise_std > 0:
+        f = f + rng.normal(0.0, force.noise_std, f.shape)
+    return np.rint(f / force.resolution) * force.resolution
 
 
 def observe(world, oracle: bool = False) -> Observation:
@@ -130,11 +236,9 @@ def observe(world, oracle: bool = False) -> Observation:
         fingers: tuple[str, ...] = ()
         tactile = None
     else:
-        q, qd = read_joints(world.sensors, world.q, world.qd)
-        true_f, per_tip = _tip_forces(world)
-        forces = read_forces(world.sensors, true_f, world.rng)
+        q, qd, forces = _read(world)
         fingers = FINGERS
-        tactile = _tactile(world, per_tip)
+        tactile = _tactile(world)
     truth = None
     if oracle:
         truth = {
@@ -145,5 +249,5 @@ def observe(world, oracle: bool = False) -> Observation:
             "contacts": world.contacts(),
         }
         if world.hand is not None:
-            truth["tip_forces"] = _tip_forces(world)[0]
+            truth["tip_forces"] = _true_tip_forces(world)
     return Observation(world.time, q, qd, fingers, forces, tactile, None, truth)

@@ -49,7 +49,7 @@ resistance and compliance are not modelled.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -61,9 +61,9 @@ from planner.sim.planar.contacts import Pose, candidates
 __all__ = ["StepResult", "find_contacts", "point_velocity", "step", "step_fast"]
 
 
-@dataclass(frozen=True)
-class StepResult:
-    """What a step leaves behind for contact records and events (n contacts).
+class StepResult(NamedTuple):
+    """What a step leaves behind for contact records and events (n contacts); a named
+    tuple (built after every step: cheaper than a frozen dataclass).
 
     Attributes:
         body_a, body_b: (n,) body indices; gap: (n,) [m] at the step's start;

@@ -27,6 +27,7 @@ from planner.sim.planar.contacts import Pose
 from planner.sim.planar.hand import HandModel, tip_profile
 from planner.sim.planar.outline import compile_outline
 from planner.sim.planar.records import contact_records
+from planner.sim.planar.sensing import observe as _observe
 from planner.sim.planar.stepper import StepResult, step, step_fast
 from planner.sim.records import Contact
 from planner.sim.world import WorldBase
@@ -51,6 +52,8 @@ class PlanarWorld(WorldBase):
         compiled: run the step's dynamics, contact rows and LCP in the compiled kernel
             (:func:`planner.sim.planar.stepper.step_fast`); False: the Python reference
             (:func:`planner.sim.planar.stepper.step`). Both give the same state to ~1e-15.
+            With ``compiled``, :meth:`run` also uses the compiled run loop
+            (:mod:`planner.sim.planar.fast_run`; the same log as ``loop="python"``).
     """
 
     pose_size, velocity_size, contact_dim = 3, 3, 2
@@ -292,6 +295,16 @@ class PlanarWorld(WorldBase):
                     _event(self.time, "object_dropped", f"{name} left the fingers", body=name)
                 )
 
+    def compiled_loop(self, state):
+        """The compiled run loop for ``state`` (:mod:`planner.sim.planar.fast_run`), or
+        None with ``compiled=False`` (then :func:`planner.sim.loop.run` runs the reference
+        loop)."""
+        if not self.compiled:
+            return None
+        from planner.sim.planar.fast_run import FastLoop
+
+        return FastLoop(state)
+
     def active_pairs(self) -> set[tuple[str, str]]:
         """Body-name pairs carrying a normal force after the last step."""
         res = self._last
@@ -363,9 +376,7 @@ class PlanarWorld(WorldBase):
     # ------------------------------------------------------------------ sensing
     def observe(self, oracle: bool = False) -> Observation:
         """Sensor readings now (encoders, fingertip gauges, tactile images of flat pads)."""
-        from planner.sim.planar.sensing import observe
-
-        return observe(self, oracle)
+        return _observe(self, oracle)
 
 
 def _event(t, kind, message, **data):
