@@ -16,12 +16,14 @@ position ``u_k`` across the flat left pad [m]. Constraints, at every knot:
 * pure rolling, eq. (2.4) integrated: the contact travels equal arclengths on the object
   (``R (beta - theta)``) and on the fingertip (round: ``r (beta + pi - phi)``; pad: ``-u``):
   ``R d(beta - theta) + d s_f = 0``;
-* joint limits with a margin, the pad contact within the pad, the round contact within
-  ``max_tip_angle`` of the tip's axis;
+* joint limits with a margin (a joint that starts inside the margin band may stay there but
+  not move further toward its limit), the pad contact within the pad, the round contact
+  within ``max_tip_angle`` of the tip's axis;
 * stability (Yoshikawa-Nagai, eq. 2.9): the contact line within the friction cones with an
   angular margin, ``(-n_i) . u_i >= cos(atan(mu) - margin)``;
-* the object above the palm (``c_y >= R``) and near its start; monotone clockwise rotation
-  with at most ``max_step`` per knot.
+* the object above the palm (``c_y >= R``) and near its start, set down at the end (its
+  final centre at most :data:`SET_DOWN` above the start: phases 2/3 hold it against the
+  palm); monotone clockwise rotation with at most ``max_step`` per knot.
 
 Objective: maximize the rotation ``-theta_N`` plus a small smoothness term. The NLP is built
 once (:class:`RollingNLP`, parameters = the estimate and the start state) and solved with
@@ -42,6 +44,8 @@ from planner import checks
 _NP = 17
 #: weight of the final centre's distance from ``home_x`` [1/m^2] (objective units: rad)
 HOME_WEIGHT = 500.0
+#: the object's final centre at most this higher than at the start [m]
+SET_DOWN = 1.0e-3
 
 
 @dataclass(frozen=True)
@@ -157,10 +161,14 @@ class RollingNLP:
                 vp = X[nk * (k - 1) : nk * k]
                 add(vp[0] - th, 0, self.max_step)  # clockwise, bounded steps
                 obj += 1e-2 * cs.sumsqr(q - vp[3:9]) + 1e2 * cs.sumsqr(c - vp[1:3])
-            # joint limits with a margin (the start is what it is)
+            # joint limits with a margin, relaxed to the start: a joint that starts inside
+            # the margin band (or beyond its limit: the previous phase ended on a workspace
+            # event) may stay where it is but not move further toward its limit (the strict
+            # margin at knot 1 made the NLP infeasible right at the start: "solver failed;
+            # blocking: workspace (joint 5 0.0 deg from its limit)" on 20 of 31 objects)
             for i in range(6 if k > 0 else 0):
-                add(q[i] - lim[i, 0] - qm, 0, cs.inf)
-                add(q[i] - lim[i, 1] + qm, -cs.inf, 0)
+                add(q[i] - cs.fmin(lim[i, 0] + qm, q0[i]), 0, cs.inf)
+                add(q[i] - cs.fmax(lim[i, 1] - qm, q0[i]), -cs.inf, 0)
             add(u, -pad_use * pad, pad_use * pad)
             # round contact near the tip axis: angle of (-n_R) in the tip frame vs +y
             add(cs.cos((bR + math.pi - phR) - math.pi / 2), math.cos(self.max_tip_angle), 1.0)
@@ -178,6 +186,12 @@ class RollingNLP:
                 # the start itself infeasible for a 12 x 10 cm ellipse)
                 add(c[1] - cs.fmin(R, X[2]), 0, cs.inf)
             add(cs.sumsqr(c - X[1:3]), 0, self.travel**2)
+            if k == N:
+                # set the object down where it started (on the palm): phases 2/3 hold it
+                # against the palm, and an object left lifted fell back under the holding
+                # finger there, rolling back (a 3 cm circle ended phase 1 11 mm up and rolled
+                # back 14 of its 27 deg in phase 2: "no progress")
+                add(c[1] - X[2], -cs.inf, SET_DOWN)
         obj += X[nk * N]  # theta_N (negative): minimize = rotate as far as possible
         # bring the object back over the hand's middle: the explorers' friction rolls it along
         # the palm in phases 2/3 (up to 4 cm after a ridge caught the right tip) and an object
@@ -302,7 +316,7 @@ class RollingNLP:
             + ["start"] * 0
             + ["flat pad", "rolling", "rolling", "step"]
             + ["joint limit"] * 12
-            + ["pad edge", "tip angle", "stability", "stability", "palm", "travel"]
+            + ["pad edge", "tip angle", "stability", "stability", "palm", "travel", "set down"]
         )
         last = lam[-len(names) :]
         k = int(np.argmax(np.abs(last)))
