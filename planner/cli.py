@@ -142,6 +142,7 @@ def _cmd_run(args) -> int:
         quick=args.quick,
         base_dir=args.scenario.resolve().parent,
         verbose=args.verbose,
+        progress=sys.stderr.isatty(),
     )
     res = outcome.result
     print(f"{config.name}: {res.status}{' - ' + res.reason if res.reason else ''}")

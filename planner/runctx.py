@@ -25,6 +25,8 @@ class RunContext:
         quick: a short smoke-test run (``--quick``): runners reduce horizons and resolutions.
         base_dir: folder of the scenario file; relative data-file paths resolve against it.
         verbose: ``-v`` was given.
+        progress_bars: show progress bars on stderr (``hapex run`` in a terminal, or ``-v``);
+            off in sweeps, the reproduce report and library calls unless asked for.
         timings_s: wall-clock time per named stage [s], filled by :meth:`timer`.
     """
 
@@ -33,6 +35,7 @@ class RunContext:
     quick: bool = False
     base_dir: Path = field(default_factory=Path.cwd)
     verbose: bool = False
+    progress_bars: bool = False
     timings_s: dict[str, float] = field(default_factory=dict)
 
     @classmethod
@@ -52,7 +55,7 @@ class RunContext:
     def progress(
         self, iterable: Iterable[T] | None = None, desc: str = "", total: int | None = None
     ):
-        """A tqdm progress bar on stderr for a long loop, shown only with ``-v``.
+        """A tqdm progress bar on stderr for a long loop, shown with ``-v`` or ``progress_bars``.
 
         Use it around an iterable (``for x in ctx.progress(xs, "tracing"):``) or, for a loop
         you advance yourself, with ``total`` and no iterable::
@@ -68,12 +71,17 @@ class RunContext:
 
         Returns:
             A ``tqdm`` object: iterate over it, or call ``update(n)``; disabled (silent, no
-            cost beyond the loop) unless ``verbose``.
+            cost beyond the loop) unless ``verbose`` or ``progress_bars``.
         """
         from tqdm.auto import tqdm
 
         return tqdm(
-            iterable, desc=desc, total=total, leave=False, disable=not self.verbose, file=sys.stderr
+            iterable,
+            desc=desc,
+            total=total,
+            leave=False,
+            disable=not (self.verbose or self.progress_bars),
+            file=sys.stderr,
         )
 
     def log(self, message: str) -> None:

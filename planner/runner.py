@@ -27,6 +27,7 @@ def run_config(
     quick: bool = False,
     base_dir: Path | None = None,
     verbose: bool = False,
+    progress: bool = False,
 ) -> tuple[RunResult, dict]:
     """Run a validated scenario in memory.
 
@@ -35,7 +36,8 @@ def run_config(
         plots: build figures (default: the scenario's ``output.plots``).
         quick: short smoke-test run (runners reduce horizons/resolutions).
         base_dir: folder against which relative data-file paths resolve.
-        verbose: print progress messages.
+        verbose: print progress messages (and show progress bars).
+        progress: show progress bars of long loops on stderr.
 
     Returns:
         ``(result, timings_s)``. Library failures inside the runner that leave the task
@@ -50,6 +52,7 @@ def run_config(
         quick=quick,
         base_dir=base_dir or Path.cwd(),
         verbose=verbose,
+        progress_bars=progress,
     )
     t0 = time.perf_counter()
     try:
@@ -81,10 +84,14 @@ def execute(
     quick: bool = False,
     base_dir: Path | None = None,
     verbose: bool = False,
+    progress: bool = False,
 ) -> RunOutcome:
-    """Run a scenario and write its run directory (atomically)."""
+    """Run a scenario and write its run directory (atomically).
+
+    ``progress`` shows progress bars of long loops on stderr (``hapex run`` in a terminal).
+    """
     result, timings = run_config(
-        config, plots=plots, quick=quick, base_dir=base_dir, verbose=verbose
+        config, plots=plots, quick=quick, base_dir=base_dir, verbose=verbose, progress=progress
     )
     out = Path(out_dir) if out_dir is not None else default_out_dir(config)
     resolved = config.model_dump(mode="json")

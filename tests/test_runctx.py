@@ -14,6 +14,9 @@ def test_progress_is_silent_unless_verbose(capsys):
     loud = RunContext.for_seed(0, verbose=True)
     assert list(loud.progress(range(5), "loop")) == [0, 1, 2, 3, 4]
     assert "loop" in capsys.readouterr().err
+    bars = RunContext.for_seed(0, progress_bars=True)  # hapex run in a terminal, without -v
+    assert list(bars.progress(range(3), "terminal")) == [0, 1, 2]
+    assert "terminal" in capsys.readouterr().err
 
 
 def test_progress_manual_bar_counts_updates(capsys):
