@@ -322,6 +322,50 @@ def bench_nlp() -> list[dict]:
     ]  # fmt: skip
 
 
+def bench_nlp_replay(seconds: float = 12.0) -> list[dict]:
+    """The phase-1 NLPs the executor actually solves: every ``RollingNLP.solve`` of a
+    ``seconds`` [s] ball_with_ridge run is recorded, then replayed on a fresh NLP (a) in
+    order, warm-started as the executor does, and (b) cold. Wall and CPU time and IPOPT
+    iterations per solve: the synthetic rows above re-solve nearly the same problem (2-4
+    iterations), the executor's problems start from a new grasp every phase."""
+    from planner.exploration.planar import circle_with_ridge, explore_object
+    from planner.trajectory import RollingNLP
+
+    calls: list[tuple] = []
+    solve = RollingNLP.solve
+
+    def recording(self, *a, **kw):
+        calls.append((a, kw))
+        return solve(self, *a, **kw)
+
+    RollingNLP.solve = recording
+    try:
+        explore_object(circle_with_ridge(angle=math.radians(170)), hand=batch_hand(),
+                       duration=seconds)  # fmt: skip
+    finally:
+        RollingNLP.solve = solve
+    rows = []
+    for mode in ("warm", "cold"):
+        nlp = RollingNLP(batch_hand(), knots=6)
+        wall, cpu, its, ok = [], [], [], 0
+        for a, kw in calls:
+            c0, w0 = time.process_time(), time.perf_counter()
+            plan = nlp.solve(*a, **{**kw, "warm": mode == "warm"})
+            wall.append(time.perf_counter() - w0)
+            cpu.append(time.process_time() - c0)
+            its.append(nlp.iterations)
+            ok += plan.success
+        med = statistics.median
+        rows.append({
+            "benchmark": f"nlp solve {mode} (executor's problems, replayed)",
+            "value_ms": 1e3 * med(wall), "target_ms": 30 if mode == "warm" else "",
+            "object": f"{len(calls)} solves of a {seconds:g} s ball_with_ridge run",
+            "reason": f"median CPU {1e3 * med(cpu):.1f} ms, median {med(its):g} IPOPT "
+                      f"iterations (max {max(its)}), {ok}/{len(calls)} converged",
+        })  # fmt: skip
+    return rows
+
+
 def bench_ball(seconds: float) -> list[dict]:
     from planner.exploration.planar import circle_with_ridge, explore_object
     from planner.exploration.planar.metrics import summary_metrics
@@ -351,7 +395,7 @@ def main() -> None:
     if args.quick:
         args.duration = min(args.duration, 2.0)
     t0 = time.perf_counter()
-    rows = [] if args.no_nlp else bench_nlp()
+    rows = [] if args.no_nlp else bench_nlp() + bench_nlp_replay()
     rows += bench_batch(args)
     if args.ball > 0:
         rows += bench_ball(args.ball)

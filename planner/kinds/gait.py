@@ -229,7 +229,14 @@ def run(config: Config, ctx):
     duration = config.quick_duration if ctx.quick else config.duration
     s = config.settings()
     seed = int(ctx.rng.integers(2**31))
-    with ctx.timer("simulation"):
+    bar = ctx.progress(total=round(duration, 1), desc="gait [sim s]")
+    done = [0.0]
+
+    def advance(t: float) -> None:
+        bar.update(round(min(t, duration) - done[0], 1))
+        done[0] = round(min(t, duration), 1)
+
+    with ctx.timer("simulation"), bar:
         if config.task == "explicit_rolling":
             res = explicit_rolling(profile, hand=_hand(config), mu=config.mu,
                                    amplitude=config.rolling.amplitude,
@@ -239,7 +246,8 @@ def run(config: Config, ctx):
             res = explore_object(profile, hand=_hand(config), mu=config.mu, nominal=nominal,
                                  seed=seed,
                                  duration=duration, settings=s,
-                                 max_rotation=math.radians(config.max_rotation_deg))  # fmt: skip
+                                 max_rotation=math.radians(config.max_rotation_deg),
+                                 on_progress=advance)  # fmt: skip
     from planner.kinds._gait_report import report
 
     return report(config, ctx, res, profile, duration, _hand(config))

@@ -40,8 +40,9 @@ import numpy as np
 
 from planner import checks
 
-#: number of parameters: R, r, mu, margin, c0 (2), q0 (6), beta0 (2), u0, q_margin, home_x
-_NP = 17
+#: number of parameters: R, r, mu, margin, c0 (2), q0 (6), beta0 (2), u0, q_margin, home_x,
+#: max_rotation
+_NP = 18
 #: weight of the final centre's distance from ``home_x`` [1/m^2] (objective units: rad)
 HOME_WEIGHT = 500.0
 #: the object's final centre at most this higher than at the start [m]
@@ -113,6 +114,7 @@ class RollingNLP:
         P = cs.SX.sym("p", _NP)
         R, r, mu, margin = P[0], P[1], P[2], P[3]
         c0, q0, beta0, u0, qm, home = P[4:6], P[6:12], P[12:14], P[14], P[15], P[16]
+        max_rot = P[17]
         qk = cs.SX.sym("qk", 6)
         T = finger_terms_sx(hand.model, qk, cs.SX.zeros(6), cs.SX.zeros(4), cs.SX.zeros(2))
         fk = cs.Function(
@@ -192,6 +194,7 @@ class RollingNLP:
                 # finger there, rolling back (a 3 cm circle ended phase 1 11 mm up and rolled
                 # back 14 of its 27 deg in phase 2: "no progress")
                 add(c[1] - X[2], -cs.inf, SET_DOWN)
+                add(th + max_rot, 0, cs.inf)  # at most max_rotation clockwise
         obj += X[nk * N]  # theta_N (negative): minimize = rotate as far as possible
         # bring the object back over the hand's middle: the explorers' friction rolls it along
         # the palm in phases 2/3 (up to 4 cm after a ridge caught the right tip) and an object
@@ -242,6 +245,7 @@ class RollingNLP:
         joint_margin: float = 0.05,
         warm: bool = True,
         home_x: float | None = None,
+        max_rotation: float = math.inf,
     ) -> RollingPlan:
         """Plan phase 1 from the current configuration.
 
@@ -255,6 +259,8 @@ class RollingNLP:
             joint_margin: distance kept from every joint limit [rad].
             warm: start from the previous solution (shifted to the new start).
             home_x: where the object centre should end, x [m] (default: where it starts).
+            max_rotation: the largest rotation to plan [rad] (e.g. to stop before a sensed
+                feature reaches the palm).
 
         Returns:
             the :class:`RollingPlan`.
@@ -272,6 +278,7 @@ class RollingNLP:
                 q0,
                 beta0,
                 [u0, joint_margin, centre[0] if home_x is None else float(home_x)],
+                [min(float(max_rotation), 10.0)],
             ]
         )
         x0 = self.initial_guess(q0, centre, beta0, u0)
@@ -317,6 +324,7 @@ class RollingNLP:
             + ["flat pad", "rolling", "rolling", "step"]
             + ["joint limit"] * 12
             + ["pad edge", "tip angle", "stability", "stability", "palm", "travel", "set down"]
+            + ["rotation cap"]
         )
         last = lam[-len(names) :]
         k = int(np.argmax(np.abs(last)))
