@@ -60,6 +60,8 @@ def test_warm_start_reproduces_the_plan(nlp):
     warm = nlp.solve(q0, c, R, r, 0.8, beta, 0.0, warm=True)
     assert warm.success
     assert warm.rotation == pytest.approx(cold.rotation, abs=1e-4)
+    # IPOPT iteration counts are deterministic: the warm start needs fewer
+    assert 1 <= warm.iterations < cold.iterations
 
 
 def test_lower_friction_rotates_less(nlp):

@@ -61,6 +61,8 @@ class RollingPlan:
         u: (N+1,) contact position across the left pad [m].
         rotation: total rotation ``theta[-1]`` [rad].
         success: the solver converged; solve_time_s: wall time of the solve [s].
+        solve_cpu_s: its CPU time [s] (what load on a shared machine does not inflate).
+        iterations: IPOPT iterations.
         stop: which constraint ends the rotation (the largest multiplier group).
     """
 
@@ -73,6 +75,8 @@ class RollingPlan:
     success: bool
     solve_time_s: float
     stop: str
+    solve_cpu_s: float = float("nan")
+    iterations: int = 0
 
 
 class RollingNLP:
@@ -290,8 +294,9 @@ class RollingNLP:
             args["x0"] = prev.ravel()
             args["lam_g0"] = self._lam_g
             args["lam_x0"] = self._lam_x
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         sol = self._solver(**args)
+        cpu = time.process_time() - c0
         ok = bool(self._solver.stats()["success"])
         self.iterations = int(self._solver.stats()["iter_count"])
         dt = time.perf_counter() - t0
@@ -314,6 +319,8 @@ class RollingNLP:
             success=ok,
             solve_time_s=dt,
             stop=stop,
+            solve_cpu_s=cpu,
+            iterations=self.iterations,
         )
 
     def _binding(self, lam: np.ndarray) -> str:

@@ -117,6 +117,8 @@ def explore_object(
     timings = {
         "nlp_build_s": nlp_build,
         "nlp_solve_ms": [1e3 * p.nlp_time_s for p in runner.records if p.kind == 1],
+        "nlp_solve_cpu_ms": [1e3 * p.nlp_cpu_s for p in runner.records if p.kind == 1],
+        "nlp_iterations": [p.nlp_iterations for p in runner.records if p.kind == 1],
         "control_step_us": list(1e6 * np.asarray(ctrl.step_times)),
         "wall_s": time.perf_counter() - wall0,
     }
@@ -156,6 +158,7 @@ class _Runner:
         self._reported = 0.0  # simulated time of the last on_progress call [s]
         self._via: float | None = None  # the pending back-stroke's turning angle [rad]
         self._stroking = False  # the phase being run is a back-stroke
+        self._plan1 = None  # the last phase-1 plan (its solve statistics)
         self.sensed_features: list[float] = []  # object-frame angles of sensed bumps [rad]
 
     def rotation(self) -> float:
@@ -236,6 +239,7 @@ class _Runner:
                                   joint_margin=s.joint_margin + 0.02,
                                   home_x=self.start["rest"][0],
                                   max_rotation=self._rotation_cap())  # fmt: skip
+            self._plan1 = plan
             if not plan.success or abs(plan.rotation) < math.radians(1.0):
                 why = self._blocking(est, q, mu)
                 return None, 0.0, plan.solve_time_s, f"phase-1 NLP: {plan.stop}; {why}"
@@ -376,6 +380,8 @@ class _Runner:
             planned_rotation=planned, event=event,
             epsilon=eps_min[0] if math.isfinite(eps_min[0]) else float("nan"),
             nlp_time_s=nlp_t, backstroke=self._stroking,
+            nlp_cpu_s=self._plan1.solve_cpu_s if kind == 1 else 0.0,
+            nlp_iterations=self._plan1.iterations if kind == 1 else 0,
         )  # fmt: skip
         self._stroking = False
         self.records.append(rec)
