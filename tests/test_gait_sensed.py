@@ -19,8 +19,8 @@ from planner.exploration.planar.sensed_features import (
     MIN_CAPPED,
     PALM_ANGLE,
     PALM_CLEAR,
-    feature_crossed,
     rotation_cap,
+    sensed_bump,
 )
 from planner.exploration.planar.settings import GaitSettings
 from robots.planar_hand import PlanarHand
@@ -47,21 +47,28 @@ def _pass(b0, b1, bump_at=None, height=0.003, width=0.04, lift=0.0, n=400):
 
 
 @pytest.mark.parametrize("direction", [1, -1])
-def test_feature_crossed_is_the_middle_of_the_bump(direction):
+def test_a_crossed_bump_is_found_at_its_middle(direction):
     b0, b1 = 2.0, 2.7
     if direction < 0:
         b0, b1 = b1, b0
-    got = feature_crossed(_pass(b0, b1, bump_at=2.3))
-    assert got == pytest.approx(2.3, abs=math.radians(0.5))
+    angle, crossed = sensed_bump(_pass(b0, b1, bump_at=2.3))
+    assert angle == pytest.approx(2.3, abs=math.radians(0.5))
+    assert crossed
 
 
-def test_no_feature_without_a_bump_within_the_pass():
-    assert feature_crossed(_pass(2.0, 2.7)) is None  # no bump
-    assert feature_crossed(_pass(2.0, 2.7, lift=0.003)) is None  # a whole pass lifted
+def test_a_pass_ending_on_the_bump_sees_its_near_half():
+    angle, crossed = sensed_bump(_pass(2.0, 2.3, bump_at=2.3))
+    assert not crossed
+    assert angle == pytest.approx(2.3 - 0.5 * 0.04, abs=math.radians(0.5))
+
+
+def test_no_bump_without_one_within_the_pass():
+    assert sensed_bump(_pass(2.0, 2.7)) is None  # no bump
+    assert sensed_bump(_pass(2.0, 2.7, lift=0.003)) is None  # a whole pass lifted
     low = 0.8 * FEATURE_HEIGHT
-    assert feature_crossed(_pass(2.0, 2.7, bump_at=2.3, height=low)) is None  # too low
-    assert feature_crossed(_pass(2.0, 2.7, bump_at=2.68)) is None  # the pass ends on it
-    assert feature_crossed(np.zeros((5, len(TRACE_NAMES)))) is None  # too short
+    assert sensed_bump(_pass(2.0, 2.7, bump_at=2.3, height=low)) is None  # too low
+    assert sensed_bump(_pass(2.0, 2.7, bump_at=2.02)) is None  # the pass starts on it
+    assert sensed_bump(np.zeros((5, len(TRACE_NAMES)))) is None  # too short
 
 
 def test_rotation_cap_closed_form():

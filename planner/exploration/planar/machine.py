@@ -25,7 +25,7 @@ from planner.exploration.planar.logs import concat_logs
 from planner.exploration.planar.objects import mean_radius
 from planner.exploration.planar.result import ExplorationResult, PhaseRecord
 from planner.exploration.planar.segments import explore_segment, phase1_segment
-from planner.exploration.planar.sensed_features import feature_crossed, rotation_cap
+from planner.exploration.planar.sensed_features import rotation_cap, sensed_bump
 from planner.exploration.planar.settings import GaitSettings
 from planner.exploration.planar.setup import build_world, gait_prior
 
@@ -43,6 +43,8 @@ RADIUS_FIT = (0.85, 1.2)
 #: safety net: the sliding pad rolls the ball 1-5 mm per phase 3, more over the ridge)
 HOLD_SLIP = 0.01
 STALL_ROTATION = math.radians(5.0)
+#: sensed features closer than this (object frame) are one [rad]
+SAME_FEATURE = math.radians(15.0)
 #: simulated time between two calls of ``on_progress`` [s]
 PROGRESS_STEP = 0.1
 
@@ -111,7 +113,10 @@ def explore_object(
     from planner.exploration.planar.metrics import coverage_of, detect_pad_features
 
     trace = trace_arrays(ctrl)
-    moved = [(p.start, p.end) for p in runner.records if p.event == "object moved"]
+    # phases whose pad trace is not a tangent contact on a held object: the held object
+    # moved, or a back-stroke (the pad touches with its edge; its rows gave a phantom groove)
+    moved = [(p.start, p.end) for p in runner.records
+             if p.event == "object moved" or p.backstroke]  # fmt: skip
     tip_r = hand.params.right.tip_radius
     features = detect_pad_features(trace, profile, start["rest"], R, s.explore_force, tip_r, moved)
     timings = {
@@ -262,10 +267,19 @@ class _Runner:
         return rotation_cap(self.sensed_features, self.theta)
 
     def _feature_behind(self, event: str) -> float | None:
-        """The world angle [rad] of a feature the last phase 3 slid over (back-stroke)."""
+        """Records a feature the last phase 3 met (object frame, for :meth:`_rotation_cap`)
+        and returns its world angle [rad] when the pad slid over it (a back-stroke
+        follows), else None."""
         if event not in ("path finished", "workspace limit"):
             return None
-        return feature_crossed(np.asarray(self.ctrl.trace[self._rows[0] : self._rows[1]]))
+        bump = sensed_bump(np.asarray(self.ctrl.trace[self._rows[0] : self._rows[1]]))
+        if bump is None:
+            return None
+        f = math.remainder(bump[0] - self.theta, 2 * math.pi)
+        if all(abs(math.remainder(f - g, 2 * math.pi)) > SAME_FEATURE
+               for g in self.sensed_features):  # fmt: skip
+            self.sensed_features.append(f)
+        return bump[0] if bump[1] else None
 
     def _blocking(self, est, q, mu: float) -> str:
         """Which constraint blocks phase 1 at the sensed grasp (the issue's three):
@@ -410,10 +424,9 @@ class _Runner:
                                     f"epsilon {eps:.3f}: skip phase 3, rotate again"})  # fmt: skip
                 return 1, True
             return 3, False
-        if not self.records[-1].backstroke:
+        if self.s.sensed_features and not self.records[-1].backstroke:
             self._via = self._feature_behind(event)
             if self._via is not None:
-                self.sensed_features.append(math.remainder(self._via - self.theta, 2 * math.pi))
                 self.events.append({"t": self.world.time, "kind": "backstroke",
                                     "message": "the pad slid over a feature at "
                                     f"{math.degrees(self._via):.0f} deg (world): back-stroke "

@@ -194,7 +194,8 @@ def explore_segment(
 
     holder = 0 if kind == 2 else 1
     f_hold0 = float(max(est.normal_force[holder], 0.0))
-    hold = ForceRamp(f_hold0, s.hold_force, s.startup_time)
+    f_hold = s.left_hold_force if holder == 0 else s.hold_force
+    hold = ForceRamp(f_hold0, f_hold, s.startup_time)
     f_exp0 = float(max(est.normal_force[k], 0.0))
     fexp = ForceRamp(f_exp0, s.explore_force, s.startup_time)
     phiR = float(q[3:6].sum())

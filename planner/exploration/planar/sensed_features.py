@@ -2,9 +2,9 @@
 plan is "re-done at the start of every phase from the current estimate: the nominal
 shape plus what the fingers have sensed").
 
-* :func:`feature_crossed`: after a phase 3, whether the flat pad slid over a macro feature
-  (a ridge) and where: its sensed contact rose above the nominal circle in the middle of
-  the pass. The executor then runs a *back-stroke* (a second phase 3 that returns onto
+* :func:`sensed_bump`: after a phase 3, whether the flat pad met a macro feature (a ridge)
+  and where: its sensed contact rose above the nominal circle during the pass. When the
+  pad slid over it, the executor then runs a *back-stroke* (a second phase 3 that returns onto
   the feature's far side with the pad's trailing edge, :func:`.segments.explore_segment`
   ``via``): the pad and the round tip jump over a ridge's far side, and without it the
   9 deg next to the 10 cm ball's ridge were never touched (coverage 0.97).
@@ -36,18 +36,19 @@ PALM_ANGLE = -0.5 * math.pi
 _COL = {k: i for i, k in enumerate(TRACE_NAMES)}
 
 
-def feature_crossed(rows: np.ndarray) -> float | None:
-    """The world polar angle [rad] of a macro feature the pad slid over in one phase 3,
-    when the pass ended at least :data:`BACKSTROKE_MIN` beyond it; else None.
+def sensed_bump(rows: np.ndarray) -> tuple[float, bool] | None:
+    """The macro feature the pad met in one phase 3: ``(world polar angle [rad], crossed)``
+    (``crossed``: the pad slid over it and the pass ended at least :data:`BACKSTROKE_MIN`
+    beyond it), or None.
 
     Args:
         rows: (N, len(TRACE_NAMES)) the controller's trace rows of the phase.
 
     The feature is a bump of at least :data:`FEATURE_HEIGHT` in the pad contact's distance
-    from the sensed centre, higher than both ends of the pass (a whole pass lifted by a
-    centre estimate 3 mm off is no feature), located at the middle of the rows above half
-    its height (the pad tilts onto the ridge's corners: the highest row was 8 deg beside
-    the ridge's middle).
+    from the sensed centre above the pass's start (a whole pass lifted by a centre estimate
+    3 mm off is no feature), located at the middle of the rows above half its height (the
+    pad tilts onto the ridge's corners: the highest row was 8 deg beside the ridge's
+    middle; a pass that ends on the feature saw its near half only).
     """
     tr = np.asarray(rows, dtype=float)
     if tr.ndim != 2 or len(tr) < 10:
@@ -61,13 +62,13 @@ def feature_crossed(rows: np.ndarray) -> float | None:
     r, b = np.hypot(dx, dy), np.unwrap(np.arctan2(dy, dx))
     k = int(np.argmax(r))
     base = float(np.median(r))
-    if r[k] - base < FEATURE_HEIGHT or max(r[0], r[-1]) > r[k] - FEATURE_HEIGHT:
+    if r[k] - base < FEATURE_HEIGHT or r[0] > r[k] - FEATURE_HEIGHT:
         return None
     top = b[r >= 0.5 * (r[k] + base)]
     mid = 0.5 * float(top.min() + top.max())
-    if math.copysign(1.0, b[-1] - b[0]) * (b[-1] - mid) < BACKSTROKE_MIN:
-        return None
-    return math.remainder(mid, 2 * math.pi)
+    beyond = math.copysign(1.0, b[-1] - b[0]) * (b[-1] - mid) >= BACKSTROKE_MIN
+    crossed = bool(beyond and r[-1] <= r[k] - FEATURE_HEIGHT)
+    return math.remainder(mid, 2 * math.pi), crossed
 
 
 def rotation_cap(features, theta: float) -> float:
@@ -88,4 +89,4 @@ def rotation_cap(features, theta: float) -> float:
     return cap if cap >= MIN_CAPPED else math.inf
 
 
-__all__ = ["feature_crossed", "rotation_cap"]
+__all__ = ["rotation_cap", "sensed_bump"]
