@@ -138,3 +138,30 @@ def test_nlp_rotation_cap():
     capped = nlp.solve(q0, c, R, r, 0.8, beta, 0.0, warm=False, max_rotation=cap)
     assert free.success and capped.success
     assert capped.rotation == pytest.approx(-cap, abs=1e-5)
+
+
+def test_a_stall_fails_the_gait_unless_the_full_turn_is_done():
+    from planner.exploration.planar.machine import stall_outcome
+
+    status, reason = stall_outcome(-math.radians(146.7))
+    assert status == "failed" and reason.startswith("no progress")
+    status, reason = stall_outcome(-math.radians(373.1))
+    assert status == "ok" and "373.1 deg (a full turn)" in reason
+
+
+@pytest.mark.parametrize(("kind", "expected"), [(2, 0.7), (3, 1.9)])
+def test_each_holder_ramps_to_its_own_force(kind, expected):
+    """Phase 2: the left pad holds with ``left_hold_force``; phase 3: the right finger
+    with ``hold_force`` (both ramped from the sensed force over the startup)."""
+    s = GaitSettings(hold_force=1.9, left_hold_force=0.7)
+    seg = explore_segment(kind, _est(2.6), np.zeros(6), 2.4, 0.0, s, PlanarHand())
+    assert seg.hold_force(s.startup_time) == pytest.approx(expected)
+    holder = 0 if kind == 2 else 1
+    assert seg.hold_force(0.0) == pytest.approx(_est(2.6).normal_force[holder])
+
+
+def test_left_hold_force_is_validated():
+    from planner.errors import InvalidParameter
+
+    with pytest.raises(InvalidParameter, match="left_hold_force"):
+        GaitSettings(left_hold_force=0.0)

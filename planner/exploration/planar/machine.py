@@ -210,15 +210,7 @@ class _Runner:
                               f"rotated {rot:.1f} deg ({event})")  # fmt: skip
                     return
                 if self._stalled():
-                    lim = math.degrees(STALL_ROTATION)
-                    why = (f"no progress: the last {STALL_CYCLES} cycles turned the object "
-                           f"less than {lim:.0f} deg")  # fmt: skip
-                    turned = abs(self.rotation())
-                    if turned >= FULL_TURN:  # the full turn is done: only the extra cycle stalled
-                        self._end("ok", f"object turned {math.degrees(turned):.1f} deg (a full "
-                                  f"turn); the cycle after it stopped: {why}")  # fmt: skip
-                    else:
-                        self._end("failed", why)
+                    self._end(*stall_outcome(self.rotation()))
                     return
             kind, skip = self._next(kind, event, est)
 
@@ -439,6 +431,19 @@ class _Runner:
         last = self.records[-1].kind if self.records else 0
         self.events.append({"t": self.world.time, "kind": "end", "status": status,
                             "message": reason, "last_phase": last})  # fmt: skip
+
+
+def stall_outcome(rotation: float) -> tuple[str, str]:
+    """``(status, reason)`` of a gait whose last :data:`STALL_CYCLES` cycles turned the
+    object less than :data:`STALL_ROTATION`, after a total ``rotation`` [rad]: failed,
+    unless the full turn was done (then only the extra cycle of ``max_rotation`` stalled)."""
+    why = (f"no progress: the last {STALL_CYCLES} cycles turned the object less than "
+           f"{math.degrees(STALL_ROTATION):.0f} deg")  # fmt: skip
+    turned = abs(rotation)
+    if turned >= FULL_TURN:
+        return "ok", (f"object turned {math.degrees(turned):.1f} deg (a full turn); the cycle "
+                      f"after it stopped: {why}")  # fmt: skip
+    return "failed", why
 
 
 def trace_arrays(ctrl) -> dict:
