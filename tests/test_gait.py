@@ -35,9 +35,21 @@ def test_bad_inputs_raise():
         explore_object(shapes.circle(0.02), duration=0.1)
 
 
+PROGRESS: list[float] = []
+
+
 @pytest.fixture(scope="module")
 def short_run():
-    return explore_object(circle_with_ridge(angle=math.radians(170)), duration=0.3, seed=1)
+    return explore_object(circle_with_ridge(angle=math.radians(170)), duration=0.3, seed=1,
+                          on_progress=PROGRESS.append)  # fmt: skip
+
+
+def test_progress_is_reported_every_tenth_of_a_simulated_second(short_run):
+    from planner.exploration.planar.machine import PROGRESS_STEP
+
+    assert len(PROGRESS) >= 2
+    assert np.all(np.diff(PROGRESS) >= PROGRESS_STEP - 1e-9)
+    assert 0.0 < PROGRESS[-1] <= 0.3 + 1e-9
 
 
 def test_short_run_grasps_and_rotates_clockwise(short_run):

@@ -17,7 +17,9 @@ Keys (SI units)::
     mu: 1.0                      # friction of fingers/palm/object [-]
     explore_force: 0.3           # normal force of the exploring finger [N]
     internal_force: 1.0          # squeeze of the two-finger grasp (phase 1) [N]
-    hold_force: 2.0              # press of the holding finger against the palm (phases 2/3) [N]
+    hold_force: 2.0              # press of the right finger against the palm (phase 3) [N]
+    left_hold_force: 2.0         # press of the left pad against the palm (phase 2) [N]
+    sensed_features: false       # back-stroke over sensed ridges, palm cap (GaitSettings)
     object_mass: 0.05            # [kg]
     rotation_speed: 0.4          # phase-1 rotation speed [rad/s]
     explore_speed: 0.03          # exploring contact speed [m/s]
@@ -182,7 +184,9 @@ class Config(ScenarioBase):
     mu: float = Field(1.0, gt=0, le=10, description="friction coefficient [-]")
     explore_force: float = Field(0.3, gt=0, le=5, description="[N]")
     internal_force: float = Field(1.0, gt=0, le=20, description="[N]")
-    hold_force: float = Field(2.0, gt=0, le=20, description="phases 2/3 press [N]")
+    hold_force: float = Field(2.0, gt=0, le=20, description="phase 3 right finger press [N]")
+    left_hold_force: float = Field(2.0, gt=0, le=20, description="phase 2 left pad press [N]")
+    sensed_features: bool = Field(False, description="back-stroke + palm cap (GaitSettings)")
     object_mass: float = Field(0.05, gt=0, le=2, description="[kg]")
     rotation_speed: float = Field(0.4, gt=0, le=3, description="[rad/s]")
     explore_speed: float = Field(0.03, gt=0, le=0.5, description="[m/s]")
@@ -211,6 +215,7 @@ class Config(ScenarioBase):
         g = self.gains
         return GaitSettings(
             mu=self.mu, internal_force=self.internal_force, hold_force=self.hold_force,
+            left_hold_force=self.left_hold_force, sensed_features=self.sensed_features,
             explore_force=self.explore_force,
             object_mass=self.object_mass, object_kp=g.object_kp, object_kv=g.object_kv,
             rolling_gains=g.rolling, hold_kp=g.hold_kp, hold_kv=g.hold_kv, tip_kp=g.tip_kp,
@@ -229,7 +234,14 @@ def run(config: Config, ctx):
     duration = config.quick_duration if ctx.quick else config.duration
     s = config.settings()
     seed = int(ctx.rng.integers(2**31))
-    with ctx.timer("simulation"):
+    bar = ctx.progress(total=round(duration, 1), desc="gait [sim s]")
+    done = [0.0]
+
+    def advance(t: float) -> None:
+        bar.update(round(min(t, duration) - done[0], 1))
+        done[0] = round(min(t, duration), 1)
+
+    with ctx.timer("simulation"), bar:
         if config.task == "explicit_rolling":
             res = explicit_rolling(profile, hand=_hand(config), mu=config.mu,
                                    amplitude=config.rolling.amplitude,
@@ -239,7 +251,8 @@ def run(config: Config, ctx):
             res = explore_object(profile, hand=_hand(config), mu=config.mu, nominal=nominal,
                                  seed=seed,
                                  duration=duration, settings=s,
-                                 max_rotation=math.radians(config.max_rotation_deg))  # fmt: skip
+                                 max_rotation=math.radians(config.max_rotation_deg),
+                                 on_progress=advance)  # fmt: skip
     from planner.kinds._gait_report import report
 
     return report(config, ctx, res, profile, duration, _hand(config))

@@ -16,12 +16,14 @@ position ``u_k`` across the flat left pad [m]. Constraints, at every knot:
 * pure rolling, eq. (2.4) integrated: the contact travels equal arclengths on the object
   (``R (beta - theta)``) and on the fingertip (round: ``r (beta + pi - phi)``; pad: ``-u``):
   ``R d(beta - theta) + d s_f = 0``;
-* joint limits with a margin, the pad contact within the pad, the round contact within
-  ``max_tip_angle`` of the tip's axis;
+* joint limits with a margin (a joint that starts inside the margin band may stay there but
+  not move further toward its limit), the pad contact within the pad, the round contact
+  within ``max_tip_angle`` of the tip's axis;
 * stability (Yoshikawa-Nagai, eq. 2.9): the contact line within the friction cones with an
   angular margin, ``(-n_i) . u_i >= cos(atan(mu) - margin)``;
-* the object above the palm (``c_y >= R``) and near its start; monotone clockwise rotation
-  with at most ``max_step`` per knot.
+* the object above the palm (``c_y >= R``) and near its start, set down at the end (its
+  final centre at most :data:`SET_DOWN` above the start: phases 2/3 hold it against the
+  palm); monotone clockwise rotation with at most ``max_step`` per knot.
 
 Objective: maximize the rotation ``-theta_N`` plus a small smoothness term. The NLP is built
 once (:class:`RollingNLP`, parameters = the estimate and the start state) and solved with
@@ -38,10 +40,13 @@ import numpy as np
 
 from planner import checks
 
-#: number of parameters: R, r, mu, margin, c0 (2), q0 (6), beta0 (2), u0, q_margin, home_x
-_NP = 17
+#: number of parameters: R, r, mu, margin, c0 (2), q0 (6), beta0 (2), u0, q_margin, home_x,
+#: max_rotation
+_NP = 18
 #: weight of the final centre's distance from ``home_x`` [1/m^2] (objective units: rad)
 HOME_WEIGHT = 500.0
+#: the object's final centre at most this higher than at the start [m]
+SET_DOWN = 1.0e-3
 
 
 @dataclass(frozen=True)
@@ -56,6 +61,8 @@ class RollingPlan:
         u: (N+1,) contact position across the left pad [m].
         rotation: total rotation ``theta[-1]`` [rad].
         success: the solver converged; solve_time_s: wall time of the solve [s].
+        solve_cpu_s: its CPU time [s] (what load on a shared machine does not inflate).
+        iterations: IPOPT iterations.
         stop: which constraint ends the rotation (the largest multiplier group).
     """
 
@@ -68,6 +75,8 @@ class RollingPlan:
     success: bool
     solve_time_s: float
     stop: str
+    solve_cpu_s: float = float("nan")
+    iterations: int = 0
 
 
 class RollingNLP:
@@ -109,6 +118,7 @@ class RollingNLP:
         P = cs.SX.sym("p", _NP)
         R, r, mu, margin = P[0], P[1], P[2], P[3]
         c0, q0, beta0, u0, qm, home = P[4:6], P[6:12], P[12:14], P[14], P[15], P[16]
+        max_rot = P[17]
         qk = cs.SX.sym("qk", 6)
         T = finger_terms_sx(hand.model, qk, cs.SX.zeros(6), cs.SX.zeros(4), cs.SX.zeros(2))
         fk = cs.Function(
@@ -157,10 +167,14 @@ class RollingNLP:
                 vp = X[nk * (k - 1) : nk * k]
                 add(vp[0] - th, 0, self.max_step)  # clockwise, bounded steps
                 obj += 1e-2 * cs.sumsqr(q - vp[3:9]) + 1e2 * cs.sumsqr(c - vp[1:3])
-            # joint limits with a margin (the start is what it is)
+            # joint limits with a margin, relaxed to the start: a joint that starts inside
+            # the margin band (or beyond its limit: the previous phase ended on a workspace
+            # event) may stay where it is but not move further toward its limit (the strict
+            # margin at knot 1 made the NLP infeasible right at the start: "solver failed;
+            # blocking: workspace (joint 5 0.0 deg from its limit)" on 20 of 31 objects)
             for i in range(6 if k > 0 else 0):
-                add(q[i] - lim[i, 0] - qm, 0, cs.inf)
-                add(q[i] - lim[i, 1] + qm, -cs.inf, 0)
+                add(q[i] - cs.fmin(lim[i, 0] + qm, q0[i]), 0, cs.inf)
+                add(q[i] - cs.fmax(lim[i, 1] - qm, q0[i]), -cs.inf, 0)
             add(u, -pad_use * pad, pad_use * pad)
             # round contact near the tip axis: angle of (-n_R) in the tip frame vs +y
             add(cs.cos((bR + math.pi - phR) - math.pi / 2), math.cos(self.max_tip_angle), 1.0)
@@ -178,6 +192,13 @@ class RollingNLP:
                 # the start itself infeasible for a 12 x 10 cm ellipse)
                 add(c[1] - cs.fmin(R, X[2]), 0, cs.inf)
             add(cs.sumsqr(c - X[1:3]), 0, self.travel**2)
+            if k == N:
+                # set the object down where it started (on the palm): phases 2/3 hold it
+                # against the palm, and an object left lifted fell back under the holding
+                # finger there, rolling back (a 3 cm circle ended phase 1 11 mm up and rolled
+                # back 14 of its 27 deg in phase 2: "no progress")
+                add(c[1] - X[2], -cs.inf, SET_DOWN)
+                add(th + max_rot, 0, cs.inf)  # at most max_rotation clockwise
         obj += X[nk * N]  # theta_N (negative): minimize = rotate as far as possible
         # bring the object back over the hand's middle: the explorers' friction rolls it along
         # the palm in phases 2/3 (up to 4 cm after a ridge caught the right tip) and an object
@@ -228,6 +249,7 @@ class RollingNLP:
         joint_margin: float = 0.05,
         warm: bool = True,
         home_x: float | None = None,
+        max_rotation: float = math.inf,
     ) -> RollingPlan:
         """Plan phase 1 from the current configuration.
 
@@ -241,6 +263,8 @@ class RollingNLP:
             joint_margin: distance kept from every joint limit [rad].
             warm: start from the previous solution (shifted to the new start).
             home_x: where the object centre should end, x [m] (default: where it starts).
+            max_rotation: the largest rotation to plan [rad] (e.g. to stop before a sensed
+                feature reaches the palm).
 
         Returns:
             the :class:`RollingPlan`.
@@ -258,6 +282,7 @@ class RollingNLP:
                 q0,
                 beta0,
                 [u0, joint_margin, centre[0] if home_x is None else float(home_x)],
+                [min(float(max_rotation), 10.0)],
             ]
         )
         x0 = self.initial_guess(q0, centre, beta0, u0)
@@ -269,8 +294,9 @@ class RollingNLP:
             args["x0"] = prev.ravel()
             args["lam_g0"] = self._lam_g
             args["lam_x0"] = self._lam_x
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         sol = self._solver(**args)
+        cpu = time.process_time() - c0
         ok = bool(self._solver.stats()["success"])
         self.iterations = int(self._solver.stats()["iter_count"])
         dt = time.perf_counter() - t0
@@ -293,6 +319,8 @@ class RollingNLP:
             success=ok,
             solve_time_s=dt,
             stop=stop,
+            solve_cpu_s=cpu,
+            iterations=self.iterations,
         )
 
     def _binding(self, lam: np.ndarray) -> str:
@@ -302,7 +330,8 @@ class RollingNLP:
             + ["start"] * 0
             + ["flat pad", "rolling", "rolling", "step"]
             + ["joint limit"] * 12
-            + ["pad edge", "tip angle", "stability", "stability", "palm", "travel"]
+            + ["pad edge", "tip angle", "stability", "stability", "palm", "travel", "set down"]
+            + ["rotation cap"]
         )
         last = lam[-len(names) :]
         k = int(np.argmax(np.abs(last)))

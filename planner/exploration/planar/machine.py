@@ -25,6 +25,7 @@ from planner.exploration.planar.logs import concat_logs
 from planner.exploration.planar.objects import mean_radius
 from planner.exploration.planar.result import ExplorationResult, PhaseRecord
 from planner.exploration.planar.segments import explore_segment, phase1_segment
+from planner.exploration.planar.sensed_features import rotation_cap, sensed_bump
 from planner.exploration.planar.settings import GaitSettings
 from planner.exploration.planar.setup import build_world, gait_prior
 
@@ -42,6 +43,10 @@ RADIUS_FIT = (0.85, 1.2)
 #: safety net: the sliding pad rolls the ball 1-5 mm per phase 3, more over the ridge)
 HOLD_SLIP = 0.01
 STALL_ROTATION = math.radians(5.0)
+#: sensed features closer than this (object frame) are one [rad]
+SAME_FEATURE = math.radians(15.0)
+#: simulated time between two calls of ``on_progress`` [s]
+PROGRESS_STEP = 0.1
 
 
 def explore_object(
@@ -55,6 +60,7 @@ def explore_object(
     settings: GaitSettings | None = None,
     max_rotation: float = FULL_TURN,
     use_prior: bool = True,
+    on_progress=None,
 ) -> ExplorationResult:
     """Explore a planar object with the two-finger hand and palm (thesis ch. 2).
 
@@ -71,6 +77,8 @@ def explore_object(
         settings: :class:`GaitSettings` (gains, speeds, thresholds, time step).
         max_rotation: stop after this much (true) rotation [rad].
         use_prior: run ``planner.grasp.plan_gait`` on the nominal shape for the start grasp.
+        on_progress: ``callable(t)`` called with the simulated time [s] every
+            :data:`PROGRESS_STEP` simulated seconds (e.g. to advance a progress bar).
 
     Returns:
         the :class:`ExplorationResult`.
@@ -98,18 +106,24 @@ def explore_object(
     nlp = RollingNLP(hand, knots=s.nlp_knots)
     nlp_build = time.perf_counter() - t_build
     runner = _Runner(world, ctrl, nlp, s, hand, start, duration, max_rotation)
+    runner.on_progress = on_progress
     runner.execute()
     log = concat_logs(runner.logs)
     rotation = runner.rotation()
     from planner.exploration.planar.metrics import coverage_of, detect_pad_features
 
     trace = trace_arrays(ctrl)
-    moved = [(p.start, p.end) for p in runner.records if p.event == "object moved"]
+    # phases whose pad trace is not a tangent contact on a held object: the held object
+    # moved, or a back-stroke (the pad touches with its edge; its rows gave a phantom groove)
+    moved = [(p.start, p.end) for p in runner.records
+             if p.event == "object moved" or p.backstroke]  # fmt: skip
     tip_r = hand.params.right.tip_radius
     features = detect_pad_features(trace, profile, start["rest"], R, s.explore_force, tip_r, moved)
     timings = {
         "nlp_build_s": nlp_build,
         "nlp_solve_ms": [1e3 * p.nlp_time_s for p in runner.records if p.kind == 1],
+        "nlp_solve_cpu_ms": [1e3 * p.nlp_cpu_s for p in runner.records if p.kind == 1],
+        "nlp_iterations": [p.nlp_iterations for p in runner.records if p.kind == 1],
         "control_step_us": list(1e6 * np.asarray(ctrl.step_times)),
         "wall_s": time.perf_counter() - wall0,
     }
@@ -144,6 +158,13 @@ class _Runner:
         self.angle0 = float(world.pose("object")[2])
         self._traces: list = []
         self.R_nominal = float(ctrl.sensing.radius)
+        self._rows = (0, 0)  # trace rows of the last phase
+        self.on_progress = None
+        self._reported = 0.0  # simulated time of the last on_progress call [s]
+        self._via: float | None = None  # the pending back-stroke's turning angle [rad]
+        self._stroking = False  # the phase being run is a back-stroke
+        self._plan1 = None  # the last phase-1 plan (its solve statistics)
+        self.sensed_features: list[float] = []  # object-frame angles of sensed bumps [rad]
 
     def rotation(self) -> float:
         """True rotation of the object so far [rad] (unwrapped from the logs)."""
@@ -189,9 +210,7 @@ class _Runner:
                               f"rotated {rot:.1f} deg ({event})")  # fmt: skip
                     return
                 if self._stalled():
-                    lim = math.degrees(STALL_ROTATION)
-                    self._end("failed", f"no progress: the last {STALL_CYCLES} cycles turned "
-                              f"the object less than {lim:.0f} deg")  # fmt: skip
+                    self._end(*stall_outcome(self.rotation()))
                     return
             kind, skip = self._next(kind, event, est)
 
@@ -215,7 +234,9 @@ class _Runner:
             est = self.ctrl.sensing.update(self.world.observe(), "auto")
             plan = self.nlp.solve(q, est.centre, R, r, mu, est.beta, est.u, margin=s.nlp_margin,
                                   joint_margin=s.joint_margin + 0.02,
-                                  home_x=self.start["rest"][0])  # fmt: skip
+                                  home_x=self.start["rest"][0],
+                                  max_rotation=self._rotation_cap())  # fmt: skip
+            self._plan1 = plan
             if not plan.success or abs(plan.rotation) < math.radians(1.0):
                 why = self._blocking(est, q, mu)
                 return None, 0.0, plan.solve_time_s, f"phase-1 NLP: {plan.stop}; {why}"
@@ -223,10 +244,34 @@ class _Runner:
             return seg, plan.rotation, plan.solve_time_s, ""
         if kind == 2:
             target = max(self.start["beta"][1], self._right_hold_angle())
+        elif self._via is not None:  # the back-stroke: onto the feature's far side and back
+            via, self._via, self._stroking = self._via, None, True
+            seg = explore_segment(3, est, q, float(est.beta[0]), self.theta, s, self.hand,
+                                  PHASE1_TRAVEL, via=via)  # fmt: skip
+            return seg, 0.0, 0.0, ""
         else:
             target = self._left_regrasp_angle(est)
         seg = explore_segment(kind, est, q, target, self.theta, s, self.hand, PHASE1_TRAVEL)
         return seg, 0.0, 0.0, ""
+
+    def _rotation_cap(self) -> float:
+        """The phase-1 rotation cap [rad] that keeps sensed features off the palm."""
+        return rotation_cap(self.sensed_features, self.theta)
+
+    def _feature_behind(self, event: str) -> float | None:
+        """Records a feature the last phase 3 met (object frame, for :meth:`_rotation_cap`)
+        and returns its world angle [rad] when the pad slid over it (a back-stroke
+        follows), else None."""
+        if event not in ("path finished", "workspace limit"):
+            return None
+        bump = sensed_bump(np.asarray(self.ctrl.trace[self._rows[0] : self._rows[1]]))
+        if bump is None:
+            return None
+        f = math.remainder(bump[0] - self.theta, 2 * math.pi)
+        if all(abs(math.remainder(f - g, 2 * math.pi)) > SAME_FEATURE
+               for g in self.sensed_features):  # fmt: skip
+            self.sensed_features.append(f)
+        return bump[0] if bump[1] else None
 
     def _blocking(self, est, q, mu: float) -> str:
         """Which constraint blocks phase 1 at the sensed grasp (the issue's three):
@@ -298,6 +343,9 @@ class _Runner:
         def stop(t, world):
             if not c0:
                 c0.append(c.sensing.est.centre.copy())
+            if self.on_progress is not None and t - self._reported >= PROGRESS_STEP:
+                self._reported = t
+                self.on_progress(t)
             # phases 2/3: the held object must stay where it is; a sensed centre that moved
             # HOLD_SLIP means the explorer drags it (a ridge caught the round right tip and
             # rolled the ball 30 deg back along the palm before this check)
@@ -308,6 +356,7 @@ class _Runner:
 
         log = w.run(max(horizon, w.dt), c, control_rate=self.s.control_rate, stop=stop)
         self.logs.append(log)
+        self._rows = (n0, len(c.trace))
         self.theta = c.theta
         if kind != 1 and len(c.trace) > n0 + 1:
             # phases 2/3 hold the object on the palm, where it rolls (the explorer's friction
@@ -336,8 +385,11 @@ class _Runner:
             kind=kind, skip=skip, start=t0, end=w.time, rotation=float(a[-1] - a[0]),
             planned_rotation=planned, event=event,
             epsilon=eps_min[0] if math.isfinite(eps_min[0]) else float("nan"),
-            nlp_time_s=nlp_t,
+            nlp_time_s=nlp_t, backstroke=self._stroking,
+            nlp_cpu_s=self._plan1.solve_cpu_s if kind == 1 else 0.0,
+            nlp_iterations=self._plan1.iterations if kind == 1 else 0,
         )  # fmt: skip
+        self._stroking = False
         self.records.append(rec)
         if kind == 1 and abs(rec.rotation) < 0.5 * abs(planned):
             msg = (f"rotated {math.degrees(rec.rotation):.1f} deg of the planned "
@@ -364,6 +416,14 @@ class _Runner:
                                     f"epsilon {eps:.3f}: skip phase 3, rotate again"})  # fmt: skip
                 return 1, True
             return 3, False
+        if self.s.sensed_features and not self.records[-1].backstroke:
+            self._via = self._feature_behind(event)
+            if self._via is not None:
+                self.events.append({"t": self.world.time, "kind": "backstroke",
+                                    "message": "the pad slid over a feature at "
+                                    f"{math.degrees(self._via):.0f} deg (world): back-stroke "
+                                    "onto its far side"})  # fmt: skip
+                return 3, False
         return 1, False
 
     def _end(self, status: str, reason: str) -> None:
@@ -371,6 +431,19 @@ class _Runner:
         last = self.records[-1].kind if self.records else 0
         self.events.append({"t": self.world.time, "kind": "end", "status": status,
                             "message": reason, "last_phase": last})  # fmt: skip
+
+
+def stall_outcome(rotation: float) -> tuple[str, str]:
+    """``(status, reason)`` of a gait whose last :data:`STALL_CYCLES` cycles turned the
+    object less than :data:`STALL_ROTATION`, after a total ``rotation`` [rad]: failed,
+    unless the full turn was done (then only the extra cycle of ``max_rotation`` stalled)."""
+    why = (f"no progress: the last {STALL_CYCLES} cycles turned the object less than "
+           f"{math.degrees(STALL_ROTATION):.0f} deg")  # fmt: skip
+    turned = abs(rotation)
+    if turned >= FULL_TURN:
+        return "ok", (f"object turned {math.degrees(turned):.1f} deg (a full turn); the cycle "
+                      f"after it stopped: {why}")  # fmt: skip
+    return "failed", why
 
 
 def trace_arrays(ctrl) -> dict:

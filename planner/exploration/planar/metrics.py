@@ -218,6 +218,11 @@ def _rms(x) -> float:
     return float(np.sqrt(np.mean(x * x))) if x.size else float("nan")
 
 
+def _median(x) -> float:
+    x = np.asarray(x, float)
+    return float(np.median(x)) if x.size else float("nan")
+
+
 def slip_distance(log) -> float:
     """Total sliding distance of the fingertips over objects [m] (integrated slip speed)."""
     total = 0.0
@@ -260,6 +265,8 @@ def summary_metrics(res, ridge_angle, explore_force: float, internal_force: floa
         "wall_s": wall,
         "nlp_build_s": res.timings.get("nlp_build_s", float("nan")),
         "nlp_solve_median_ms": float(np.median(nlp)) if nlp.size else float("nan"),
+        "nlp_solve_cpu_median_ms": _median(res.timings.get("nlp_solve_cpu_ms", [])),
+        "nlp_iterations_median": _median(res.timings.get("nlp_iterations", [])),
         "controller_call_median_us": float(np.median(steps)) if steps.size else float("nan"),
         "end_event": res.phases[-1].event if res.phases else "",
     }

@@ -24,6 +24,9 @@ class PhaseRecord:
             "contact lost", "no plan: ...", "object dropped", ...).
         epsilon: smallest sensed epsilon of the grasp during the phase (NaN if not a grasp).
         nlp_time_s: solve time of its NLP [s] (phase 1), else 0.
+        nlp_cpu_s, nlp_iterations: its CPU time [s] and IPOPT iterations.
+        backstroke: a phase-3 back-stroke (the pad returns onto the far side of a feature
+            it slid over in the phase 3 before).
     """
 
     kind: int
@@ -35,6 +38,9 @@ class PhaseRecord:
     event: str
     epsilon: float = float("nan")
     nlp_time_s: float = 0.0
+    backstroke: bool = False
+    nlp_cpu_s: float = 0.0
+    nlp_iterations: int = 0
 
     def to_json(self) -> dict:
         return {
@@ -44,7 +50,8 @@ class PhaseRecord:
             "planned_rotation_deg": round(float(np.rad2deg(self.planned_rotation)), 3),
             "event": self.event,
             "epsilon": None if not np.isfinite(self.epsilon) else round(self.epsilon, 5),
-            "nlp_time_ms": round(1e3 * self.nlp_time_s, 3),
+            "nlp_time_ms": round(1e3 * self.nlp_time_s, 3), "backstroke": self.backstroke,
+            "nlp_cpu_ms": round(1e3 * self.nlp_cpu_s, 3), "nlp_iterations": self.nlp_iterations,
         }  # fmt: skip
 
 

@@ -96,21 +96,65 @@ def friction_lag(settings) -> float:
     return settings.mu * settings.explore_force / settings.tip_kp
 
 
+#: in a back-stroke the pad's centre trails its contact by this much less than the pad's
+#: half-width [m]: the pad touches with its trailing edge, its body away from the feature
+#: it approaches (centred, a 20 mm pad tangent to the 10 cm ball met the ridge's wall
+#: with its edge 9-11 deg before its contact could get there)
+EDGE_MARGIN = 1.5e-3
+
+
+def _stroke(b0: float, b1: float, via: float | None, radius: float, speed: float):
+    """The explorer's contact angle ``tm -> (beta, rate, accel)`` [rad, rad/s, rad/s^2] from
+    ``b0`` to ``b1`` (through ``via`` when given), quintic pieces at rest at their ends,
+    the time [s] it reaches ``via`` (or ``b1``) and its duration [s] (``radius`` [m],
+    ``speed`` [m/s])."""
+    stops = [b0, b1] if via is None else [b0, via, b1]
+    pieces, times = [], [0.0]
+    for a, b in zip(stops, stops[1:], strict=False):
+        T = max(abs(b - a) * radius / speed, 0.05)
+        pieces.append(QuinticSpline.between([a], [b], T).scalar())
+        times.append(times[-1] + T)
+    if len(pieces) == 1:
+        return pieces[0], times[-1], times[-1]
+    split = times[1]
+
+    def path(tm: float):
+        return pieces[0](tm) if tm < split else pieces[1](tm - split)
+
+    return path, split, times[-1]
+
+
 def explore_segment(
-    kind: int, est, q, target_beta: float, theta0: float, settings, hand, travel: float = 0.35
+    kind: int,
+    est,
+    q,
+    target_beta: float,
+    theta0: float,
+    settings,
+    hand,
+    travel: float = 0.35,
+    via: float | None = None,
 ):
     """The phase-2 (``kind`` 2: right explores) or phase-3 (left explores) segment that
     moves the explorer's contact from its sensed angle to ``target_beta`` [rad];
     ``travel`` [rad] is the contact travel expected in the next phase 1 (for the
-    orientation heuristic)."""
+    orientation heuristic). ``via`` [rad] (phase 3 only): a back-stroke, to ``via`` and back
+    to ``target_beta``, the pad's centre trailing its contact (:data:`EDGE_MARGIN`) so
+    that its edge reaches the far side of a feature the pad jumped over."""
     s = settings
     k = 1 if kind == 2 else 0
     radius = float(np.linalg.norm(est.p[k] - est.centre))
     b0 = float(est.beta[k])
     b1 = b0 + math.atan2(math.sin(target_beta - b0), math.cos(target_beta - b0))
-    T_move = max(abs(b1 - b0) * radius / s.explore_speed, 0.05)
+    trail = 0.0
+    if via is not None and kind == 3:
+        via = b0 + math.atan2(math.sin(via - b0), math.cos(via - b0))
+        # the centre on the tangent, on the side the pad comes from
+        trail = math.copysign(hand.params.left.pad_half_width - EDGE_MARGIN, b0 - via)
+    else:
+        via = None
+    path, _, T_move = _stroke(b0, b1, via, radius, s.explore_speed)
     T = s.startup_time + T_move
-    spline = QuinticSpline.between([b0], [b1], T_move)
     c = est.centre.copy()
     r = hand.params.right.tip_radius
     if k == 1:
@@ -132,21 +176,26 @@ def explore_segment(
             return pad_angle(b, phi0)
 
     lag = friction_lag(s) * math.copysign(1.0, b1 - b0)
-    path = spline.scalar()
     cx, cy = float(c[0]), float(c[1])
+    w_speed = radius / s.explore_speed
 
     def explore(t: float):
         tm = t - s.startup_time
         b, bd, _ = path(tm)
         cb, sb = math.cos(b), math.sin(b)
         w = min(max(min(tm, T_move - tm) / s.startup_time, 0.0), 1.0)
-        p = (cx + radius * cb - w * lag * sb, cy + radius * sb + w * lag * cb)
+        if via is None:
+            ahead = w * lag
+        else:  # the friction lead follows the motion (it flips at the turn); the trail
+            ahead = min(max(bd * w_speed, -1.0), 1.0) * abs(lag) + w * trail
+        p = (cx + radius * cb - ahead * sb, cy + radius * sb + ahead * cb)
         v = (-radius * bd * sb, radius * bd * cb)
         return p, v, phi_of(t, b)
 
     holder = 0 if kind == 2 else 1
     f_hold0 = float(max(est.normal_force[holder], 0.0))
-    hold = ForceRamp(f_hold0, s.hold_force, s.startup_time)
+    f_hold = s.left_hold_force if holder == 0 else s.hold_force
+    hold = ForceRamp(f_hold0, f_hold, s.startup_time)
     f_exp0 = float(max(est.normal_force[k], 0.0))
     fexp = ForceRamp(f_exp0, s.explore_force, s.startup_time)
     phiR = float(q[3:6].sum())

@@ -16,10 +16,24 @@ class GaitSettings:
         mu: friction coefficient the planner assumes [-] (the world uses the true one).
         friction_margin: fraction of ``mu`` kept in reserve in the controllers' cones [-].
         internal_force: commanded internal (squeeze) force of the phase-1 grasp [N].
-        hold_force: force pressing the object against the palm in phases 2/3 [N]. With
+        hold_force: force of the right finger pressing the object against the palm in
+            phase 3 [N]. With
             1 N the explorer's friction rolled the ball back along the palm (1-3.4 deg per
             phase 3) and a 3 mm ridge under the sliding right tip dragged it 30 deg; with
             2 N the tip slides over the ridge and phase 3 loses 0.6-1.3 deg.
+        left_hold_force: force of the left pad pressing the object against the palm in
+            phase 2 [N]. The pad's contact line to the palm leaves less of the explorer's
+            drag to friction than the round right tip's: 0.5 N holds the ball too (0.0-0.5
+            deg per phase 2), and Fig. 2.14's tangential force is then "slightly positive",
+            against the right finger's drag, and changes sign at 19 of 23 2 -> 3 switches
+            of ball_with_ridge; with 2 N the contact line's component (2 N tan 20 deg)
+            points the other way (0/20). Default 2 N: with 0.5 N the ridge was not
+            detected at the end (a phantom feature 116 deg away).
+        sensed_features: use the macro features the pad senses in phase 3 (see
+            :mod:`.sensed_features`): a back-stroke onto a crossed ridge's far side and a
+            phase-1 rotation cap that keeps it off the palm. Measured on ball_with_ridge:
+            coverage 0.986 instead of 0.972, but the ridge was then not detected at the end
+            (a phantom groove from phases with the ridge on the palm), hence off by default.
         explore_force: normal force of the exploring finger (0.3 N, §2.3.2) [N].
         object_mass: the planner's guess of the object mass [kg].
         object_kp, object_kv: object impedance gains (eq. 2.7).
@@ -48,6 +62,8 @@ class GaitSettings:
     friction_margin: float = 0.2
     internal_force: float = 1.0
     hold_force: float = 2.0
+    left_hold_force: float = 2.0
+    sensed_features: bool = False
     explore_force: float = 0.3
     object_mass: float = 0.05
     object_kp: tuple[float, float, float] = (80.0, 80.0, 0.8)
@@ -80,8 +96,9 @@ class GaitSettings:
     def __post_init__(self) -> None:
         checks.positive("mu", self.mu)
         checks.in_range("friction_margin", self.friction_margin, 0.0, 0.9)
-        for name in ("internal_force", "hold_force", "explore_force", "object_mass", "tip_kp",
-                     "phi_kp", "rotation_speed", "explore_speed", "startup_time", "dt",
+        for name in ("internal_force", "hold_force", "left_hold_force", "explore_force",
+                     "object_mass", "tip_kp", "phi_kp", "rotation_speed", "explore_speed",
+                     "startup_time", "dt",
                      "control_rate", "lost_time", "torque_limit", "hold_stiffness"):  # fmt: skip
             checks.positive(name, getattr(self, name))
         for name in ("tip_kv", "phi_kv", "min_force", "joint_margin", "min_epsilon",

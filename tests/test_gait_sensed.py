@@ -1,0 +1,167 @@
+"""Tests of what the gait executor uses from the sensed trace: the macro feature a phase-3
+pass crossed, the phase-1 rotation cap that keeps it off the palm, the back-stroke segment
+and the NLP's rotation bound."""
+
+from __future__ import annotations
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from planner.exploration.planar.controller import TRACE_NAMES
+from planner.exploration.planar.segments import EDGE_MARGIN, explore_segment
+from planner.exploration.planar.sensed_features import (
+    FEATURE_HEIGHT,
+    MIN_CAPPED,
+    PALM_ANGLE,
+    PALM_CLEAR,
+    rotation_cap,
+    sensed_bump,
+)
+from planner.exploration.planar.settings import GaitSettings
+from robots.planar_hand import PlanarHand
+
+R = 0.05
+COL = {k: i for i, k in enumerate(TRACE_NAMES)}
+
+
+def _pass(b0, b1, bump_at=None, height=0.003, width=0.04, lift=0.0, n=400):
+    """Trace rows of a phase-3 pass of the pad from ``b0`` to ``b1`` [rad] over a circle of
+    radius R about (0, R) with a bump of ``height`` [m] and half-width ``width`` [rad]."""
+    rows = np.zeros((n, len(TRACE_NAMES)))
+    b = np.linspace(b0, b1, n)
+    r = np.full(n, R + lift)
+    if bump_at is not None:
+        r += height * (np.abs(b - bump_at) < width)
+    rows[:, COL["t"]] = np.linspace(0.0, 1.0, n)
+    rows[:, COL["kind"]] = 3
+    rows[:, COL["pad_touch"]] = 1
+    rows[:, COL["cy"]] = R
+    rows[:, COL["pLx"]] = r * np.cos(b)
+    rows[:, COL["pLy"]] = R + r * np.sin(b)
+    return rows
+
+
+@pytest.mark.parametrize("direction", [1, -1])
+def test_a_crossed_bump_is_found_at_its_middle(direction):
+    b0, b1 = 2.0, 2.7
+    if direction < 0:
+        b0, b1 = b1, b0
+    angle, crossed = sensed_bump(_pass(b0, b1, bump_at=2.3))
+    assert angle == pytest.approx(2.3, abs=math.radians(0.5))
+    assert crossed
+
+
+def test_a_pass_ending_on_the_bump_sees_its_near_half():
+    angle, crossed = sensed_bump(_pass(2.0, 2.3, bump_at=2.3))
+    assert not crossed
+    assert angle == pytest.approx(2.3 - 0.5 * 0.04, abs=math.radians(0.5))
+
+
+def test_no_bump_without_one_within_the_pass():
+    assert sensed_bump(_pass(2.0, 2.7)) is None  # no bump
+    assert sensed_bump(_pass(2.0, 2.7, lift=0.003)) is None  # a whole pass lifted
+    low = 0.8 * FEATURE_HEIGHT
+    assert sensed_bump(_pass(2.0, 2.7, bump_at=2.3, height=low)) is None  # too low
+    assert sensed_bump(_pass(2.0, 2.7, bump_at=2.02)) is None  # the pass starts on it
+    assert sensed_bump(np.zeros((5, len(TRACE_NAMES)))) is None  # too short
+
+
+def test_rotation_cap_closed_form():
+    # a feature 40 deg above the palm (world -50 deg): rotate at most 40 - 15 deg
+    f = math.radians(-50.0)
+    assert rotation_cap([f], 0.0) == pytest.approx(math.radians(40.0) - PALM_CLEAR)
+    # the same feature seen from an object turned by -10 deg: 10 deg less
+    assert rotation_cap([f + 0.1745], -0.1745) == pytest.approx(rotation_cap([f], 0.0))
+    # already past the palm, or too close to cap usefully: no cap
+    assert rotation_cap([math.radians(-120.0)], 0.0) == math.inf
+    close = PALM_ANGLE + PALM_CLEAR + 0.5 * MIN_CAPPED
+    assert rotation_cap([close], 0.0) == math.inf
+    assert rotation_cap([], 0.3) == math.inf
+
+
+@given(st.floats(-math.pi, math.pi), st.floats(-10.0, 10.0))
+@settings(max_examples=100, deadline=None, derandomize=True)
+def test_a_capped_rotation_stops_the_feature_off_the_palm(f, theta):
+    cap = rotation_cap([f], theta)
+    if math.isfinite(cap):
+        end = math.remainder(f + theta - cap - PALM_ANGLE, 2 * math.pi)
+        assert end == pytest.approx(PALM_CLEAR, abs=1e-9)
+        assert cap >= MIN_CAPPED
+
+
+def _est(beta_left: float):
+    c = np.array([0.0, R])
+    n = np.array([math.cos(beta_left), math.sin(beta_left)])
+    p = np.vstack([c + R * n, c + R * np.array([1.0, 0.0])])
+    return SimpleNamespace(p=p, centre=c, beta=np.array([beta_left, 0.0]), u=0.0,
+                           normal_force=np.array([0.3, 2.0]))  # fmt: skip
+
+
+def test_backstroke_goes_to_via_and_back_with_the_pad_trailing():
+    hand = PlanarHand()
+    s = GaitSettings()
+    b0, via = 2.6, 2.3
+    q = np.zeros(6)
+    seg = explore_segment(3, _est(b0), q, b0, 0.0, s, hand, via=via)
+    T = seg.duration - 0.02
+    c = np.array([0.0, R])
+    # at the turn (the first quintic piece ends at rest on via) the pad centre sits on the
+    # tangent at via, a pad half-width less EDGE_MARGIN on b0's side: the pad trails
+    t_turn = s.startup_time + abs(via - b0) * R / s.explore_speed
+    p, v, phi = seg.explore(t_turn)
+    trail = hand.params.left.pad_half_width - EDGE_MARGIN
+    t_via = np.array([-math.sin(via), math.cos(via)])
+    foot = c + R * np.array([math.cos(via), math.sin(via)])
+    assert np.asarray(p) - foot == pytest.approx(trail * t_via, abs=1e-9)
+    assert np.asarray(v) == pytest.approx(0.0, abs=1e-9)
+    # the pad lies tangent to the object at its contact
+    assert math.remainder(phi - (via + math.pi / 2), 2 * math.pi) == pytest.approx(0, abs=1e-9)
+    # it ends where it started, the pad centred on its contact again
+    p_end, _, _ = seg.explore(T)
+    assert np.asarray(p_end) == pytest.approx(c + R * np.array([math.cos(b0), math.sin(b0)]),
+                                              abs=1e-6)  # fmt: skip
+
+
+def test_nlp_rotation_cap():
+    from planner.trajectory import RollingNLP
+    from tests.test_trajectory import _start, r
+
+    nlp = RollingNLP(PlanarHand(), knots=6)
+    q0, c, beta = _start()
+    free = nlp.solve(q0, c, R, r, 0.8, beta, 0.0, warm=False)
+    cap = 0.5 * abs(free.rotation)
+    capped = nlp.solve(q0, c, R, r, 0.8, beta, 0.0, warm=False, max_rotation=cap)
+    assert free.success and capped.success
+    assert capped.rotation == pytest.approx(-cap, abs=1e-5)
+
+
+def test_a_stall_fails_the_gait_unless_the_full_turn_is_done():
+    from planner.exploration.planar.machine import stall_outcome
+
+    status, reason = stall_outcome(-math.radians(146.7))
+    assert status == "failed" and reason.startswith("no progress")
+    status, reason = stall_outcome(-math.radians(373.1))
+    assert status == "ok" and "373.1 deg (a full turn)" in reason
+
+
+@pytest.mark.parametrize(("kind", "expected"), [(2, 0.7), (3, 1.9)])
+def test_each_holder_ramps_to_its_own_force(kind, expected):
+    """Phase 2: the left pad holds with ``left_hold_force``; phase 3: the right finger
+    with ``hold_force`` (both ramped from the sensed force over the startup)."""
+    s = GaitSettings(hold_force=1.9, left_hold_force=0.7)
+    seg = explore_segment(kind, _est(2.6), np.zeros(6), 2.4, 0.0, s, PlanarHand())
+    assert seg.hold_force(s.startup_time) == pytest.approx(expected)
+    holder = 0 if kind == 2 else 1
+    assert seg.hold_force(0.0) == pytest.approx(_est(2.6).normal_force[holder])
+
+
+def test_left_hold_force_is_validated():
+    from planner.errors import InvalidParameter
+
+    with pytest.raises(InvalidParameter, match="left_hold_force"):
+        GaitSettings(left_hold_force=0.0)
