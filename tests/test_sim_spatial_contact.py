@@ -229,3 +229,44 @@ def test_foot_near_a_sharp_crest_is_the_nearest_point(warm):
     dist = sk._foot(F, P, plate.base, prm, x, *c, out)
     assert dist == pytest.approx(foot.distance, abs=1e-12)
     np.testing.assert_allclose(out[:3], foot.point, atol=1e-12)
+
+
+def _coupled_residuals(W, u, lam, mu):
+    out = []
+    for i in range(2):
+        s = slice(3 * i, 3 * i + 3)
+        out.append(residual(W[s, s], u[s] + W[s] @ lam - W[s, s] @ lam[s], 0.0, mu, lam[s]))
+    return out
+
+
+def test_cycling_gauss_seidel_restarts_relaxed():
+    """Plain block Gauss-Seidel cycles on this strongly coupled pair (found by Hypothesis:
+    residual 0.2 after 2000 sweeps); the relaxed restart solves it to round-off."""
+    rng = np.random.default_rng(905)
+    A = rng.normal(size=(6, 6))
+    W, u, mu = A @ A.T + 0.5 * np.eye(6), rng.normal(size=6), 1.5
+    lam, modes = solve_contacts(W, u, np.zeros(2), np.array([mu, mu]))
+    assert max(_coupled_residuals(W, u, lam, mu)) <= 1e-12
+    assert lam[0] > 0 and lam[3] >= 0 and len(modes) == 2
+
+
+def test_alart_curnier_root_when_the_sweeps_are_cut_short():
+    """Two sweeps per relaxation cannot converge here: the verified Alart-Curnier root does."""
+    rng = np.random.default_rng(905)
+    A = rng.normal(size=(6, 6))
+    W, u, mu = A @ A.T + 0.5 * np.eye(6), rng.normal(size=6), 1.5
+    lam, _ = solve_contacts(W, u, np.zeros(2), np.array([mu, mu]), max_sweeps=2)
+    assert max(_coupled_residuals(W, u, lam, mu)) <= 1e-10
+
+
+def test_unsolved_coupled_problem_is_an_infeasible_problem_not_a_wrong_answer(monkeypatch):
+    import planner.sim.spatial.friction_cone as fc
+    from planner.errors import InfeasibleProblem
+
+    monkeypatch.setattr(fc, "_alart_curnier", lambda *a: None)
+    rng = np.random.default_rng(905)
+    A = rng.normal(size=(6, 6))
+    W, u = A @ A.T + 0.5 * np.eye(6), rng.normal(size=6)
+    with pytest.raises(InfeasibleProblem, match="did not converge") as err:
+        fc.solve_contacts(W, u, np.zeros(2), np.array([1.5, 1.5]), max_sweeps=2)
+    assert set(err.value.problem) == {"W", "u_free", "gap_rates", "mu", "rates"}

@@ -152,7 +152,8 @@ def _limit_rows(x, prm, thd_f, reach, idx, sgn, rate):
 def _solve(W, MJt, Jc, Minv, thd_f, has_c, gap_rate, mu, m, idx, sgn, rate, lam, lim, v):
     """Contact and limit impulses (block Gauss-Seidel over the exact cone and the scalar
     limit rows; one exact solve without limits). ``v`` (3,): ``θ̇⁺``. Returns the contact
-    status (0: no candidate, 1-3 as :func:`.cone_kernel.cone_impulse`, -1 fall back)."""
+    status (0: no candidate, 1-3 as :func:`.cone_kernel.cone_impulse`, -1 fall back to the
+    Python step: a cone solve it cannot do, or sweeps that did not converge)."""
     for i in range(3):
         v[i] = thd_f[i]
         lam[i] = 0.0
@@ -176,7 +177,7 @@ def _solve(W, MJt, Jc, Minv, thd_f, has_c, gap_rate, mu, m, idx, sgn, rate, lam,
                 size = max(size, abs(new[i]))
             change = max(abs(d0), abs(d1), abs(d2))
         if m == 0:
-            break
+            return status
         for j in range(m):
             i, s = idx[j], sgn[j]
             old = lim[i] * s
@@ -188,8 +189,8 @@ def _solve(W, MJt, Jc, Minv, thd_f, has_c, gap_rate, mu, m, idx, sgn, rate, lam,
             change = max(change, abs(d))
             size = max(size, nl)
         if change <= 1e-13 * (1.0 + size):
-            break
-    return status
+            return status
+    return -1  # the sweeps cycle: the Python step solves it (relaxed restarts)
 
 
 @njit(cache=True)

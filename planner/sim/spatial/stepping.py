@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from planner.sim.records import Contact
-from planner.sim.spatial.friction_cone import solve_contacts, solve_impulse
+from planner.sim.spatial.friction_cone import solve_contacts
 
 __all__ = ["held_inverse_mass", "limit_rows", "solve_with_limits", "step_body"]
 
@@ -118,31 +118,11 @@ def limit_rows(body, nu_free, h: float) -> list[tuple[int, float, float]]:
     return out
 
 
-def solve_with_limits(W, u_free, gap_rates, mus, rates, tol=1e-13, max_sweeps=200):
+def solve_with_limits(W, u_free, gap_rates, mus, rates, tol=1e-13, max_sweeps=1000):
     """Contacts (3x3 exact-cone blocks) and ``m`` scalar unilateral limit rows (last rows of
-    ``W``: ``0 <= λ ⊥ u + rate >= 0``) by block Gauss-Seidel; the impulse (3k + m,).
-    Without limit rows this is :func:`.friction_cone.solve_contacts`."""
-    k, m = len(gap_rates), len(rates)
-    if m == 0:
-        return solve_contacts(W, u_free, gap_rates, mus)[0]
-    lam = np.zeros(3 * k + m)
-    for _ in range(max_sweeps):
-        change = 0.0
-        for i in range(k):
-            s = slice(3 * i, 3 * i + 3)
-            u_i = u_free[s] + W[s] @ lam - W[s, s] @ lam[s]
-            new, _ = solve_impulse(W[s, s], u_i, gap_rates[i], mus[i])
-            change = max(change, float(np.max(np.abs(new - lam[s]))))
-            lam[s] = new
-        for j in range(m):
-            r = 3 * k + j
-            u = u_free[r] + W[r] @ lam + rates[j]
-            new = max(0.0, lam[r] - u / W[r, r])
-            change = max(change, abs(new - lam[r]))
-            lam[r] = new
-        if change <= tol * (1.0 + float(np.max(np.abs(lam)))):
-            break
-    return lam
+    ``W``: ``0 <= λ ⊥ u + rate >= 0``); the impulse (3k + m,). One block Gauss-Seidel with
+    relaxed restarts: :func:`.friction_cone.solve_contacts`."""
+    return solve_contacts(W, u_free, gap_rates, mus, tol, max_sweeps, rates=np.asarray(rates))[0]
 
 
 def held_inverse_mass(minv: np.ndarray, held: list[int]) -> np.ndarray:
