@@ -108,6 +108,10 @@ def identify_feature(ex, cfg, det, search_ev):
     return identify([search_ev, ev1, ev2]), c, across, min(width, half), abs(ev1.relief)
 
 
+#: the side of the plate each identified kind stands out to (+1 raised, -1 sunken)
+SENSE = {"bump": 1, "ridge": 1, "pit": -1, "ravine": -1}
+
+
 def trace_feature(ex, cfg, rec_f: FeatureRecord, region, half: float):
     """Trace one side (closed or open), then the other side of an open ridge or ravine."""
     sides_todo = [1.0]
@@ -118,8 +122,9 @@ def trace_feature(ex, cfg, rec_f: FeatureRecord, region, half: float):
         start = rec_f.centre + side * (half + 0.25 * cfg.tip_radius) * rec_f.across
         inward = -side * rec_f.across
         limit = 2 * half + cfg.tip_radius
+        sense = SENSE.get(kind, 0)
         outline = yield from find_outline(
-            ex, cfg, start, inward, limit, rec_f.rise, crest=kind == "cusp"
+            ex, cfg, start, inward, limit, rec_f.rise, crest=kind == "cusp", sense=sense
         )
         if outline is None:
             rec_f.reasons.append("outline not found")

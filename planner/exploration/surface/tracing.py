@@ -76,7 +76,7 @@ def _inside(p: np.ndarray, region: np.ndarray, margin: float) -> bool:
     )
 
 
-def plate_level(ex, local: float, rise: float, ends: int = 40) -> float:
+def plate_level(ex, local: float, rise: float, ends: int = 40, sense: int = 0) -> float:
     """The plate level [m] (centre height on the bare plate) next to the feature.
 
     ``local`` [m] is the height where the approach starts, a few millimetres from the
@@ -85,6 +85,12 @@ def plate_level(ex, local: float, rise: float, ends: int = 40) -> float:
     the feature about twice as far out; the level at its end nearer to the finger (the same
     side: a step's other level is never mixed in) is used when it is within ``rise`` of
     ``local`` (raster identification has no across crossing: ``local``).
+
+    ``sense`` is the side of the plate the feature stands out to (+1 raised: bump, ridge;
+    -1 sunken: pit, ravine; 0: a step, unknown). For a raised feature the plate level is the
+    *lower* of the two heights, for a sunken one the higher: the one farther from the
+    feature's side is the one less lifted by its flank or its tails (the across crossing's
+    end is where the ball still rests on a wide ridge's flank: 0.4 mm up on a 5 mm ridge).
     """
     rec = ex.rec
     idx = np.flatnonzero(rec.phase[: rec.n] == PHASE["across"])
@@ -98,11 +104,22 @@ def plate_level(ex, local: float, rise: float, ends: int = 40) -> float:
     heads = (run[:ends], run[-ends:])
     near = min(heads, key=lambda k: float(np.hypot(*(rec.centre[k, :2].mean(axis=0) - here))))
     w = float(np.mean(rec.centre[near, 2]))
+    if sense > 0:
+        return min(w, local)
+    if sense < 0:
+        return max(w, local)
     return w if abs(w - local) < rise else local
 
 
 def find_outline(
-    ex, cfg, start, inward, limit: float, rise: float | None = None, crest: bool = False
+    ex,
+    cfg,
+    start,
+    inward,
+    limit: float,
+    rise: float | None = None,
+    crest: bool = False,
+    sense: int = 0,
 ):
     """Slide from ``start`` along ``inward`` until the centre leaves the plate level by
     ``boundary_rise``; returns an :class:`Outline` or None (not met within ``limit`` [m]).
@@ -111,7 +128,8 @@ def find_outline(
     (up a raised feature, down a sunken one: the sense that agrees with ``inward``), so it
     meets the outline even when ``inward`` misses the feature's centre. ``crest``: the
     feature has no plate level (a cusp: the plate falls away on both sides); the finger
-    climbs over the crest and the outline is ``rise`` below it (:func:`find_crest`)."""
+    climbs over the crest and the outline is ``rise`` below it (:func:`find_crest`).
+    ``sense``: the identified side of the feature (:func:`plate_level`)."""
     if crest:
         return (yield from find_crest(ex, cfg, start, inward, limit, rise))
     yield from move_to(ex, start, cfg.speed)
@@ -122,7 +140,7 @@ def find_outline(
         ref.append(ex.est.centre[2])
         yield np.zeros(2)
     rise = cfg.boundary_rise if rise is None else rise
-    w0 = plate_level(ex, float(np.mean(ref)), rise)
+    w0 = plate_level(ex, float(np.mean(ref)), rise, sense=sense)
     p0 = ex.est.uv.copy()
     heading = inward
     while abs(ex.est.centre[2] - w0) < rise:
