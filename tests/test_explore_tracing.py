@@ -50,7 +50,7 @@ def test_loop_closes_past_the_closest_approach_to_the_first_sample():
     near = None
     states = []
     for x in np.linspace(-2e-3, 2e-3, 81):  # passing home 0.1 mm to its side
-        near = _closing(np.array([x, 1e-4]), home, 8e-4, near)
+        near = _closing(x, 1e-4, home, 8e-4, near)
         states.append(near)
         if near is not None and near < 0:
             break

@@ -20,6 +20,7 @@ the share of the tracing budget spent; coming back onto traced boundary makes ``
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -67,13 +68,6 @@ class Outline:
     sigma: float
     inward: np.ndarray
     rise: float = 2.5e-4
-
-
-def _inside(p: np.ndarray, region: np.ndarray, margin: float) -> bool:
-    return bool(
-        region[0, 0] + margin <= p[0] <= region[0, 1] - margin
-        and region[1, 0] + margin <= p[1] <= region[1, 1] - margin
-    )
 
 
 def plate_level(ex, local: float, rise: float, ends: int = 40, sense: int = 0) -> float:
@@ -224,46 +218,57 @@ def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float 
     """
     r = cfg.tip_radius
     k_start, t_start = ex.rec.n, ex.est.t
-    start_uv = ex.est.uv.copy()
+    su, sv = float(ex.est.centre[0]), float(ex.est.centre[1])  # where tracing began
     first_uv = None  # where the first settled sample was taken
     near = None  # closest approach to it once back within 0.1 r
     back = False  # the finger has come back to where tracing began
     steady, w, held = 0, float(ex.est.centre[2]), 0.0  # held: the integral term [-]
     samples: list[int] = []
-    tangent = None
-    into = outline.inward.copy()  # direction towards the feature (2,)
+    turned = False  # a tangent has been chosen since (re)starting
+    tu = tv = 0.0  # the tangent of the previous step (2,)
+    iu, iv = float(outline.inward[0]), float(outline.inward[1])  # towards the feature
+    sig, level, lost_err = float(outline.sigma), float(outline.level), 2.0 * outline.rise
+    speed, trace_time = float(cfg.trace_speed), float(cfg.trace_time)
+    m = 0.25 * r  # the region, shrunk by the margin at which an end is reached [m]
+    u0, u1 = float(region[0, 0]) + m, float(region[0, 1]) - m
+    v0, v1 = float(region[1, 0]) + m, float(region[1, 1]) - m
     ends, travelled, farthest = 0, 0.0, 0.0
-    prev = ex.est.uv.copy()
+    pu, pv = su, sv
     reason = "trace budget spent"
-    while ex.est.t - t_start < cfg.trace_time:
-        n = ex.est.normal
-        tilt = float(np.hypot(n[0], n[1]))
-        c = ex.est.uv
-        travelled += float(np.hypot(c[0] - prev[0], c[1] - prev[1]))
-        prev = c.copy()
+    trace, reapproach = PHASE["trace"], PHASE["reapproach"]
+    # the loop runs once per servo period: Python floats, no small numpy arrays
+    while ex.est.t - t_start < trace_time:
+        est = ex.est
+        n, C = est.normal, est.centre
+        nx, ny, nz = float(n[0]), float(n[1]), float(n[2])
+        cu, cv = float(C[0]), float(C[1])
+        tilt = math.hypot(nx, ny)
+        travelled += math.hypot(cu - pu, cv - pv)
+        pu, pv = cu, cv
         if tilt > 0.03:  # the contact is on the feature: the uphill direction is known
-            into = (-outline.sigma / tilt) * np.array([n[0], n[1]])
-        t = orient * np.array([-into[1], into[0]])
-        if tangent is not None and float(t @ tangent) < -0.2:
-            t = -t  # keep the sense of travel through saddles of the tilt field
-        tangent = t
-        w += (float(ex.est.centre[2]) - w) / SMOOTH
-        err, dist = level_distance(ex, outline, w)
+            iu, iv = -sig * nx / tilt, -sig * ny / tilt
+        ttu, ttv = -orient * iv, orient * iu
+        if turned and ttu * tu + ttv * tv < -0.2:
+            ttu, ttv = -ttu, -ttv  # keep the sense of travel through saddles of the tilt field
+        tu, tv, turned = ttu, ttv, True
+        w += (float(C[2]) - w) / SMOOTH
+        err = sig * (level - w)  # level_distance() with the smoothed height, inlined
+        dist = err / max(tilt / max(nz, 1e-6), MIN_SLOPE)
         steady = steady + 1 if abs(dist) < SETTLED_LATERAL else 0
-        lost = abs(err) > 2.0 * outline.rise
-        ex.phase = PHASE["reapproach"] if lost else PHASE["trace"]
+        lost = abs(err) > lost_err
+        ex.phase = reapproach if lost else trace
         if steady >= SETTLE and abs(dist) < ACCEPT_LATERAL:
             samples.append(ex.rec.n - 1)
             if first_uv is None:
-                first_uv = ex.rec.centre[ex.rec.n - 1, :2].copy()
+                first_uv = (cu, cv)
         if not lost:
-            held = min(max(held + LATERAL_INTEGRAL * dist * SERVO_DT / cfg.trace_speed, -0.5), 0.5)
-        lateral = min(max(LATERAL_GAIN * dist / cfg.trace_speed + held, -0.7), 0.7)
-        v = cfg.trace_speed * ((0.3 * t if lost else t) + lateral * into)
-        farthest = max(farthest, float(np.hypot(c[0] - start_uv[0], c[1] - start_uv[1])))
-        if not _inside(c, region, 0.25 * r):
+            held = min(max(held + LATERAL_INTEGRAL * dist * SERVO_DT / speed, -0.5), 0.5)
+        lateral = min(max(LATERAL_GAIN * dist / speed + held, -0.7), 0.7)
+        along = 0.3 if lost else 1.0
+        farthest = max(farthest, math.hypot(cu - su, cv - sv))
+        if not (u0 <= cu <= u1 and v0 <= cv <= v1):
             ends += 1
-            ex.event("end_reached", "the outline leaves the region", point=c.tolist())
+            ex.event("end_reached", "the outline leaves the region", point=[cu, cv])
             if ends == 2:
                 reason = "both ends reached"
                 break
@@ -271,24 +276,24 @@ def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float 
             # the samples of both ways meet without a gap
             back = samples[min(len(samples) - 1, SETTLE)] if samples else k_start
             yield from move_to(ex, ex.rec.centre[back, :2], cfg.speed)
-            orient, tangent, steady = -orient, None, 0
+            orient, turned, steady = -orient, False, 0
             continue
         if farthest > 0.2 * r and travelled > max(2.5 * farthest, 0.5 * r):
             # back past where tracing began (the unsettled stretch before the first kept
             # sample is traced again, settled), then closed at the first kept sample
-            back = back or float(np.hypot(c[0] - start_uv[0], c[1] - start_uv[1])) < 0.25 * r
-            home = start_uv if first_uv is None else first_uv
-            near = _closing(c, home, 0.1 * r, near) if back else None
+            back = back or math.hypot(cu - su, cv - sv) < 0.25 * r
+            home = (su, sv) if first_uv is None else first_uv
+            near = _closing(cu, cv, home, 0.1 * r, near) if back else None
             if near is not None and near < 0:
                 if _covered(ex, samples, k_start):
                     reason = "loop closed"
                     break
                 near = None  # a stretch traced unsettled: once more around
 
-            if near is None and ex.est.k % 100 == 0 and _decision(ex, cfg, samples, t_start) < 0:
+            if near is None and est.k % 100 == 0 and _decision(ex, cfg, samples, t_start) < 0:
                 reason = "decision parameter < 0 (no new boundary)"
                 break
-        yield v
+        yield speed * (along * tu + lateral * iu), speed * (along * tv + lateral * iv)
     closed = reason == "loop closed" or reason.startswith("decision")
     return TraceResult(np.array(samples, int), closed and ends == 0, ends, reason)
 
@@ -309,11 +314,12 @@ def _covered(ex, samples: list[int], k_start: int, gap: float = 5e-4) -> bool:
     return bool(d.max() < gap)
 
 
-def _closing(c, home, zone: float, near: float | None, slack: float = 2e-4):
-    """Closest distance [m] to ``home`` since entering the ``zone`` around it (None: not in
-    it yet); -1 once the finger has passed its closest approach (or is on ``home``): the
-    loop closes with the first samples overlapped, not a ``zone``-wide gap."""
-    d = float(np.hypot(*(c - home)))
+def _closing(cu: float, cv: float, home, zone: float, near: float | None, slack: float = 2e-4):
+    """Closest distance [m] of the centre ``(cu, cv)`` to ``home`` since entering the
+    ``zone`` around it (None: not in it yet); -1 once the finger has passed its closest
+    approach (or is on ``home``): the loop closes with the first samples overlapped, not a
+    ``zone``-wide gap."""
+    d = math.hypot(cu - home[0], cv - home[1])
     if d >= zone and near is None:
         return None
     near = d if near is None else min(near, d)
