@@ -224,6 +224,7 @@ def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float 
     back = False  # the finger has come back to where tracing began
     steady, w, held = 0, float(ex.est.centre[2]), 0.0  # held: the integral term [-]
     samples: list[int] = []
+    loose: list[int] = []  # on the outline within SETTLED_LATERAL, not kept (holes' filling)
     turned = False  # a tangent has been chosen since (re)starting
     tu = tv = 0.0  # the tangent of the previous step (2,)
     iu, iv = float(outline.inward[0]), float(outline.inward[1])  # towards the feature
@@ -261,6 +262,8 @@ def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float 
             samples.append(ex.rec.n - 1)
             if first_uv is None:
                 first_uv = (cu, cv)
+        elif not lost and abs(dist) < SETTLED_LATERAL:
+            loose.append(ex.rec.n - 1)
         if not lost:
             held = min(max(held + LATERAL_INTEGRAL * dist * SERVO_DT / speed, -0.5), 0.5)
         lateral = min(max(LATERAL_GAIN * dist / speed + held, -0.7), 0.7)
@@ -294,11 +297,48 @@ def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float 
                 reason = "decision parameter < 0 (no new boundary)"
                 break
         yield speed * (along * tu + lateral * iu), speed * (along * tv + lateral * iv)
-    closed = reason == "loop closed" or reason.startswith("decision")
-    return TraceResult(np.array(samples, int), closed and ends == 0, ends, reason)
+    closed = (reason == "loop closed" or reason.startswith("decision")) and ends == 0
+    kept = _fill_holes(ex, samples, loose) if closed else np.array(samples, int)
+    return TraceResult(kept, closed, ends, reason)
 
 
-def _covered(ex, samples: list[int], k_start: int, gap: float = 5e-4) -> bool:
+#: a stretch of the traced outline farther than this from every kept sample is a hole [m]
+HOLE = 5e-4
+
+
+def _fill_holes(ex, samples: list[int], loose: list[int]) -> np.ndarray:
+    """The kept samples of a closed outline plus, where they leave a hole (:data:`HOLE`), the
+    trace samples within ``SETTLED_LATERAL`` of the level line there (recorder indices in
+    trace order).
+
+    Where the outline turns sharply (the end cap of a narrow ravine or a small ridge) the
+    lateral servo never settles to ``ACCEPT_LATERAL`` and the kept samples leave a gap of a
+    millimetre or more; a Voronoi branch of the medial axis then runs into the gap (a
+    skeleton 2-3 mm off the crest line, where the true outline's own medial axis, pruned at
+    the same significance, stays within 0.3 mm of it). These samples are on the outline -
+    not the re-approach of §4.4.2, which is dropped - with a larger lateral error, at most
+    ``SETTLED_LATERAL``. A sample counts as in a hole when its nearest kept sample is
+    farther than ``HOLE + SETTLED_LATERAL`` (a lateral offset alone cannot put it there: on
+    a small, tight outline the loose samples lie beside the kept ones, not in a gap); only
+    runs of at least ``SMOOTH`` consecutive servo steps are added
+    (a stray sample inside the outline would grow a loop in the medial axis). Open outlines
+    (steps, cusps: their pseudo-skeleton is the samples themselves) are left as kept."""
+    from scipy.spatial import cKDTree
+
+    if len(samples) < 10 or not loose:
+        return np.array(samples, int)
+    rec = ex.rec
+    cand = np.asarray(loose, int)
+    d, _ = cKDTree(rec.centre[np.asarray(samples), :2]).query(rec.centre[cand, :2])
+    add = cand[d > HOLE + SETTLED_LATERAL]  # off every kept sample by more than an offset
+    runs = np.split(add, np.flatnonzero(np.diff(add) > 1) + 1) if add.size else []
+    add = [r for r in runs if len(r) >= SMOOTH]  # a stretch of outline, not a stray sample
+    if not add:
+        return np.array(samples, int)
+    return np.union1d(np.asarray(samples, int), np.concatenate(add))
+
+
+def _covered(ex, samples: list[int], k_start: int, gap: float = HOLE) -> bool:
     """Whether every point the finger traced since ``k_start`` is within ``gap`` [m] of a
     kept sample (a stretch it went round unsettled, at a sharp end cap on the first lap
     say, leaves a hole in the outline until it is traced again)."""
