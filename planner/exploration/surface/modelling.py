@@ -1,6 +1,7 @@
 """Feature and global skeletons of the traced features (thesis §4.4.3, §4.5.3).
 
 * Closed outlines (bumps, pits, closed ridges): the pruned DVMA of the boundary samples
+  (thinned to the tracer's lateral accuracy, :func:`thin_samples`)
   (:func:`planner.skeleton.feature_skeleton`), with the significance pruning at the
   tracer's lateral accuracy (:data:`SIGNIFICANCE`): the traced outline is a smooth level
   line whose samples are kept within ``ACCEPT_LATERAL`` of it, and the medial axis of a
@@ -22,11 +23,39 @@ import numpy as np
 from planner.errors import HapexError
 from planner.exploration.surface.tracing import ACCEPT_LATERAL
 
-__all__ = ["SIGNIFICANCE", "feature_model", "global_model"]
+__all__ = ["SIGNIFICANCE", "THIN", "feature_model", "global_model", "thin_samples"]
 
 #: what the medial disks may move when pruning [m]: samples on opposite sides of the outline
 #: are each within ``ACCEPT_LATERAL`` of it
 SIGNIFICANCE = 2.0 * ACCEPT_LATERAL
+#: closest two boundary samples kept for the DVMA [m]: the tracer's lateral accuracy
+THIN = ACCEPT_LATERAL
+
+
+def thin_samples(points: np.ndarray, spacing: float = THIN) -> np.ndarray:
+    """The samples (N, 2) [m], in their order, without those closer than ``spacing`` [m] to
+    an earlier kept one.
+
+    The DVMA's pruning (§4.4.3) relies on "a minimum distance between samples at the
+    boundary" set by the finger's speed and the sampling rate; a traced outline breaks
+    that assumption where the finger went round twice (closing the loop, filling a hole)
+    and the two laps, a fraction of ``ACCEPT_LATERAL`` apart, interleave: the Voronoi
+    edges between them fall to the edge-length and generator-distance tests and the medial
+    axis breaks into pieces (a 16 mm ravine's skeleton reduced to a point, 8 mm from its
+    ends). Samples closer than the tracer's lateral accuracy carry no more shape."""
+    from scipy.spatial import cKDTree
+
+    P = np.asarray(points, float)
+    if len(P) < 3:
+        return P
+    near = cKDTree(P).query_ball_point(P, spacing)
+    keep = np.ones(len(P), bool)
+    for i, js in enumerate(near):
+        if keep[i]:
+            for j in js:
+                if j > i:
+                    keep[j] = False
+    return P[keep]
 
 
 def _midline(a: np.ndarray, b: np.ndarray):
@@ -52,7 +81,8 @@ def feature_model(kind: str, sides: list[np.ndarray], closed: bool):
         return None
     try:
         if closed:
-            return feature_skeleton(np.vstack(sides), min_significance=SIGNIFICANCE)
+            pts = thin_samples(np.vstack(sides))
+            return feature_skeleton(pts, min_significance=SIGNIFICANCE)
         if kind in ("step", "cusp") or len(sides) == 1:
             return pseudo_skeleton(sides[0])
         if len(sides) >= 2:
