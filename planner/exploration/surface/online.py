@@ -151,18 +151,32 @@ class OnlineDetector:
         j, turn = uncertain_turn(a.s, a.w, 0.5 * self.r, 0.0 if flush else 1.25 * self.r)
         if j < 0 or abs(turn) < TURN:
             return None
-        pt = a.point_at(j)
-        if self.known(pt):
+        sign = 1 if turn > 0 else -1
+        # a concave turn is the foot of a raised feature (a convex one the lip of a sunken
+        # one): span the feature to its crest like a lone curvature feature does
+        lone = _Turn(sign, float(j))
+        pts = _with_relief_extreme(a.point_at(j)[None].copy(), [lone], a, self.r)
+        if pts is None and not flush:
+            return None  # still on the flank
+        if pts is None:
+            pts = a.point_at(j)[None].copy()
+        mid = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
+        if self.known(mid):
             return None
         rec = self.ex.rec
         k = int(idx[j])
         lat = float(rec.t[k1 - 1] - rec.t[k])
         self.latencies.append(lat)
-        sign = 1 if turn > 0 else -1
         pattern = "+" if sign > 0 else "-"
-        return Detection(
-            pt[None].copy(), np.array([sign]), pattern, k, k, i0, k1, rec.t[k1 - 1], lat
-        )
+        return Detection(pts, np.array([sign]), pattern, k, k, i0, k1, rec.t[k1 - 1], lat)
+
+
+@dataclass(frozen=True)
+class _Turn:
+    """A turn of the path standing in for a lone curvature feature (sign, sample index)."""
+
+    sign: int
+    index: float
 
 
 def uncertain_turn(s: np.ndarray, w: np.ndarray, r: float, past: float) -> tuple[int, float]:
