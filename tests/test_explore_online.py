@@ -92,3 +92,14 @@ def test_outline_level_share_by_kind():
     assert outline_rise("bump", 4e-3, 2.5e-4) == pytest.approx(2e-3)
     assert outline_rise("pit", -4e-3, 2.5e-4) == pytest.approx(OUTLINE_SHARE_OTHER * 4e-3)
     assert outline_rise("step", 1e-4, 2.5e-4) == 2.5e-4
+
+
+def test_closed_skeleton_is_tried_at_several_thinnings():
+    from planner.exploration.surface.modelling import THIN, THINNINGS
+
+    assert min(THINNINGS) < THIN < max(THINNINGS)
+    t = np.linspace(0, 2 * np.pi, 2000, endpoint=False)
+    rng = np.random.default_rng(3)
+    circle = np.column_stack([3e-3 * np.cos(t), 3e-3 * np.sin(t)]) + rng.normal(0, 2e-5, (2000, 2))
+    sk = feature_model("bump", [circle], True)
+    assert np.hypot(*sk.points.mean(axis=0)) < 2e-4  # a bump's skeleton: its centre
