@@ -21,6 +21,11 @@ The control step and the normal-force variants are ``benchmarks/bench_explore_co
    by noise level, by feature size and by kind (``bench_explore_closed_loop``) and per plate
    (``bench_explore_closed_loop_plates``). ``--raster N`` (default 6, 0 with ``--quick``)
    more plates with ``identify="raster"`` (raster lines 6 mm apart, pattern matching).
+   ``--seed N`` (default 7, the reference set) draws another set of closed-loop plates
+   (reports suffixed ``_seedN``; identification and raster rows skipped). Per plate also
+   the CPU-time real-time factor (the machine is shared; load inflates wall time) and the
+   feature's height at the region border (what the plate level next to a long-tailed bump
+   or pit is lifted by).
 """
 
 from __future__ import annotations
@@ -220,6 +225,8 @@ def _failed_row(case: dict, identify_mode: str, reason: str) -> dict:
         "sim_s": 0.0,
         "wall_s": 0.0,
         "real_time_factor": nan,
+        "cpu_real_time_factor": nan,
+        "tail_at_edge_mm": nan,
         "status": f"error: {reason}",
     }
 
@@ -273,8 +280,25 @@ def _explore_row(case, identify_mode, plate, opts, explore_surface, exploration_
         "sim_s": res.sim_time,
         "wall_s": wall,
         "real_time_factor": res.real_time_factor,
+        "cpu_real_time_factor": res.cpu_real_time_factor,
+        "tail_at_edge_mm": _tail_at_edge(plate) * 1e3,
         "status": res.status,
     }
+
+
+def _tail_at_edge(plate, n: int = 400) -> float:
+    """Largest height [m] of the feature on the border of the region: what its flanks or
+    tails still lift (or lower) the plate where the explorer can first see it. The true
+    outline is a level line above the *asymptotic* plate (the nominal surface of §4.4.2);
+    a bump or pit whose tail at the border is a good part of the outline's level cannot be
+    outlined to 0.5 mm from inside the region (see ``boundary_dev_mean_mm``)."""
+    from planner.exploration.surface.plates import plate_height
+
+    (u0, u1), (v0, v1) = REGION
+    s = np.linspace(0.0, 1.0, n)
+    u = np.concatenate([u0 + (u1 - u0) * s, np.full(n, u1), u1 - (u1 - u0) * s, np.full(n, u0)])
+    v = np.concatenate([np.full(n, v0), v0 + (v1 - v0) * s, np.full(n, v1), v1 - (v1 - v0) * s])
+    return float(np.max(np.abs(plate_height(plate)(u, v) - plate.base)))
 
 
 def _nanmean(x) -> float:
@@ -323,6 +347,7 @@ def closed_summary(rows: list[dict]) -> list[dict]:
                 "hausdorff_max_mm": max(fin) if fin else math.nan,
                 "hausdorff_le_1mm": float(np.mean([h <= 1.0 for h in fin])) if fin else math.nan,
                 "rtf_median": _nanmedian(r["real_time_factor"] for r in rr),
+                "rtf_cpu_median": _nanmedian(r["cpu_real_time_factor"] for r in rr),
             }
         )
     return out
@@ -354,9 +379,30 @@ def main() -> None:
     p = arg_parser(__doc__.splitlines()[0])
     p.add_argument("--closed-loop", type=int, default=None, help="closed-loop plates (0: skip)")
     p.add_argument("--raster", type=int, default=None, help="closed-loop plates, raster id")
+    p.add_argument(
+        "--seed",
+        type=int,
+        default=7,
+        help="base seed of the closed-loop plates (7: the reference set; any other value is "
+        "a second set, its reports suffixed _seedN and the identification part skipped)",
+    )
     args = p.parse_args()
+    tag = "" if args.seed == 7 else f"_seed{args.seed}"
     load0 = _load()
     notes = [f"load average at start: {load0} (2 cores shared with other engineers)"]
+    if not tag:
+        _identification_reports(args, notes)
+    n = (len(KINDS) if args.quick else 54) if args.closed_loop is None else args.closed_loop
+    n_r = (0 if args.quick else len(KINDS)) if args.raster is None else args.raster
+    if tag:
+        n_r = 0
+    crow = closed_rows(closed_cases(n, seed=args.seed)) if n > 0 else []
+    crow += closed_rows(closed_cases(n_r, seed=8), "raster") if n_r > 0 else []
+    if crow:
+        _closed_reports(args, crow, n_r, notes, tag)
+
+
+def _identification_reports(args, notes: list[str]) -> None:
     per, summary = identify_rows(args.quick)
     write_report(
         "bench_explore_identify",
@@ -371,23 +417,33 @@ def main() -> None:
         ],
     )
     write_report("bench_explore_identify_plates", per, title="Per plate", out=args.out)
-    n = (len(KINDS) if args.quick else 54) if args.closed_loop is None else args.closed_loop
-    n_r = (0 if args.quick else len(KINDS)) if args.raster is None else args.raster
-    crow = closed_rows(closed_cases(n)) if n > 0 else []
-    crow += closed_rows(closed_cases(n_r, seed=8), "raster") if n_r > 0 else []
-    if not crow:
-        return
+
+
+def _closed_reports(args, crow: list[dict], n_r: int, notes: list[str], tag: str) -> None:
     cl_notes = [
         *notes,
         f"load average at the end: {_load()}",
+        f"closed-loop plates of base seed {args.seed}"
+        + (
+            " (the reference set)"
+            if not tag
+            else " (a second set: are the reference set's numbers seed-specific?)"
+        ),
         "one feature per plate (12 mm long ridges and ravines, closed outlines); 1 kHz control, "
         "OWTS at 5 kHz with the noise of the row, encoder quantization on",
         "targets: type accuracy >= 95 %, boundary deviation <= 0.5 mm mean, closure 100 % "
         "(closed features), skeleton Hausdorff <= 1 mm, >= 10x real time",
-        "steps and cusps are open (traced along: pseudo-skeleton, closure n/a)",
+        "boundary deviation: traced fingertip centres vs the true outline, the level line of "
+        "the traced (offset) surface at the feature's outline level above the asymptotic "
+        "plate; own level: vs the level line the tracer actually followed (tracing error "
+        "alone); tail_at_edge_mm: the feature's height at the region border",
+        "steps and cusps are open (traced along: pseudo-skeleton scored against the true "
+        "outline line it follows, thesis §4.4.3; closure n/a)",
+        "real time: rtf = simulated / wall time of the run (the machine is shared: load "
+        "inflates it), rtf_cpu = simulated / CPU time of the run",
     ]
     write_report(
-        "bench_explore_closed_loop_plates",
+        f"bench_explore_closed_loop_plates{tag}",
         crow,
         title=f"Closed-loop exploration in the SpatialWorld, per plate ({len(crow)} plates)",
         out=args.out,
@@ -398,7 +454,7 @@ def main() -> None:
         raster = [r for r in crow if r["identify"] == "raster"]
         summ += [dict(s, group=f"raster id: {s['group']}") for s in closed_summary(raster)[-1:]]
     write_report(
-        "bench_explore_closed_loop",
+        f"bench_explore_closed_loop{tag}",
         summ,
         title=f"Closed-loop exploration in the SpatialWorld ({len(crow)} plates)",
         out=args.out,

@@ -11,10 +11,14 @@ import pytest
 
 from planner.exploration.surface.runtime import PHASE
 from planner.exploration.surface.tracing import (
+    HOLE,
     MIN_SLOPE,
+    SETTLED_LATERAL,
+    SMOOTH,
     Outline,
     _closing,
     _covered,
+    _fill_holes,
     level_distance,
     plate_level,
 )
@@ -50,7 +54,7 @@ def test_loop_closes_past_the_closest_approach_to_the_first_sample():
     near = None
     states = []
     for x in np.linspace(-2e-3, 2e-3, 81):  # passing home 0.1 mm to its side
-        near = _closing(np.array([x, 1e-4]), home, 8e-4, near)
+        near = _closing(x, 1e-4, home, 8e-4, near)
         states.append(near)
         if near is not None and near < 0:
             break
@@ -83,3 +87,37 @@ def test_plate_level_from_the_far_end_of_the_across_crossing():
     assert plate_level(ex, local, rise=5e-5) == local  # farther than rise: kept local
     no_across = _ex(here, [PHASE["reapproach"]])
     assert plate_level(no_across, local, rise=5e-4) == local
+
+
+def test_plate_level_on_the_far_side_of_a_raised_or_sunken_feature():
+    """The across crossing's end is still on a wide ridge's flank (higher than where the
+    approach starts): for a raised feature the lower height is the plate, for a sunken one
+    the higher; without a side (a step) the old rule keeps the end within ``rise``."""
+    u = np.linspace(-0.02, 0.02, 400)
+    w = 0.008 + 0.003 * np.exp(-(u**2) / (2 * 0.006**2))  # the end at 20 mm still 1.2 um up
+    across = np.column_stack([u, np.zeros_like(u), w + 4e-4 * (np.abs(u) > 0.015)])
+    here = np.array([[0.015, 0.0, 0.008 + 1e-5]])
+    ex = _ex(np.vstack([across, here]), [PHASE["across"]] * 400 + [PHASE["reapproach"]])
+    local = float(here[0, 2])
+    assert plate_level(ex, local, rise=1e-3, sense=1) == local
+    assert plate_level(ex, local, rise=1e-3, sense=0) > local + 3e-4
+    assert plate_level(ex, local, rise=1e-3, sense=-1) > local + 3e-4
+
+
+def test_holes_of_a_closed_outline_are_filled_with_runs_of_loose_samples():
+    t = np.linspace(0, 2 * np.pi, 3000, endpoint=False)
+    path = np.column_stack([5e-3 * np.cos(t), 5e-3 * np.sin(t), np.full_like(t, 8e-3)])
+    ex = _ex(path, np.full(len(t), PHASE["trace"]))
+    gap = set(range(1000, 1400))  # 4.2 mm of the outline not settled
+    kept = [k for k in range(len(t)) if k not in gap]
+    loose = sorted(gap)
+    got = _fill_holes(ex, kept, loose)
+    assert set(got) >= set(kept)
+    assert _covered(ex, list(got), 0)
+    # only the samples farther than HOLE + SETTLED_LATERAL from the kept ones are added
+    added = np.setdiff1d(got, kept)
+    d = np.min(np.hypot(*(path[added, None, :2] - path[None, kept, :2]).transpose(2, 0, 1)), 1)
+    assert np.all(d > HOLE + SETTLED_LATERAL)
+    # a stray sample (shorter than SMOOTH steps) is not a stretch of outline
+    stray = list(range(1200, 1200 + SMOOTH // 2))
+    assert np.array_equal(_fill_holes(ex, kept, stray), np.array(kept))

@@ -210,3 +210,24 @@ def test_lone_foot_detection_spans_the_feature():
     assert len(_with_relief_extreme(np.array([foot.point]), [foot], flat, 0.008)) == 1
     climbing = PathAnalysis((foot,), "-", s[:140], w[:140], uv[:140])  # still on the flank
     assert _with_relief_extreme(np.array([foot.point]), [foot], climbing, 0.008) is None
+
+
+def test_a_noisy_small_round_outline_stays_a_pit():
+    """The medial axis of a 2 mm circle with 0.4 mm lobes (three, as a lagging servo leaves
+    them) grows branches longer than its radius; its enclosed area stays round (elongation
+    ~1), so the pit is not turned into a ravine."""
+    from planner.exploration.surface.identify import (
+        TypeDecision,
+        outline_elongation,
+        refine_with_outline,
+    )
+
+    rng = np.random.default_rng(5)
+    t = np.linspace(0, 2 * np.pi, 800, endpoint=False)
+    r = 2e-3 + 4e-4 * np.sin(3 * t + 0.4) + rng.normal(0, 5e-5, t.size)
+    ring = np.column_stack([r * np.cos(t), r * np.sin(t)])
+    assert outline_elongation(ring) < 1.2
+    dec = TypeDecision("pit", 0.88, {"pit": 0.88, "ravine": 0.1}, ())
+    assert refine_with_outline(dec, ring, closed=True) == dec
+    no_area = refine_with_outline(dec, ring, closed=True, min_area_elongation=0.0)
+    assert no_area.kind == "ravine"  # the skeleton test alone is fooled

@@ -155,10 +155,10 @@ def explore_surface(
     state = ProgramState()
     ex.program = exploration_program(ex, cfg, reg, np.random.default_rng(seed), state)
     _warm_up(ex, lambda: build_world(surface, cfg, reg, tilt, seed, sensors)[0])
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     log = world.run(dur, controller=ex, stop=ex.stop)
-    wall = time.perf_counter() - t0
-    return _result(ex, state, log, cfg, T, wall)
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+    return _result(ex, state, log, cfg, T, wall, cpu)
 
 
 def _warm_up(ex, scratch_world) -> None:
@@ -183,7 +183,7 @@ def _refine(dec, boundary: np.ndarray, closed: bool):
     return refine_with_outline(dec, boundary, closed)
 
 
-def _result(ex, state, log, cfg, T, wall) -> ExplorationResult:
+def _result(ex, state, log, cfg, T, wall, cpu=float("nan")) -> ExplorationResult:
     rec = ex.rec
     n = rec.n
     feats = []
@@ -227,6 +227,7 @@ def _result(ex, state, log, cfg, T, wall) -> ExplorationResult:
         log=log,
         decision=rec.decision[:n].copy(),
         wall_time=wall,
+        cpu_time=cpu,
         settings=cfg,
         pose=T,
     )

@@ -1,12 +1,30 @@
 """Scores of an exploration against the plate's ground truth (issue 12's metrics).
 
 Found features are matched to true ones by the distance from the found centre to the true
-skeleton (within ``2 r_f``). Boundary deviation is the distance of every traced boundary
-sample to the true outline (:func:`planner.exploration.surface.plates.truth_features`);
-the skeleton error is the Hausdorff distance between the found skeleton and the true one
+skeleton (within ``2.5 r_f``).
+
+**Boundary deviation** is the distance of every traced boundary sample (a fingertip centre)
+to the true outline (:func:`planner.exploration.surface.plates.truth_features`): the level
+line of the *traced* surface - the offset by ``r_f`` of the plate, which is all the centre
+of a round fingertip can follow (§3.2.1) - at the feature's outline level above the
+asymptotic plate (the nominal surface of §4.4.2, the plate without the feature). Centre
+samples are thus compared with a line the centre can reach, offset already applied on the
+truth side (comparing them with the object's own outline would charge every sample with
+up to ``r_f`` the tracer cannot remove). The level is the explorer's (its fraction of the
+feature's relief, ``rise``); where the feature sits is the plate's. A bump or pit whose
+tails still lift the plate at the region's border puts the plate level the explorer can see
+off the asymptotic one: that part is the explorer's error and stays in this number. The
+``own level`` diagnostic scores the samples against the level line they actually followed
+(the tracing error alone).
+
+**Skeleton error** is the Hausdorff distance between the found skeleton and the true one
 (the true one clipped to the traced extent for open features, which are traced only inside
-the region). The skeleton of a step or a cusp is the pseudo-skeleton of §4.4.3, the traced
-outline itself; it is scored against the true outline line it follows.
+the region). The skeleton of a step or a cusp is the pseudo-skeleton of §4.4.3 - "for a
+cusp or step feature, the finger cannot trace around the feature, it can only trace along
+it. The path obtained by tracing along such a feature can be used as a pseudo-skeleton" -
+the traced outline itself, so it is scored against the true outline line it follows, not
+the step's edge (a ball of radius ``r_f`` rests on the foot of a step of height ``h`` up to
+``sqrt(2 r_f h - h^2)`` from its edge: 3.9 mm for 1 mm, which no tracer could remove).
 """
 
 from __future__ import annotations

@@ -73,6 +73,11 @@ def _dist(ex, target) -> float:
 def sweep(ex, a, b, speed: float, phase: str = "search", detector=None, every: int = 20):
     """Slide along the segment ``a -> b`` (2,) [m] (moving to ``a`` first).
 
+    The recorder range starts where the finger starts making progress along ``a -> b``: on
+    a slope the move to ``a`` overshoots it (the desired position of eq. 4.9 runs ahead of
+    the lagging finger), and the way back over the overshoot would read as the crossing
+    doubling back on itself (a tent's end slopes then cancel, ``identify``'s crease cue).
+
     Args:
         detector: optional ``detector(k0, k) -> detection | None`` called every ``every``
             steps with the recorder range of this sweep; a detection ends the sweep.
@@ -90,6 +95,7 @@ def sweep(ex, a, b, speed: float, phase: str = "search", detector=None, every: i
     du, dv = float(d[0]), float(d[1])  # along; the cross-track direction is (-dv, du)
     au, av, bu, bv = float(a[0]), float(a[1]), float(b[0]), float(b[1])
     k0, i = ex.rec.n, 0
+    lowest = np.inf  # least progress along a -> b so far [m]
     t_end = ex.est.t + 3.0 + 2.0 * L / speed
     while True:
         est = ex.est
@@ -97,6 +103,9 @@ def sweep(ex, a, b, speed: float, phase: str = "search", detector=None, every: i
         cu, cv = float(c[0]), float(c[1])
         if not ((bu - cu) * du + (bv - cv) * dv > 2e-4 and est.t < t_end):
             break
+        done = (cu - au) * du + (cv - av) * dv
+        if done < lowest:  # still coming back from an overshoot past ``a``
+            lowest, k0 = done, max(ex.rec.n - 1, k0)
         e = GAIN * ((cu - au) * -dv + (cv - av) * du)
         yield speed * du + e * dv, speed * dv - e * du
         i += 1

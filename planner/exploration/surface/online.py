@@ -10,6 +10,14 @@ Features inside the known area of already explored features are ignored, and so 
 features whose peak lies within :data:`EDGE` ``r_f`` (two smoothing scales of the detector)
 of either end of the analysed path: there the Gaussian smoothing runs off the data and the
 finger accelerates from rest over steps of the quantized encoders, which reads as curvature.
+
+§4.4.1: "the finger can actually travel over a feature without detecting it. Thus, it may be
+desired to perform type detection even if it is uncertain whether the curvature is sharp
+enough". A crest crossed obliquely shows only ``cos^2`` of its curvature along the path
+(Euler), below ``1/r_f``; so when the window holds no curvature feature but the path *turns*
+by more than :data:`TURN` over half a fingertip radius on each side of a point the finger
+has left by ``1.25 r_f``, that point is reported as an uncertain feature (pattern ``"+"`` or
+``"-"``) and identified like any other.
 """
 
 from __future__ import annotations
@@ -20,13 +28,19 @@ import numpy as np
 
 from planner.exploration.surface.detection_adapter import analyse_path, collapse_pattern
 
-__all__ = ["EDGE", "STRIDE", "Detection", "OnlineDetector"]
+__all__ = ["EDGE", "STRIDE", "TURN", "Detection", "OnlineDetector", "uncertain_turn"]
 
 #: margin at the ends of the analysed path where curvature features are not trusted [r_f]
 EDGE = 0.2
 #: the window is analysed again once the finger has moved this far [r_f] (1 mm: a report
 #: comes at most ~30 ms later at the search speed; algorithm 3 over the window is ~1.5 ms)
 STRIDE = 0.125
+#: turn [rad] of the centre path over ``r_f / 2`` on each side of a point that asks for type
+#: identification without a curvature feature: a surface at the Definition 1 threshold
+#: (curvature ``1/r_f``) crossed at 60 deg from its principal direction has a normal
+#: curvature of ``cos^2(60 deg)/r_f = 1/(4 r_f)``, its offset by ``r_f`` ``1/(5 r_f)``, which
+#: turns the path by 0.1 rad over ``r_f / 2``
+TURN = 0.1
 
 
 @dataclass(frozen=True)
@@ -96,7 +110,7 @@ class OnlineDetector:
         idx = np.arange(i0, k1, stride)
         a = analyse_path(rec.centre[idx], self.r)
         if not a.features:
-            return None
+            return self._uncertain(a, idx, k1, i0, flush)
         s_now = a.s[-1]
         edge = EDGE * self.r
         feats = [f for f in a.features if edge <= f.s <= s_now - edge]
@@ -130,6 +144,71 @@ class OnlineDetector:
                 pts, signs, collapse_pattern(signs), first, last, i0, k1, rec.t[k1 - 1], lat
             )
         return None
+
+    def _uncertain(self, a, idx: np.ndarray, k1: int, i0: int, flush: bool) -> Detection | None:
+        """A point of the window where the path turns by more than :data:`TURN` (no
+        curvature feature in the window), once the finger has left it by ``1.25 r_f``."""
+        j, turn = uncertain_turn(a.s, a.w, 0.5 * self.r, 0.0 if flush else 1.25 * self.r)
+        if j < 0 or abs(turn) < TURN:
+            return None
+        sign = 1 if turn > 0 else -1
+        # a concave turn is the foot of a raised feature (a convex one the lip of a sunken
+        # one): span the feature to its crest like a lone curvature feature does
+        lone = _Turn(sign, float(j))
+        pts = _with_relief_extreme(a.point_at(j)[None].copy(), [lone], a, self.r)
+        if pts is None and not flush:
+            return None  # still on the flank
+        if pts is None:
+            pts = a.point_at(j)[None].copy()
+        mid = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
+        if self.known(mid):
+            return None
+        rec = self.ex.rec
+        k = int(idx[j])
+        lat = float(rec.t[k1 - 1] - rec.t[k])
+        self.latencies.append(lat)
+        pattern = "+" if sign > 0 else "-"
+        return Detection(pts, np.array([sign]), pattern, k, k, i0, k1, rec.t[k1 - 1], lat)
+
+
+@dataclass(frozen=True)
+class _Turn:
+    """A turn of the path standing in for a lone curvature feature (sign, sample index)."""
+
+    sign: int
+    index: float
+
+
+def uncertain_turn(s: np.ndarray, w: np.ndarray, r: float, past: float) -> tuple[int, float]:
+    """``(j, turn)``: the sample of a path (horizontal arclength ``s`` (N,), centre heights
+    ``w`` (N,) [m]) where the path turns most over ``r`` [m] on each side, at least ``r``
+    from its start and ``past`` [m] before its end, and that turn [rad] (positive convex:
+    the slope behind minus the slope ahead); ``(-1, 0.0)`` when the path is too short.
+    Heights are averaged over ``r/4`` at each end of the two chords (encoder quantization:
+    0.05 mm steps)."""
+    s, w = np.asarray(s, float), np.asarray(w, float)
+    if len(s) < 10 or s[-1] - s[0] < 2 * r + past:
+        return -1, 0.0
+    h = r / 4
+    cs = np.concatenate([[0.0], np.cumsum(w)])
+
+    def mean_at(x: np.ndarray) -> np.ndarray:
+        lo = np.searchsorted(s, x - h / 2)
+        hi = np.maximum(np.searchsorted(s, x + h / 2), lo + 1)
+        hi = np.minimum(hi, len(w))
+        lo = np.minimum(lo, hi - 1)
+        return (cs[hi] - cs[lo]) / (hi - lo)
+
+    cand = np.flatnonzero((s >= s[0] + r) & (s <= s[-1] - max(past, r)))
+    if cand.size == 0:
+        return -1, 0.0
+    x = s[cand]
+    mid = mean_at(x)
+    behind = (mid - mean_at(x - r)) / r
+    ahead = (mean_at(x + r) - mid) / r
+    turn = np.arctan(behind) - np.arctan(ahead)
+    i = int(np.argmax(np.abs(turn)))
+    return int(cand[i]), float(turn[i])
 
 
 def _with_relief_extreme(pts: np.ndarray, group, analysis, r: float, least: float = 3e-4):

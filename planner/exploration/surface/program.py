@@ -108,6 +108,30 @@ def identify_feature(ex, cfg, det, search_ev):
     return identify([search_ev, ev1, ev2]), c, across, min(width, half), abs(ev1.relief)
 
 
+#: the side of the plate each identified kind stands out to (+1 raised, -1 sunken)
+SENSE = {"bump": 1, "ridge": 1, "pit": -1, "ravine": -1}
+#: share of the across crossing's relief at which the outline is traced (its level above or
+#: below the plate level). The plate level next to a wide feature is lifted (lowered) by its
+#: flanks or tails by some ``dw`` that no measurement inside the region removes, and the
+#: traced line moves by ``dw / slope``; a bell-shaped raised cross-section is steepest about
+#: half-way up (a Lorentzian ``h/(1+x^2)`` has slope ``2 h x f^2 / w`` at the level ``f h``:
+#: 0.28 h/w at f = 0.3, 0.5 h/w at f = 0.5), so a raised feature (bump, ridge: its traced
+#: cross-section, the dilation of a convex top by the ball, is smooth) is traced at half its
+#: relief. A sunken one (pit, ravine) narrower than the fingertip is bridged by the ball: its
+#: traced cross-section ends in a crease (interference, §3.2.1) where the contact normal
+#: jumps from flank to flank and cannot steer the lateral servo, so it keeps the lower level
+#: of the open features (steps, cusps)
+OUTLINE_SHARE = {"bump": 0.5, "ridge": 0.5}
+OUTLINE_SHARE_OTHER = 0.3
+
+
+def outline_rise(kind: str, relief: float, least: float) -> float:
+    """Level [m] of the traced outline above (below) the plate for a feature of ``kind``
+    whose across crossing had ``relief`` [m] (:data:`OUTLINE_SHARE`), at least ``least``."""
+    share = OUTLINE_SHARE.get(kind, OUTLINE_SHARE_OTHER)
+    return max(least, share * abs(relief))
+
+
 def trace_feature(ex, cfg, rec_f: FeatureRecord, region, half: float):
     """Trace one side (closed or open), then the other side of an open ridge or ravine."""
     sides_todo = [1.0]
@@ -118,8 +142,9 @@ def trace_feature(ex, cfg, rec_f: FeatureRecord, region, half: float):
         start = rec_f.centre + side * (half + 0.25 * cfg.tip_radius) * rec_f.across
         inward = -side * rec_f.across
         limit = 2 * half + cfg.tip_radius
+        sense = SENSE.get(kind, 0)
         outline = yield from find_outline(
-            ex, cfg, start, inward, limit, rec_f.rise, crest=kind == "cusp"
+            ex, cfg, start, inward, limit, rec_f.rise, crest=kind == "cusp", sense=sense
         )
         if outline is None:
             rec_f.reasons.append("outline not found")
@@ -170,7 +195,7 @@ def exploration_program(ex, cfg, region: np.ndarray, rng, state: ProgramState):
             )
             dec, c, across, half, relief = yield from identify_feature(ex, cfg, det, search_ev)
             rec_f = FeatureRecord(dec, c, across, detected_at=det.t, latency=det.latency)
-            rec_f.rise = max(cfg.boundary_rise, 0.3 * relief)
+            rec_f.rise = outline_rise(dec.kind, relief, cfg.boundary_rise)
             ex.event("feature_identified", f"{dec.kind} ({dec.confidence:.2f})", kind=dec.kind)
             if dec.kind != "unknown":
                 yield from trace_feature(ex, cfg, rec_f, region, half)

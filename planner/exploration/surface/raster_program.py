@@ -17,7 +17,12 @@ from __future__ import annotations
 import numpy as np
 
 from planner.exploration.surface.motions import approach, sweep
-from planner.exploration.surface.program import FeatureRecord, _remember, trace_feature
+from planner.exploration.surface.program import (
+    FeatureRecord,
+    _remember,
+    outline_rise,
+    trace_feature,
+)
 from planner.exploration.surface.raster_match import raster_identify
 from planner.exploration.surface.runtime import PHASE
 from planner.exploration.surface.strategies import segments
@@ -60,7 +65,7 @@ def raster_program(ex, cfg, region: np.ndarray, rng, state):
         ex.event("feature_detected", f"raster cluster of {len(rf.points)} curvature features")
         ex.event("feature_identified", f"{dec.kind} ({dec.confidence:.2f})", kind=dec.kind)
         rec_f = FeatureRecord(dec, c, across, detected_at=t_found, latency=float("nan"))
-        rec_f.rise = max(cfg.boundary_rise, 0.3 * abs(rf.relief))
+        rec_f.rise = outline_rise(dec.kind, rf.relief, cfg.boundary_rise)
         rec_f.reasons.append(f"raster match: elongation {rf.elongation:.1f}, lines {rf.lines}")
         yield from trace_feature(ex, cfg, rec_f, region, half)
         state.features.append(rec_f)

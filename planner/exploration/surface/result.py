@@ -147,6 +147,8 @@ class ExplorationResult:
         log: the simulator's :class:`planner.sim.SimLog`.
         decision: (M,) continue-or-move-on parameter of §4.5.2 while tracing (nan otherwise).
         wall_time: wall-clock duration of the run [s].
+        cpu_time: CPU time of this process over the run [s] (what the machine's load does not
+            inflate; nan when not measured).
         settings: the :class:`ExplorationSettings` used.
         pose: 4x4 ``T_WS`` of the plate in the WCS.
     """
@@ -168,6 +170,7 @@ class ExplorationResult:
     wall_time: float
     settings: ExplorationSettings
     pose: np.ndarray = field(default_factory=lambda: np.eye(4))
+    cpu_time: float = float("nan")
 
     @property
     def sim_time(self) -> float:
@@ -178,3 +181,10 @@ class ExplorationResult:
     def real_time_factor(self) -> float:
         """Simulated over wall-clock time [-]."""
         return self.sim_time / self.wall_time if self.wall_time > 0 else float("inf")
+
+    @property
+    def cpu_real_time_factor(self) -> float:
+        """Simulated time over the run's CPU time [-] (nan when not measured): the real-time
+        factor on an unloaded core."""
+        c = self.cpu_time
+        return self.sim_time / c if c > 0 else float("nan")

@@ -20,6 +20,7 @@ the share of the tracing budget spent; coming back onto traced boundary makes ``
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -69,14 +70,7 @@ class Outline:
     rise: float = 2.5e-4
 
 
-def _inside(p: np.ndarray, region: np.ndarray, margin: float) -> bool:
-    return bool(
-        region[0, 0] + margin <= p[0] <= region[0, 1] - margin
-        and region[1, 0] + margin <= p[1] <= region[1, 1] - margin
-    )
-
-
-def plate_level(ex, local: float, rise: float, ends: int = 40) -> float:
+def plate_level(ex, local: float, rise: float, ends: int = 40, sense: int = 0) -> float:
     """The plate level [m] (centre height on the bare plate) next to the feature.
 
     ``local`` [m] is the height where the approach starts, a few millimetres from the
@@ -85,6 +79,12 @@ def plate_level(ex, local: float, rise: float, ends: int = 40) -> float:
     the feature about twice as far out; the level at its end nearer to the finger (the same
     side: a step's other level is never mixed in) is used when it is within ``rise`` of
     ``local`` (raster identification has no across crossing: ``local``).
+
+    ``sense`` is the side of the plate the feature stands out to (+1 raised: bump, ridge;
+    -1 sunken: pit, ravine; 0: a step, unknown). For a raised feature the plate level is the
+    *lower* of the two heights, for a sunken one the higher: the one farther from the
+    feature's side is the one less lifted by its flank or its tails (the across crossing's
+    end is where the ball still rests on a wide ridge's flank: 0.4 mm up on a 5 mm ridge).
     """
     rec = ex.rec
     idx = np.flatnonzero(rec.phase[: rec.n] == PHASE["across"])
@@ -98,11 +98,22 @@ def plate_level(ex, local: float, rise: float, ends: int = 40) -> float:
     heads = (run[:ends], run[-ends:])
     near = min(heads, key=lambda k: float(np.hypot(*(rec.centre[k, :2].mean(axis=0) - here))))
     w = float(np.mean(rec.centre[near, 2]))
+    if sense > 0:
+        return min(w, local)
+    if sense < 0:
+        return max(w, local)
     return w if abs(w - local) < rise else local
 
 
 def find_outline(
-    ex, cfg, start, inward, limit: float, rise: float | None = None, crest: bool = False
+    ex,
+    cfg,
+    start,
+    inward,
+    limit: float,
+    rise: float | None = None,
+    crest: bool = False,
+    sense: int = 0,
 ):
     """Slide from ``start`` along ``inward`` until the centre leaves the plate level by
     ``boundary_rise``; returns an :class:`Outline` or None (not met within ``limit`` [m]).
@@ -111,7 +122,8 @@ def find_outline(
     (up a raised feature, down a sunken one: the sense that agrees with ``inward``), so it
     meets the outline even when ``inward`` misses the feature's centre. ``crest``: the
     feature has no plate level (a cusp: the plate falls away on both sides); the finger
-    climbs over the crest and the outline is ``rise`` below it (:func:`find_crest`)."""
+    climbs over the crest and the outline is ``rise`` below it (:func:`find_crest`).
+    ``sense``: the identified side of the feature (:func:`plate_level`)."""
     if crest:
         return (yield from find_crest(ex, cfg, start, inward, limit, rise))
     yield from move_to(ex, start, cfg.speed)
@@ -122,7 +134,7 @@ def find_outline(
         ref.append(ex.est.centre[2])
         yield np.zeros(2)
     rise = cfg.boundary_rise if rise is None else rise
-    w0 = plate_level(ex, float(np.mean(ref)), rise)
+    w0 = plate_level(ex, float(np.mean(ref)), rise, sense=sense)
     p0 = ex.est.uv.copy()
     heading = inward
     while abs(ex.est.centre[2] - w0) < rise:
@@ -206,46 +218,60 @@ def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float 
     """
     r = cfg.tip_radius
     k_start, t_start = ex.rec.n, ex.est.t
-    start_uv = ex.est.uv.copy()
+    su, sv = float(ex.est.centre[0]), float(ex.est.centre[1])  # where tracing began
     first_uv = None  # where the first settled sample was taken
     near = None  # closest approach to it once back within 0.1 r
     back = False  # the finger has come back to where tracing began
     steady, w, held = 0, float(ex.est.centre[2]), 0.0  # held: the integral term [-]
     samples: list[int] = []
-    tangent = None
-    into = outline.inward.copy()  # direction towards the feature (2,)
+    loose: list[int] = []  # on the outline within SETTLED_LATERAL, not kept (holes' filling)
+    turned = False  # a tangent has been chosen since (re)starting
+    tu = tv = 0.0  # the tangent of the previous step (2,)
+    iu, iv = float(outline.inward[0]), float(outline.inward[1])  # towards the feature
+    sig, level, lost_err = float(outline.sigma), float(outline.level), 2.0 * outline.rise
+    speed, trace_time = float(cfg.trace_speed), float(cfg.trace_time)
+    m = 0.25 * r  # the region, shrunk by the margin at which an end is reached [m]
+    u0, u1 = float(region[0, 0]) + m, float(region[0, 1]) - m
+    v0, v1 = float(region[1, 0]) + m, float(region[1, 1]) - m
     ends, travelled, farthest = 0, 0.0, 0.0
-    prev = ex.est.uv.copy()
+    pu, pv = su, sv
     reason = "trace budget spent"
-    while ex.est.t - t_start < cfg.trace_time:
-        n = ex.est.normal
-        tilt = float(np.hypot(n[0], n[1]))
-        c = ex.est.uv
-        travelled += float(np.hypot(c[0] - prev[0], c[1] - prev[1]))
-        prev = c.copy()
+    trace, reapproach = PHASE["trace"], PHASE["reapproach"]
+    # the loop runs once per servo period: Python floats, no small numpy arrays
+    while ex.est.t - t_start < trace_time:
+        est = ex.est
+        n, C = est.normal, est.centre
+        nx, ny, nz = float(n[0]), float(n[1]), float(n[2])
+        cu, cv = float(C[0]), float(C[1])
+        tilt = math.hypot(nx, ny)
+        travelled += math.hypot(cu - pu, cv - pv)
+        pu, pv = cu, cv
         if tilt > 0.03:  # the contact is on the feature: the uphill direction is known
-            into = (-outline.sigma / tilt) * np.array([n[0], n[1]])
-        t = orient * np.array([-into[1], into[0]])
-        if tangent is not None and float(t @ tangent) < -0.2:
-            t = -t  # keep the sense of travel through saddles of the tilt field
-        tangent = t
-        w += (float(ex.est.centre[2]) - w) / SMOOTH
-        err, dist = level_distance(ex, outline, w)
+            iu, iv = -sig * nx / tilt, -sig * ny / tilt
+        ttu, ttv = -orient * iv, orient * iu
+        if turned and ttu * tu + ttv * tv < -0.2:
+            ttu, ttv = -ttu, -ttv  # keep the sense of travel through saddles of the tilt field
+        tu, tv, turned = ttu, ttv, True
+        w += (float(C[2]) - w) / SMOOTH
+        err = sig * (level - w)  # level_distance() with the smoothed height, inlined
+        dist = err / max(tilt / max(nz, 1e-6), MIN_SLOPE)
         steady = steady + 1 if abs(dist) < SETTLED_LATERAL else 0
-        lost = abs(err) > 2.0 * outline.rise
-        ex.phase = PHASE["reapproach"] if lost else PHASE["trace"]
+        lost = abs(err) > lost_err
+        ex.phase = reapproach if lost else trace
         if steady >= SETTLE and abs(dist) < ACCEPT_LATERAL:
             samples.append(ex.rec.n - 1)
             if first_uv is None:
-                first_uv = ex.rec.centre[ex.rec.n - 1, :2].copy()
+                first_uv = (cu, cv)
+        elif not lost and abs(dist) < SETTLED_LATERAL:
+            loose.append(ex.rec.n - 1)
         if not lost:
-            held = min(max(held + LATERAL_INTEGRAL * dist * SERVO_DT / cfg.trace_speed, -0.5), 0.5)
-        lateral = min(max(LATERAL_GAIN * dist / cfg.trace_speed + held, -0.7), 0.7)
-        v = cfg.trace_speed * ((0.3 * t if lost else t) + lateral * into)
-        farthest = max(farthest, float(np.hypot(c[0] - start_uv[0], c[1] - start_uv[1])))
-        if not _inside(c, region, 0.25 * r):
+            held = min(max(held + LATERAL_INTEGRAL * dist * SERVO_DT / speed, -0.5), 0.5)
+        lateral = min(max(LATERAL_GAIN * dist / speed + held, -0.7), 0.7)
+        along = 0.3 if lost else 1.0
+        farthest = max(farthest, math.hypot(cu - su, cv - sv))
+        if not (u0 <= cu <= u1 and v0 <= cv <= v1):
             ends += 1
-            ex.event("end_reached", "the outline leaves the region", point=c.tolist())
+            ex.event("end_reached", "the outline leaves the region", point=[cu, cv])
             if ends == 2:
                 reason = "both ends reached"
                 break
@@ -253,29 +279,66 @@ def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float 
             # the samples of both ways meet without a gap
             back = samples[min(len(samples) - 1, SETTLE)] if samples else k_start
             yield from move_to(ex, ex.rec.centre[back, :2], cfg.speed)
-            orient, tangent, steady = -orient, None, 0
+            orient, turned, steady = -orient, False, 0
             continue
         if farthest > 0.2 * r and travelled > max(2.5 * farthest, 0.5 * r):
             # back past where tracing began (the unsettled stretch before the first kept
             # sample is traced again, settled), then closed at the first kept sample
-            back = back or float(np.hypot(c[0] - start_uv[0], c[1] - start_uv[1])) < 0.25 * r
-            home = start_uv if first_uv is None else first_uv
-            near = _closing(c, home, 0.1 * r, near) if back else None
+            back = back or math.hypot(cu - su, cv - sv) < 0.25 * r
+            home = (su, sv) if first_uv is None else first_uv
+            near = _closing(cu, cv, home, 0.1 * r, near) if back else None
             if near is not None and near < 0:
                 if _covered(ex, samples, k_start):
                     reason = "loop closed"
                     break
                 near = None  # a stretch traced unsettled: once more around
 
-            if near is None and ex.est.k % 100 == 0 and _decision(ex, cfg, samples, t_start) < 0:
+            if near is None and est.k % 100 == 0 and _decision(ex, cfg, samples, t_start) < 0:
                 reason = "decision parameter < 0 (no new boundary)"
                 break
-        yield v
-    closed = reason == "loop closed" or reason.startswith("decision")
-    return TraceResult(np.array(samples, int), closed and ends == 0, ends, reason)
+        yield speed * (along * tu + lateral * iu), speed * (along * tv + lateral * iv)
+    closed = (reason == "loop closed" or reason.startswith("decision")) and ends == 0
+    kept = _fill_holes(ex, samples, loose) if closed else np.array(samples, int)
+    return TraceResult(kept, closed, ends, reason)
 
 
-def _covered(ex, samples: list[int], k_start: int, gap: float = 5e-4) -> bool:
+#: a stretch of the traced outline farther than this from every kept sample is a hole [m]
+HOLE = 5e-4
+
+
+def _fill_holes(ex, samples: list[int], loose: list[int]) -> np.ndarray:
+    """The kept samples of a closed outline plus, where they leave a hole (:data:`HOLE`), the
+    trace samples within ``SETTLED_LATERAL`` of the level line there (recorder indices in
+    trace order).
+
+    Where the outline turns sharply (the end cap of a narrow ravine or a small ridge) the
+    lateral servo never settles to ``ACCEPT_LATERAL`` and the kept samples leave a gap of a
+    millimetre or more; a Voronoi branch of the medial axis then runs into the gap (a
+    skeleton 2-3 mm off the crest line, where the true outline's own medial axis, pruned at
+    the same significance, stays within 0.3 mm of it). These samples are on the outline -
+    not the re-approach of §4.4.2, which is dropped - with a larger lateral error, at most
+    ``SETTLED_LATERAL``. A sample counts as in a hole when its nearest kept sample is
+    farther than ``HOLE + SETTLED_LATERAL`` (a lateral offset alone cannot put it there: on
+    a small, tight outline the loose samples lie beside the kept ones, not in a gap); only
+    runs of at least ``SMOOTH`` consecutive servo steps are added
+    (a stray sample inside the outline would grow a loop in the medial axis). Open outlines
+    (steps, cusps: their pseudo-skeleton is the samples themselves) are left as kept."""
+    from scipy.spatial import cKDTree
+
+    if len(samples) < 10 or not loose:
+        return np.array(samples, int)
+    rec = ex.rec
+    cand = np.asarray(loose, int)
+    d, _ = cKDTree(rec.centre[np.asarray(samples), :2]).query(rec.centre[cand, :2])
+    add = cand[d > HOLE + SETTLED_LATERAL]  # off every kept sample by more than an offset
+    runs = np.split(add, np.flatnonzero(np.diff(add) > 1) + 1) if add.size else []
+    add = [r for r in runs if len(r) >= SMOOTH]  # a stretch of outline, not a stray sample
+    if not add:
+        return np.array(samples, int)
+    return np.union1d(np.asarray(samples, int), np.concatenate(add))
+
+
+def _covered(ex, samples: list[int], k_start: int, gap: float = HOLE) -> bool:
     """Whether every point the finger traced since ``k_start`` is within ``gap`` [m] of a
     kept sample (a stretch it went round unsettled, at a sharp end cap on the first lap
     say, leaves a hole in the outline until it is traced again)."""
@@ -291,11 +354,12 @@ def _covered(ex, samples: list[int], k_start: int, gap: float = 5e-4) -> bool:
     return bool(d.max() < gap)
 
 
-def _closing(c, home, zone: float, near: float | None, slack: float = 2e-4):
-    """Closest distance [m] to ``home`` since entering the ``zone`` around it (None: not in
-    it yet); -1 once the finger has passed its closest approach (or is on ``home``): the
-    loop closes with the first samples overlapped, not a ``zone``-wide gap."""
-    d = float(np.hypot(*(c - home)))
+def _closing(cu: float, cv: float, home, zone: float, near: float | None, slack: float = 2e-4):
+    """Closest distance [m] of the centre ``(cu, cv)`` to ``home`` since entering the
+    ``zone`` around it (None: not in it yet); -1 once the finger has passed its closest
+    approach (or is on ``home``): the loop closes with the first samples overlapped, not a
+    ``zone``-wide gap."""
+    d = math.hypot(cu - home[0], cv - home[1])
     if d >= zone and near is None:
         return None
     near = d if near is None else min(near, d)
