@@ -286,24 +286,25 @@ def solve_contacts(
     gap_rates: np.ndarray,
     mu: np.ndarray,
     tol: float = 1e-13,
-    max_sweeps: int = 1000,
+    max_sweeps: int = 200,
     rates: np.ndarray | None = None,
 ) -> tuple[np.ndarray, list[str]]:
     """Several coupled contacts (and unilateral limit rows): block Gauss-Seidel over exact
     3x3 solves.
 
-    First the all-sticking guess: every row active, ``W λ = -(u + rates)`` solved directly, kept
-    when every normal impulse is positive, every friction impulse inside its cone and every
-    limit impulse non-negative (exact, and the common case of a held grasp; sweeps on an ill-
-    conditioned ``W`` approach it only linearly). Otherwise each sweep solves every contact's
-    3x3 problem exactly (:func:`solve_impulse`) given the others' impulses, then every scalar
-    limit row ``0 <= λ ⊥ u + rate >= 0``. Plain sweeps converge for weakly coupled contacts;
-    with strong coupling and large ``μ`` they can cycle, so the solve restarts under-relaxed
-    (``λ ← (1-ω) λ + ω λ_new``, ω in :data:`RELAXATION`). Where every relaxation cycles (a few
-    in a thousand random strongly coupled pairs with ``μ >= 1``), the Alart-Curnier equations
-    are solved by Powell's hybrid method (:func:`scipy.optimize.root`) from the last sweep, the
-    all-sticking guess and zero, and a root is kept only when it satisfies every contact's
-    conditions (:func:`residual`) to round-off (0 of 12000 random pairs left unsolved).
+    Each sweep solves every contact's 3x3 problem exactly (:func:`solve_impulse`) given the
+    others' impulses, then every scalar limit row ``0 <= λ ⊥ u + rate >= 0``. Plain sweeps
+    converge for weakly coupled contacts (the compiled step runs the same sweeps). When they do
+    not: first the all-sticking guess, every row active and ``W λ = -(u + rates)`` solved
+    directly (for a well-conditioned ``W`` only), kept when every normal impulse is positive,
+    every friction impulse inside its cone and every limit impulse non-negative (sweeps on an
+    ill-conditioned ``W`` approach it only linearly); then restarts under-relaxed (``λ ← (1-ω) λ
+    + ω λ_new``, ω in :data:`RELAXATION`), since with strong coupling and large ``μ`` plain
+    sweeps can cycle. Where every relaxation cycles (a few in a thousand random strongly coupled
+    pairs with ``μ >= 1``), the Alart-Curnier equations are solved by Powell's hybrid method
+    (:func:`scipy.optimize.root`) from the last sweep, the (least-squares) all-sticking guess
+    and zero, and a root is kept only when it satisfies every contact's conditions
+    (:func:`residual`) to round-off (0 of 12000 random pairs left unsolved).
     A sweep solve is accepted when an update changes no impulse by more than ``tol`` (relative).
 
     Args:
@@ -328,13 +329,14 @@ def solve_contacts(
     if k == 1 and len(rates) == 0:
         lam, mode = solve_impulse(W, u_free, gap_rates[0], mu[0])
         return lam, [mode]
-    lam = _all_stick(W, u_free, gap_rates, mu, rates)
-    if lam is not None:
-        return lam, ["stick"] * k
     for omega in RELAXATION:
         lam, modes, ok = _sweeps(W, u_free, gap_rates, mu, rates, tol, max_sweeps, omega)
         if ok:
             return lam, modes
+        if omega == 1.0:
+            stick = _all_stick(W, u_free, gap_rates, mu, rates)
+            if stick is not None:
+                return stick, ["stick"] * k
     found = _alart_curnier(W, u_free, gap_rates, mu, rates, lam)
     if found is not None:
         return found
@@ -355,10 +357,9 @@ def _all_stick(W, u_free, gap_rates, mu, rates):
     rhs[3 * k :] -= rates
     if k and np.any(rhs[0 : 3 * k : 3] <= 0.0):
         return None  # a contact that would separate does not stick
-    try:
-        lam = np.linalg.solve(W, rhs)
-    except np.linalg.LinAlgError:
-        return None
+    if np.linalg.cond(W) > 1e10:
+        return None  # rank-deficient W (more rows than joints): sticking impulses not unique
+    lam = np.linalg.solve(W, rhs)
     n, t1, t2 = lam[0 : 3 * k : 3], lam[1 : 3 * k : 3], lam[2 : 3 * k : 3]
     if np.any(n <= 0.0) or np.any(np.hypot(t1, t2) > np.asarray(mu) * n):
         return None
@@ -404,7 +405,8 @@ def _alart_curnier(W, u_free, gap_rates, mu, rates, guess):
             np.all(lr >= -scale) and np.all(vr >= -scale) and np.all(np.abs(lr * vr) <= scale)
         )
 
-    starts = [np.asarray(guess, float), np.linalg.solve(W, -base), np.zeros(len(base))]
+    stick = np.linalg.lstsq(W, -base, rcond=None)[0]  # W may be rank-deficient
+    starts = [np.asarray(guess, float), stick, np.zeros(len(base))]
     rhos = (
         len(base) / float(np.trace(W)),
         1.0 / float(np.max(np.diag(W))),

@@ -118,7 +118,7 @@ def limit_rows(body, nu_free, h: float) -> list[tuple[int, float, float]]:
     return out
 
 
-def solve_with_limits(W, u_free, gap_rates, mus, rates, tol=1e-13, max_sweeps=1000):
+def solve_with_limits(W, u_free, gap_rates, mus, rates, tol=1e-13, max_sweeps=200):
     """Contacts (3x3 exact-cone blocks) and ``m`` scalar unilateral limit rows (last rows of
     ``W``: ``0 <= λ ⊥ u + rate >= 0``); the impulse (3k + m,). One block Gauss-Seidel with
     relaxed restarts: :func:`.friction_cone.solve_contacts`."""
