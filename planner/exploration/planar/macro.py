@@ -13,6 +13,11 @@ Why not only the curvature detector of ch. 3: the rectangular 3 mm ridge stops t
 flat pad (its edge meets the ridge's wall) and the round tip rolls over it with its 25 mm
 radius, so neither trace has the sharp curvature extrema that detector looks for; the height
 above the model is what both traces show clearly (3 mm, against 0.1-0.3 mm of noise).
+
+A ridge seen in one pass only (the pad stopped on it with few usable samples: seeds 0 and 2
+of ``ball_with_ridge`` missed it) is reported when the pad's tactile images confirm it
+(§2.3.2, Fig. 2.14: the pressure image changes from a round to a line-like pattern over the
+ridge): :func:`.sensed_features.image_ridges`, :func:`.sensed_features.fuse_image_ridges`.
 """
 
 from __future__ import annotations
