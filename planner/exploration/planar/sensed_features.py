@@ -98,12 +98,12 @@ def rotation_cap(features, theta: float) -> float:
 #: 10 cm ball on the 20 mm pad at 0.3 N is a Hertz patch of radius (3 F R / 4 E*)^(1/3) =
 #: 2.2 mm (E* = 1 MPa): 6-16 taxels, elongation 1.00-1.09 (99th percentile of 3,000 sensed
 #: images off the ridge, 4 seeds; 1.0-1.2 for any position and 0.15-0.9 N). A 4 mm wide
-#: ridge under the pad is a line: across the pad (a 3-D ridge, 8 taxels long) ~8; in the
-#: planar world, whose contacts lie on the pad's mid-line between two taxel rows, its edge
-#: (radius <= 1 mm: patch radius <= 0.6 mm) loads the two taxels beside it: exactly 2
-#: (1.5-2 within 0.2-0.4 mm of a taxel column's centre; nearer a column boundary it loads
-#: a 2 x 2 block, 1.2, and is missed: the pad stalls on the edge for 0.25-0.45 s per pass,
-#: and in the 4 seeds of ball_with_ridge every pass that stalled there gave a run).
+#: ridge under the pad is a line: across the pad (a 3-D ridge, 8 taxels long) ~8. In the
+#: planar world the contacts lie on the pad's mid-line between two taxel rows, and the
+#: sliding pad meets the ridge with its edge (all 4 seeds: the centroid in the outer taxel
+#: column, u = 8.75 mm): a corner contact, imaged as a 1 mm sphere clipped at the pad's
+#: end, that loads the two taxels beside the mid-line: exactly 2 (an edge inside the pad:
+#: 1.5-2 within 0.2-0.4 mm of a taxel column's centre, 1.2 nearer a column boundary).
 #: The peak fraction (:func:`image_shape`'s sharpness) is not used: a round patch centred
 #: on one taxel puts 0.4-0.7 of its load into it, as much as an edge does.
 LINE_ELONGATION = 1.5
