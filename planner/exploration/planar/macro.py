@@ -13,6 +13,11 @@ Why not only the curvature detector of ch. 3: the rectangular 3 mm ridge stops t
 flat pad (its edge meets the ridge's wall) and the round tip rolls over it with its 25 mm
 radius, so neither trace has the sharp curvature extrema that detector looks for; the height
 above the model is what both traces show clearly (3 mm, against 0.1-0.3 mm of noise).
+
+A ridge seen in one pass only (the pad stopped on it with few usable samples: seeds 0 and 2
+of ``ball_with_ridge`` missed it) is reported when the pad's tactile images confirm it
+(§2.3.2, Fig. 2.14: the pressure image changes from a round to a line-like pattern over the
+ridge): :func:`.sensed_features.image_ridges`, :func:`.sensed_features.fuse_image_ridges`.
 """
 
 from __future__ import annotations
@@ -22,6 +27,7 @@ import math
 import numpy as np
 
 from planner.exploration.planar.result import DetectedFeature
+from planner.exploration.planar.sensed_features import fuse_image_ridges, image_ridges
 
 #: a region at least this far above (below) the model is a ridge (groove) [m]
 MACRO_HEIGHT = 1.0e-3
@@ -115,12 +121,7 @@ def macro_regions(angles: np.ndarray, heights: np.ndarray, passes=None) -> list:
     """
     if angles.size == 0:
         return []
-    passes = np.zeros(angles.size, int) if passes is None else np.asarray(passes)
-    seen: list[tuple[float, int, int]] = []
-    for q in np.unique(passes):
-        m = passes == q
-        regions = _pass_regions(angles[m], heights[m], local=q >= PAD_PASS)
-        seen += [(a, sg, int(q)) for a, sg in regions]
+    seen = pass_regions(angles, heights, passes)
     out = []
     for sign in (1, -1):
         pts = sorted((a, q) for a, sg, q in seen if sg == sign)
@@ -139,6 +140,18 @@ def macro_regions(angles: np.ndarray, heights: np.ndarray, passes=None) -> list:
             if len({q for _, q in g}) >= MACRO_MIN_PASSES:
                 out.append((_circular_median(np.array([a for a, _ in g])), sign))
     return out
+
+
+def pass_regions(angles: np.ndarray, heights: np.ndarray, passes=None) -> list:
+    """``[(angle [rad], sign, pass), ...]``: the feature regions of every single pass (see
+    :func:`macro_regions`, which keeps those seen in :data:`MACRO_MIN_PASSES` passes)."""
+    passes = np.zeros(angles.size, int) if passes is None else np.asarray(passes)
+    seen: list[tuple[float, int, int]] = []
+    for q in np.unique(passes):
+        m = passes == q
+        regions = _pass_regions(angles[m], heights[m], local=q >= PAD_PASS)
+        seen += [(a, sg, int(q)) for a, sg in regions]
+    return seen
 
 
 def _pass_regions(angles: np.ndarray, heights: np.ndarray, local: bool = False) -> list:
@@ -186,18 +199,20 @@ def detect_macro_features(
     nearest true feature of ``profile`` (the middle of its cluster of curvature features)."""
     a, h, p = sensed_heights(trace, theta, radius, tip_radius, band)
     found = macro_regions(a, h, p)
-    merged = found
+    single = [ang for ang, sign, _ in pass_regions(a, h, p) if sign > 0]
+    found += fuse_image_ridges(image_ridges(trace, theta, band), found, single)
     truth = _truth_clusters(profile)
-    out = []
-    for ang, sign in merged:
-        kind = "ridge" if sign > 0 else "groove"
-        if truth:
-            err = [math.remainder(ang - b, 2 * math.pi) for b in truth]
-            j = int(np.argmin(np.abs(err)))
-            out.append(DetectedFeature(ang, kind, truth[j], err[j]))
-        else:
-            out.append(DetectedFeature(ang, kind))
-    return out
+    return [as_feature(ang, "ridge" if sign > 0 else "groove", truth) for ang, sign in found]
+
+
+def as_feature(angle: float, kind: str, truth: list[float]) -> DetectedFeature:
+    """A :class:`DetectedFeature` at ``angle`` [rad] compared with the nearest of ``truth``
+    (polar angles [rad]; empty: not compared)."""
+    if not truth:
+        return DetectedFeature(angle, kind)
+    err = [math.remainder(angle - b, 2 * math.pi) for b in truth]
+    j = int(np.argmin(np.abs(err)))
+    return DetectedFeature(angle, kind, truth[j], err[j])
 
 
 def _truth_clusters(profile) -> list[float]:
@@ -219,4 +234,10 @@ def _truth_clusters(profile) -> list[float]:
     return [math.remainder(float(np.mean(c)), 2 * math.pi) for c in clusters]
 
 
-__all__ = ["detect_macro_features", "macro_regions", "sensed_heights"]
+__all__ = [
+    "as_feature",
+    "detect_macro_features",
+    "macro_regions",
+    "pass_regions",
+    "sensed_heights",
+]

@@ -144,7 +144,9 @@ def detect_pad_features(
     sensors), detected per contiguous run, reported as polar angles on the object (one per
     feature: repeated detections within :data:`MERGE_ANGLE` are merged) and matched to the
     nearest true curvature feature of ``profile``. Macro features (ridges, grooves) come
-    from :mod:`.macro`. ``exclude``: ``(t0, t1)`` windows [s] left out (phases that ended
+    from :mod:`.macro` (the contact trace's heights above the model, fused with the tactile
+    images' line-like pattern over a ridge, :func:`.sensed_features.image_ridges`).
+    ``exclude``: ``(t0, t1)`` windows [s] left out (phases that ended
     with "object moved": the held object moved, so the sensed pose there is wrong - each
     gave a phantom ridge or groove next to the true ridge).
     """

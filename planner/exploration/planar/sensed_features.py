@@ -11,6 +11,10 @@ shape plus what the fingers have sensed").
 * :func:`rotation_cap`: the largest phase-1 rotation that does not leave a sensed feature
   on the palm (the ball resting on its 3 mm ridge rocked, and every phase 3 rolled it
   10 deg back off the ridge until the gait stalled).
+* :func:`image_shape`, :func:`image_ridges`, :func:`fuse_image_ridges`: the tactile-image
+  cue of a ridge (§2.3.2, Fig. 2.14: "the pressure distribution near the feature becomes
+  significantly sharper and changes from the characteristic pattern of a spherical contact
+  to a ridge"), fused with the contact-trace detection of :mod:`.macro`.
 """
 
 from __future__ import annotations
@@ -19,6 +23,7 @@ import math
 
 import numpy as np
 
+from planner.errors import InvalidParameter
 from planner.exploration.planar.controller import TRACE_NAMES
 
 #: a pass whose pad contact rose this far above its median distance from the centre
@@ -89,4 +94,155 @@ def rotation_cap(features, theta: float) -> float:
     return cap if cap >= MIN_CAPPED else math.inf
 
 
-__all__ = ["rotation_cap", "sensed_bump"]
+#: an image this elongated is line-like [-] (:func:`image_shape`). A round contact of the
+#: 10 cm ball on the 20 mm pad at 0.3 N is a Hertz patch of radius (3 F R / 4 E*)^(1/3) =
+#: 2.2 mm (E* = 1 MPa): 6-16 taxels, elongation 1.00-1.09 (99th percentile of 3,000 sensed
+#: images off the ridge, 4 seeds; 1.0-1.2 for any position and 0.15-0.9 N). A 4 mm wide
+#: ridge under the pad is a line: across the pad (a 3-D ridge, 8 taxels long) ~8. In the
+#: planar world the contacts lie on the pad's mid-line between two taxel rows, and the
+#: sliding pad meets the ridge with its edge (all 4 seeds: the centroid in the outer taxel
+#: column, u = 8.75 mm): a corner contact, imaged as a 1 mm sphere clipped at the pad's
+#: end, that loads the two taxels beside the mid-line: exactly 2 (an edge inside the pad:
+#: 1.5-2 within 0.2-0.4 mm of a taxel column's centre, 1.2 nearer a column boundary).
+#: The peak fraction (:func:`image_shape`'s sharpness) is not used: a round patch centred
+#: on one taxel puts 0.4-0.7 of its load into it, as much as an edge does.
+LINE_ELONGATION = 1.5
+#: a ridge candidate is a run of at least this many consecutive line-like images
+#: of the touching pad (0.1 s at the controller's 100 Hz image rate): a pad lifting off
+#: gives single 1-4 taxel images at ~0 N, the ridge held the pad for 0.25-0.45 s
+IMAGE_MIN_RUN = 10
+#: candidates closer than this are one ridge [rad] (the pad stops on the near edge of the
+#: ridge and, on a later pass, on its far edge; the sensed pose drifts a few degrees over
+#: a turn; same reach as :data:`.macro.MACRO_MERGE`)
+IMAGE_MERGE = math.radians(15.0)
+#: an image ridge needs a single-pass height region of the contact trace this close [rad]:
+#: a line-like image says that a sharp edge touches the pad, and the pad's own edge
+#: pressing on the object looks the same (it did on the 12 x 10 cm ellipse, 0.4 s at
+#: -152 deg, with no height region near); the height region says something stands out of
+#: the nominal outline there. A pass that ends on the ridge sees one side of it: the
+#: regions of the 3 mm ridge at 170 deg lay at 165-180 deg
+FUSE_ANGLE = math.radians(10.0)
+
+
+def image_shape(images) -> tuple[np.ndarray, np.ndarray]:
+    """Elongation and peak sharpness of tactile images, from their pressure alone.
+
+    Args:
+        images: (M, rows, cols) taxel pressures [Pa] (negative values count as 0).
+
+    Returns:
+        ``(elongation, peak)``, each (M,): the square root of the ratio of the principal
+        second moments of the pressure distribution, each plus 1/12 taxel^2 (a single
+        taxel's own spread; so a round patch gives ~1, a line of n taxels
+        ``sqrt(1 + (n^2 - 1))`` = n), and the fraction of the pressure in the peak taxel
+        [-]; NaN for empty images. Same measure as
+        :func:`.plots.tactile_elongation`, vectorized.
+    """
+    w = np.clip(np.asarray(images, float), 0.0, None)
+    if w.ndim != 3:
+        raise InvalidParameter(f"images: expected shape (M, rows, cols), got {w.shape}")
+    total = w.sum(axis=(1, 2))
+    safe = np.where(total > 0, total, 1.0)
+    i, j = np.indices(w.shape[1:])
+    mi = (w * i).sum(axis=(1, 2)) / safe
+    mj = (w * j).sum(axis=(1, 2)) / safe
+    di, dj = i[None] - mi[:, None, None], j[None] - mj[:, None, None]
+    a = (w * di * di).sum(axis=(1, 2)) / safe + 1.0 / 12.0
+    c = (w * dj * dj).sum(axis=(1, 2)) / safe + 1.0 / 12.0
+    b = (w * di * dj).sum(axis=(1, 2)) / safe
+    root = np.sqrt(0.25 * (a - c) ** 2 + b * b)
+    hi, lo = 0.5 * (a + c) + root, 0.5 * (a + c) - root
+    empty = total <= 0
+    elong = np.where(empty, np.nan, np.sqrt(hi / np.maximum(lo, 1e-12)))
+    peak = np.where(empty, np.nan, w.max(axis=(1, 2)) / safe)
+    return elong, peak
+
+
+def image_ridges(trace: dict, theta, band) -> list[float]:
+    """Object-frame polar angles [rad] of the ridges the pad's tactile images show.
+
+    A candidate is a run of :data:`IMAGE_MIN_RUN` consecutive images of the exploring,
+    touching pad (phase 3, normal force in ``band`` [N]) that are line-like
+    (:data:`LINE_ELONGATION`), placed at the circular median
+    of the pad contact's object angle over the run (sensed: tactile centroid on the pad from
+    the encoders, minus the sensed centre, rotated by ``theta`` (N,) [rad]); candidates
+    within :data:`IMAGE_MERGE` are one ridge, at their circular median.
+
+    Args:
+        trace: the controller's sensed series (``t``, ``kind``, ``pad_touch``, ``fnL``,
+            ``pLx``, ``pLy``, ``cx``, ``cy``, ``image_t`` (M,), ``images`` (M, 8, 8)).
+        theta: (N,) sensed object rotation per row [rad].
+        band: ``(low, high)`` normal force [N] of a touching explorer.
+    """
+    ti = np.asarray(trace.get("image_t", ()), float)
+    t = np.asarray(trace["t"], float)
+    if ti.size < IMAGE_MIN_RUN or t.size == 0:
+        return []
+    rows = np.searchsorted(t, ti).clip(0, t.size - 1)
+    fn = trace["fnL"][rows]
+    ok = (trace["kind"][rows] == 3) & (trace["pad_touch"][rows] > 0)
+    ok &= (fn >= band[0]) & (fn <= band[1])
+    elong, _ = image_shape(trace["images"])
+    ok &= elong >= LINE_ELONGATION
+    ang = np.arctan2(trace["pLy"] - trace["cy"], trace["pLx"] - trace["cx"]) - theta
+    idx = np.flatnonzero(ok)
+    runs = np.split(idx, np.flatnonzero(np.diff(idx) > 1) + 1) if idx.size else []
+    found = sorted(
+        math.remainder(_circular_median(ang[rows[r]]), 2 * math.pi)
+        for r in runs
+        if r.size >= IMAGE_MIN_RUN
+    )
+    return [_circular_median(np.array(g)) for g in _groups(found, IMAGE_MERGE)]
+
+
+def fuse_image_ridges(image: list[float], found: list, single: list[float]) -> list:
+    """The image ridges (angles [rad]) that the contact trace confirms but did not report:
+    ``[(angle, +1), ...]``.
+
+    An image ridge within :data:`IMAGE_MERGE` of a feature in ``found`` (``[(angle, sign)]``,
+    the trace's features seen in two passes) is that feature (the trace places it from the
+    ridge's whole top). Otherwise the image evidence replaces the trace's second pass: a
+    single-pass ridge region (``single``, angles [rad]) within :data:`FUSE_ANGLE` confirms
+    it, and it is reported where the images saw it (the pad rests on the ridge there; the
+    region of a pass that ended on the ridge is off by up to 10 deg); without one it is
+    dropped (:data:`FUSE_ANGLE`).
+    """
+    out = []
+    for a in image:
+        if any(abs(math.remainder(a - b, 2 * math.pi)) < IMAGE_MERGE for b, _ in found):
+            continue
+        if any(abs(math.remainder(a - b, 2 * math.pi)) < FUSE_ANGLE for b in single):
+            out.append((a, 1))
+    return out
+
+
+def _groups(angles: list[float], gap: float) -> list[list[float]]:
+    """Sorted angles [rad] split where consecutive ones differ by ``gap`` or more (the
+    first and last group joined across +-pi)."""
+    groups: list[list[float]] = []
+    for a in angles:
+        if groups and a - groups[-1][-1] < gap:
+            groups[-1].append(a)
+        else:
+            groups.append([a])
+    if len(groups) > 1 and groups[0][0] + 2 * math.pi - groups[-1][-1] < gap:
+        groups[0] = groups.pop() + groups[0]
+    return groups
+
+
+def _circular_median(a: np.ndarray) -> float:
+    """Median of angles [rad] spanning less than pi (unwrapped about their mean)."""
+    a = np.asarray(a, float)
+    m = math.atan2(float(np.mean(np.sin(a))), float(np.mean(np.cos(a))))
+    return math.remainder(
+        m + float(np.median(np.remainder(a - m + math.pi, 2 * math.pi) - math.pi)), 2 * math.pi
+    )
+
+
+__all__ = [
+    "fuse_image_ridges",
+    "image_ridges",
+    "image_shape",
+    "rotation_cap",
+    "sensed_bump",
+]
