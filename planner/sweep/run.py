@@ -16,7 +16,10 @@ from __future__ import annotations
 
 import json
 import os
-from collections.abc import Callable, Mapping
+import signal
+import threading
+from collections.abc import Callable, Iterator, Mapping
+from contextlib import contextmanager
 from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any
@@ -110,8 +113,37 @@ def _results(tasks: list[Task], backend: str, opts: Mapping[str, Any], stack) ->
     return backends.dask_results(tasks, client)
 
 
-def _install_all(results, out: Path, counts: dict, bar, on_result) -> None:
-    """Install each finished run as it arrives; keep the counts and the progress bar."""
+@contextmanager
+def _sigint_between_runs(active: bool) -> Iterator[Callable[[], bool]]:
+    """While runs execute in this process, Ctrl-C stops the sweep after the current run.
+
+    A KeyboardInterrupt raised at an arbitrary point of a run can land inside an import or a
+    compiled extension (numba, CasADi, pyarrow) and leave the process in a state that crashes
+    at exit; so the first SIGINT only sets a flag that :func:`_install_all` checks between
+    runs, and a second one interrupts at once. Yields the flag's reader. Outside the main
+    thread or with worker processes (they get the terminal's SIGINT themselves) nothing
+    changes.
+    """
+    if not active or threading.current_thread() is not threading.main_thread():
+        yield lambda: False
+        return
+    pending: list[int] = []
+
+    def handler(signum, frame):
+        if pending:
+            raise KeyboardInterrupt
+        pending.append(signum)
+
+    old = signal.signal(signal.SIGINT, handler)
+    try:
+        yield lambda: bool(pending)
+    finally:
+        signal.signal(signal.SIGINT, old)
+
+
+def _install_all(results, out: Path, counts: dict, bar, on_result, stop=lambda: False) -> None:
+    """Install each finished run as it arrives; keep the counts and the progress bar;
+    raise KeyboardInterrupt between runs when ``stop()`` says Ctrl-C was pressed."""
     left = bar.total - bar.n
     for fin in results:
         install(fin.archive, out / "runs" / fin.run_id)
@@ -121,6 +153,8 @@ def _install_all(results, out: Path, counts: dict, bar, on_result) -> None:
         bar.set_postfix(ok=counts["ok"], failed=counts["failed"], left=left)
         if on_result is not None:
             on_result(fin)
+        if stop():
+            raise KeyboardInterrupt
 
 
 def run_sweep(
@@ -199,7 +233,10 @@ def run_sweep(
         with ExitStack() as stack:
             if todo:
                 tasks = [_task(r, sweep.name) for r in todo]
-                _install_all(_results(tasks, backend, opts, stack), out, counts, bar, on_result)
+                in_process = backend == "joblib" and jobs == 1
+                stop = stack.enter_context(_sigint_between_runs(in_process))
+                results = _results(tasks, backend, opts, stack)
+                _install_all(results, out, counts, bar, on_result, stop)
     except KeyboardInterrupt:
         interrupted = True
     finally:
