@@ -237,23 +237,15 @@ def pick_images(trace: dict, ridge_angle: float | None, count: int, theta=None) 
 def tactile_elongation(image: np.ndarray) -> float:
     """How line-like a tactile image is: sqrt of the ratio of the principal second moments
     of its pressure distribution, each plus 1/12 taxel^2 (a single taxel's own spread), so
-    a round patch gives ~1 and a line of taxels several; NaN for an empty image.
+    a round patch gives ~1 and a line of taxels several; NaN for an empty image. One image
+    of :func:`.sensed_features.image_shape` (the detector's measure).
 
     Args:
         image: (rows, cols) taxel pressures [Pa] (negative values count as 0).
     """
-    w = np.clip(np.asarray(image, float), 0.0, None)
-    total = float(w.sum())
-    if total <= 0.0:
-        return float("nan")
-    i, j = np.indices(w.shape)
-    mi, mj = float((w * i).sum() / total), float((w * j).sum() / total)
-    cov = np.array([
-        [(w * (i - mi) ** 2).sum(), (w * (i - mi) * (j - mj)).sum()],
-        [(w * (i - mi) * (j - mj)).sum(), (w * (j - mj) ** 2).sum()],
-    ]) / total + np.eye(2) / 12.0  # fmt: skip
-    lo, hi = np.linalg.eigvalsh(cov)
-    return float(math.sqrt(hi / lo))
+    from planner.exploration.planar.sensed_features import image_shape
+
+    return float(image_shape(np.asarray(image, float)[None])[0][0])
 
 
 def fig214_measures(result, ridge_angle: float | None, window: float = 0.2, theta=None) -> dict:
