@@ -113,18 +113,11 @@ def _hapex_run(build, duration, python_controller=False, reps=REPS):
 
 def _mj_rollout(world, ctrl, duration, settings, bodies):
     """Run the world's MJCF in MuJoCo; returns (row, {body: (T, 3) poses}, (T, 6) q)."""
-    mujoco = _mujoco()
-    from planner.sim import Observation, to_mjcf
+    from planner.sim import Observation
+    from planner.sim.mjcf import mujoco_model
 
     t0 = time.perf_counter()
-    m = mujoco.MjModel.from_xml_string(to_mjcf(world))
-    if settings == "best":
-        m.opt.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
-        m.opt.impratio = 100.0
-        m.opt.noslip_iterations = 20
-        m.geom_solref[:, 0] = 2 * world.dt
-    d = mujoco.MjData(m)
-    mujoco.mj_resetDataKeyframe(m, d, 0)
+    mujoco, m, d = mujoco_model(world, settings)
     build_s = time.perf_counter() - t0
     nh = 6 if world.hand is not None else 0
     n = int(round(duration / world.dt))

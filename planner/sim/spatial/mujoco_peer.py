@@ -25,6 +25,7 @@ import time
 import numpy as np
 
 from planner.errors import HapexError
+from planner.sim.mjcf import MUJOCO_SETTINGS
 from planner.sim.observation import Observation
 from planner.sim.spatial.finger import tcs_rotation
 from planner.sim.spatial.scenes import RidgeScene, path_error
@@ -33,28 +34,15 @@ from planner.sim.spatial.sensing import OWTSReading
 __all__ = ["SETTINGS", "mujoco_ridge_rollout"]
 
 #: the two settings measured, with their labels
-SETTINGS = {
-    "default": "as exported (elliptic cone, default solref)",
-    "best": "elliptic, impratio=100, noslip=20, solref 2dt",
-}
+SETTINGS = MUJOCO_SETTINGS
 
 
 def _model(scene: RidgeScene, settings: str):
-    import mujoco
-
-    from planner.sim import to_mjcf
+    from planner.sim.mjcf import mujoco_model
 
     if settings not in SETTINGS:
         raise HapexError(f"settings: {settings!r}; choices: {sorted(SETTINGS)}")
-    w = scene.world
-    m = mujoco.MjModel.from_xml_string(to_mjcf(w))
-    if settings == "best":
-        m.opt.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
-        m.opt.impratio = 100.0
-        m.opt.noslip_iterations = 20
-        m.geom_solref[:, 0] = 2 * w.dt
-    d = mujoco.MjData(m)
-    mujoco.mj_resetDataKeyframe(m, d, 0)
+    mujoco, m, d = mujoco_model(scene.world, settings)
     mujoco.mj_forward(m, d)
     return mujoco, m, d
 
