@@ -104,6 +104,20 @@ class SimLog:
             self.pairs.append(key)
             return len(self.pairs) - 1
 
+    def write_contacts(self, k: int, contacts) -> None:
+        """Row ``k``'s contact slots from contact records (``.bodies``, ``.point`` [m],
+        ``.normal``, ``.normal_force`` [N], ``.tangential_force`` [N], ``.slip_velocity``
+        [m/s], ``.gap`` [m]); records beyond :attr:`max_contacts` are counted, not stored."""
+        self.contact_count[k] = len(contacts)
+        for i, c in enumerate(contacts[: self.max_contacts]):
+            self.contact_pair[k, i] = self.pair_index(*c.bodies)
+            self.contact_point[k, i] = c.point
+            self.contact_normal[k, i] = c.normal
+            self.normal_force[k, i] = c.normal_force
+            self.tangential_force[k, i] = c.tangential_force
+            self.slip_velocity[k, i] = c.slip_velocity
+            self.gap[k, i] = c.gap
+
     def pair_mask(self, a: str, b: str) -> np.ndarray:
         """(T, K) True where the slot holds a contact between ``a`` and ``b`` (either order)."""
         idx = [i for i, p in enumerate(self.pairs) if p in (f"{a}|{b}", f"{b}|{a}")]

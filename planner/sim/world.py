@@ -53,16 +53,7 @@ class WorldBase:
         if self.n_joints:
             q, qd = self.joint_state()
             log.q[k], log.qd[k], log.tau[k] = q, qd, tau
-        contacts = self.contacts()
-        log.contact_count[k] = len(contacts)
-        for i, c in enumerate(contacts[: log.max_contacts]):
-            log.contact_pair[k, i] = log.pair_index(*c.bodies)
-            log.contact_point[k, i] = c.point
-            log.contact_normal[k, i] = c.normal
-            log.normal_force[k, i] = c.normal_force
-            log.tangential_force[k, i] = c.tangential_force
-            log.slip_velocity[k, i] = c.slip_velocity
-            log.gap[k, i] = c.gap
+        log.write_contacts(k, self.contacts())
 
     def run(
         self,

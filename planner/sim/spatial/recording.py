@@ -44,16 +44,7 @@ def record(world, log, k: int, tau: np.ndarray) -> None:
         log.velocities[b.name][k] = b.velocity()
     if world.finger is not None:
         log.q[k], log.qd[k], log.tau[k] = world.finger.th, world.finger.thd, tau
-    contacts = world.contacts()
-    log.contact_count[k] = len(contacts)
-    for i, c in enumerate(contacts[: log.max_contacts]):
-        log.contact_pair[k, i] = log.pair_index(*c.bodies)
-        log.contact_point[k, i] = c.point
-        log.contact_normal[k, i] = c.normal
-        log.normal_force[k, i] = c.normal_force
-        log.tangential_force[k, i] = c.tangential_force
-        log.slip_velocity[k, i] = c.slip_velocity
-        log.gap[k, i] = c.gap
+    log.write_contacts(k, world.contacts())
 
 
 def _record_kernel(world, log, k: int, tau: np.ndarray) -> None:
