@@ -371,22 +371,7 @@ def step(world, tau) -> StepResult:
     if world.hand is not None:
         world.qd = nu_new[3 * nb :].copy()
         world.q += h * world.qd
-    arr = np.array(cands, float).reshape(-1, 10)
-    return StepResult(
-        arr[:, 0].astype(int),
-        arr[:, 1].astype(int),
-        gap,
-        arr[:, 3:5],
-        arr[:, 5:7],
-        arr[:, 7:9],
-        arr[:, 9],
-        mu,
-        pn,
-        pt,
-        T @ nu_new,
-        lidx,
-        pl,
-    )
+    return _result(np.array(cands, float).reshape(-1, 10), mu, pn, pt, T @ nu_new, lidx, pl)
 
 
 class _Compiled:
