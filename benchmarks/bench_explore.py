@@ -202,15 +202,22 @@ def _sensors(noise_deg: float, seed: int):
     return SensorSettings(encoder=Encoder(ThreeGM().encoder_resolution), tactile=None, owts=owts)
 
 
-def _failed_row(case: dict, identify_mode: str, reason: str) -> dict:
-    """The row of a plate the explorer could not run (counts as not identified)."""
-    nan = math.nan
+def _case_columns(case: dict, identify_mode: str) -> dict:
+    """The columns that say which plate a row is (kind, size [mm], angle [deg], noise [deg])."""
     return {
         "kind": case["kind"],
         "size_mm": case["size"] * 1e3,
         "angle_deg": math.degrees(case["angle"]),
         "owts_noise_deg": case["noise_deg"],
         "identify": identify_mode,
+    }
+
+
+def _failed_row(case: dict, identify_mode: str, reason: str) -> dict:
+    """The row of a plate the explorer could not run (counts as not identified)."""
+    nan = math.nan
+    return {
+        **_case_columns(case, identify_mode),
         "identified": "error",
         "confidence": nan,
         "correct": False,
@@ -261,11 +268,7 @@ def _explore_row(case, identify_mode, plate, opts, explore_surface, exploration_
     m = exploration_metrics(res, plate, REGION, R, 0.3)
     f = res.features[0] if res.features else None
     return {
-        "kind": case["kind"],
-        "size_mm": case["size"] * 1e3,
-        "angle_deg": math.degrees(case["angle"]),
-        "owts_noise_deg": case["noise_deg"],
-        "identify": identify_mode,
+        **_case_columns(case, identify_mode),
         "identified": f.kind if f else "missed",
         "confidence": f.confidence if f else math.nan,
         "correct": bool(f is not None and f.kind == case["kind"]),
