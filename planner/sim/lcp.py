@@ -28,16 +28,7 @@ Python (correct, ~100x slower).
 from __future__ import annotations
 
 import numpy as np
-
-try:  # numba is a dependency; keep the library importable without it
-    from numba import njit
-except ImportError:  # pragma: no cover - exercised only without numba
-
-    def njit(*args, **kwargs):
-        if args and callable(args[0]):
-            return args[0]
-        return lambda f: f
-
+from numba import njit
 
 __all__ = [
     "COVERS",

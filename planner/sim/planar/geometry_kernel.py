@@ -31,18 +31,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba import njit
 
 from planner.sim.planar.packed_outlines import ARC, BLOCK, PH
-
-try:  # numba is a dependency; keep the library importable without it
-    from numba import njit
-except ImportError:  # pragma: no cover - exercised only without numba
-
-    def njit(*args, **kwargs):
-        if args and callable(args[0]):
-            return args[0]
-        return lambda f: f
-
 
 __all__ = ["closest", "contacts_into", "contacts_kernel"]
 

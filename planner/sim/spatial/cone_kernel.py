@@ -11,13 +11,7 @@ from __future__ import annotations
 
 import math
 
-try:  # optional accelerator (plain Python otherwise: same code, same results)
-    from numba import njit
-except ImportError:  # pragma: no cover - depends on the environment
-
-    def njit(**_):
-        return lambda f: f
-
+from numba import njit
 
 __all__ = ["cone_impulse", "slide_newton"]
 
