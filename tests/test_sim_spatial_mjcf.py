@@ -68,3 +68,17 @@ def test_mujoco_ridge_rollout_measures_the_same_quantities():
     assert (a.rms, a.max, a.lost_steps) == (b.rms, b.max, b.lost_steps)
     with pytest.raises(HapexError, match="settings"):
         mujoco_ridge_rollout(sc, "fastest")
+
+
+def test_mujoco_model_settings_are_checked_and_best_is_stiffer():
+    from planner.errors import InvalidParameter
+    from planner.sim import PlanarWorld
+    from planner.sim.mjcf import MUJOCO_SETTINGS, mujoco_model
+
+    world = PlanarWorld(dt=1e-3)
+    with pytest.raises(InvalidParameter, match="settings: 'fast'; choices"):
+        mujoco_model(world, "fast")
+    pytest.importorskip("mujoco")
+    assert set(MUJOCO_SETTINGS) == {"default", "best"}
+    _, m, _ = mujoco_model(world, "best")
+    assert m.opt.impratio == 100.0 and m.opt.noslip_iterations == 20

@@ -24,7 +24,6 @@ import time
 
 import numpy as np
 
-from planner.errors import HapexError
 from planner.sim.mjcf import MUJOCO_SETTINGS
 from planner.sim.observation import Observation
 from planner.sim.spatial.finger import tcs_rotation
@@ -40,9 +39,7 @@ SETTINGS = MUJOCO_SETTINGS
 def _model(scene: RidgeScene, settings: str):
     from planner.sim.mjcf import mujoco_model
 
-    if settings not in SETTINGS:
-        raise HapexError(f"settings: {settings!r}; choices: {sorted(SETTINGS)}")
-    mujoco, m, d = mujoco_model(scene.world, settings)
+    mujoco, m, d = mujoco_model(scene.world, settings)  # checks the settings
     mujoco.mj_forward(m, d)
     return mujoco, m, d
 
