@@ -119,6 +119,14 @@ class TactileArray:
         return P
 
     @property
+    def kernel_args(self) -> tuple:
+        """The array's constants in the order of
+        :func:`robots.sensors.tactile_kernel.sphere_image_add` (``fu, fv, Bv, BuT, modulus,
+        cell, threshold``): its compiled twin of :meth:`sphere_images`."""
+        cell = (self.pitch / self.oversample) ** 2
+        return self._fu, self._fv, self._Bv, self._BuT, self.modulus, cell, self.threshold
+
+    @property
     def extent(self) -> tuple[float, float]:
         """Half-widths of the pad (u, v) [m]."""
         return self.cols * self.pitch / 2, self.rows * self.pitch / 2

@@ -21,7 +21,8 @@ import numpy as np
 from planner.sim.lcp import njit
 from planner.sim.observation import Observation, read_forces, read_joints
 from planner.sim.planar.bodies import FREE, TIP
-from robots.sensors import Encoder, ForceSensor
+from robots.sensors import Encoder, ForceSensor, TactileArray
+from robots.sensors.tactile_kernel import sphere_image_add
 
 __all__ = ["TactileImages", "observe"]
 
@@ -58,6 +59,54 @@ def _read_hand(q, qd, enc, vres, ia, ib, kind, index, pn, pt, normal, h, qm, qdm
         qm[i] = q[i] if enc == 0.0 else np.floor(q[i] / enc) * enc
         qdm[i] = qd[i] if vres == 0.0 else np.rint(qd[i] / vres) * vres
     _tip_force_sum(ia, ib, kind, index, pn, pt, normal, h, forces)
+
+
+@njit(cache=True)
+def pad_image(img, finger, ia, ib, pa, pb, curv, pn, h, kind, index, q, base, lengths,
+              fu, fv, Bv, BuT, modulus, cell, threshold):  # fmt: skip  # pragma: no cover
+    """The tactile image of fingertip ``finger``'s pad into ``img`` (rows, cols) [Pa]: the
+    sum of the sphere images (:func:`robots.sensors.tactile_kernel.sphere_image_add`) of
+    its touches in the step result's arrays (``ia, ib, pa, pb, curv, pn``: bodies, points,
+    curvature, normal impulses), placed along the pad by the fingertip frame of the true
+    ``q`` (the operations of :meth:`HandModel.frames`; ``base`` (2, 2), ``lengths``
+    (2, 3) [m]). Compiled :meth:`TactileImages._image_reference` (same operations, same
+    order: equal images)."""
+    img[:, :] = 0.0
+    x = y = c = s = 0.0
+    framed = False
+    for k in range(pn.shape[0]):
+        if pn[k] <= 0:
+            continue
+        a, b = ia[k], ib[k]
+        if kind[a] == TIP and index[a] == finger:
+            px, py = pa[k, 0], pa[k, 1]
+        elif kind[b] == TIP and index[b] == finger:
+            px, py = pb[k, 0], pb[k, 1]
+        else:
+            continue
+        if not framed:
+            l1, l2, l3 = lengths[finger, 0], lengths[finger, 1], lengths[finger, 2]
+            s1 = q[3 * finger]
+            s2 = s1 + q[3 * finger + 1]
+            s3 = s2 + q[3 * finger + 2]
+            x2, y2 = base[finger, 0] - l1 * math.sin(s1), base[finger, 1] + l1 * math.cos(s1)
+            x3, y3 = x2 - l2 * math.sin(s2), y2 + l2 * math.cos(s2)
+            x, y = x3 - l3 * math.sin(s3), y3 + l3 * math.cos(s3)
+            c, s = math.cos(s3), math.sin(s3)
+            framed = True
+        u = c * (px - x) + s * (py - y)
+        kappa = curv[k]
+        radius = 1e-3 if math.isinf(kappa) else (1.0 if kappa < 1.0 else 1.0 / kappa)
+        sphere_image_add(img, u, 0.0, radius, pn[k] / h, fu, fv, Bv, BuT, modulus, cell,
+                         threshold)  # fmt: skip
+
+
+def _hand_geometry(hand) -> tuple[np.ndarray, np.ndarray]:
+    """(2, 2) finger bases and (2, 3) link lengths [m] of the world's hand (cached)."""
+    geo = getattr(hand, "_pad_geometry", None)
+    if geo is None:
+        geo = hand._pad_geometry = (np.array(hand.base, float), np.array(hand.lengths, float))
+    return geo
 
 
 def _kinds(world) -> tuple[np.ndarray, np.ndarray]:
@@ -154,6 +203,22 @@ class TactileImages(Mapping):
         return len(self._frames)
 
     def _image(self, finger: str) -> np.ndarray:
+        if self._touches is not None or type(self._array) is not TactileArray:
+            return self._image_reference(finger)  # given touches, another array model
+        arr = self._array
+        img = np.zeros((arr.rows, arr.cols))
+        world, res = self._source
+        if res is None or len(res.p_n) == 0:
+            return img
+        kind, index = _kinds(world)
+        pad_image(img, self._frames[finger], res.body_a, res.body_b, res.point_a, res.point_b,
+                  res.curvature, res.p_n, world.dt, kind, index, self._q,
+                  *_hand_geometry(self._hand), *arr.kernel_args)  # fmt: skip
+        return img
+
+    def _image_reference(self, finger: str) -> np.ndarray:
+        """:meth:`_image` in Python with :meth:`TactileArray.sphere_images` (the reference
+        of the compiled :func:`pad_image`)."""
         arr = self._array
         img = np.zeros((arr.rows, arr.cols))
         if self._touches is None:
