@@ -50,7 +50,8 @@ from planner.sim.planar.run_kernel import (
     SAT,
     advance,
 )
-from planner.sim.planar.stepper import _NO_HAND, _compiled, _result
+from planner.sim.planar.sensing import GaugeNoise
+from planner.sim.planar.stepper import _NO_HAND, _compiled
 
 __all__ = ["FastLoop", "compiled_law"]
 
@@ -113,6 +114,8 @@ class FastLoop:
         self.ev_i = np.zeros((rows, 4), np.int64)
         self.ev_f = np.zeros((rows, 7))
         self.obs = np.zeros(16)
+        self._readings = (self.obs[:6], self.obs[6:12], self.obs[12:].reshape(2, 2))
+        w._noise = None
         self.readings = _standard_sensors(sens) and w.hand is not None
         self.sc = np.array([w.dt, *w.gravity, w.margin, w.projection_tolerance, w.drop_time], float)
         lg = state.log
@@ -166,7 +169,16 @@ class FastLoop:
             self._flush_events()
         calls = int(self.flags[CALLS]) - calls0
         if calls and self.noise:  # the gauge readings of the reference loop's observations
+            self._sync_noise()
             w.rng.normal(0.0, w.sensors.force.noise_std, (calls, 2, 2))
+
+    def _sync_noise(self) -> None:
+        """The noise drawn ahead for the Python controller's readings -> the generator's
+        reference state (before anything else draws from it)."""
+        noise = getattr(self.w, "_noise", None)
+        if noise is not None:
+            noise.sync()
+            self.w._noise = None
 
     def _sync_world(self) -> None:
         """The kernel's event bookkeeping -> the world's and the loop's (before a Python
@@ -245,8 +257,8 @@ class FastLoop:
             hand is not None, q, qd, P, limits, COVERS, ck.out, ck.counts, self.watch,
             self.order, self.active, self.pair_code, self.ev_i, self.ev_f, self.lg, self.obs,
         )  # fmt: skip
-        if n >= 0:
-            w._last, w._records = _result(ck.out[:n].copy(), mu, pn, pt, slip, lj, lp), None
+        if n >= 0:  # the StepResult is built when something reads it
+            w._set_pending(ck.out[:n].copy(), mu, pn, pt, slip, lj, lp)
         self._from_kernel(n_pairs0, calls0)
         return done, code
 
@@ -270,23 +282,38 @@ class FastLoop:
             s.rows = s.k + 1
             if done and s.stop is not None:
                 s.check_stop()
+                if code == CALL_DUE and not s.stopped and s.k < s.n_steps:
+                    self._control(done)  # the next iteration's call, read by the kernel
                 return
             if code == CALL_DUE:
-                if done and self.readings:  # the kernel read the sensors after its step
-                    self.w._reading = (self.obs[:6], self.obs[6:12], self.obs[12:].reshape(2, 2))
-                s.control()
-                self.w._reading = None
-                self.clock[1], self.flags[SAT] = s.next_call, 1 if s.saturated else 0
-                if s.n:
-                    self.tau[:] = s.tau
+                if s.k < s.n_steps:
+                    self._control(done)
             elif code == PYTHON_STEP:
                 self._sync_world()
+                self._sync_noise()
                 s.iteration()  # the reference iteration (it checks ``stop`` itself)
                 left -= 1
                 self._to_kernel()
                 if s.stop is not None:
                     return
 
+    def _control(self, done: int) -> None:
+        """The Python controller's call that begins the next iteration
+        (:meth:`LoopState.control`), on the readings the kernel took after its last step
+        when it did one (``done``), with the gauge noise drawn ahead (:class:`GaugeNoise`)."""
+        w, s = self.w, self.s
+        if done and self.readings:
+            w._reading = self._readings
+            if self.noise and w._noise is None:
+                w._noise = GaugeNoise(w.rng, w.sensors.force.noise_std)
+        s.control()
+        w._reading = None
+        self.clock[1], self.flags[SAT] = s.next_call, 1 if s.saturated else 0
+        if s.n:
+            self.tau[:] = s.tau
+
     def close(self) -> None:
-        """Hand the event bookkeeping back to the world (the run is over)."""
+        """Hand the event bookkeeping and the generator back to the world (the run is
+        over)."""
         self._sync_world()
+        self._sync_noise()

@@ -231,7 +231,8 @@ def advance(
             contact_pair, contact_point, contact_normal, normal_force, tangential_force,
             slip_velocity, gap).
         obs: (16,) the hand's readings (:func:`_reading`), written when a Python
-            controller's call is due after a step of this call.
+            controller's call is due after a step of this call (also after its last step:
+            ``CALL_DUE`` with ``done = n_max``).
 
     Returns:
         ``(done, exit, n, pn, pt, slip, mu, lim_joint, lim_impulse)``: iterations done, the
@@ -289,4 +290,10 @@ def advance(
             return done + 1, BLOW_UP, n_last, pn, pt, slip, mu, lj, lp
         _contact_events(n, out, pn, active, now, ev_i, ev_f, flags, k, t1)
         _record(k, t1, x, v, com, q, qd, tau, n, out, pn, pt, slip, h, pair_code, flags, lg)
+    if mode == 2 and n_last >= 0 and clock[0] >= clock[1] - 1e-9 * h:
+        # the next iteration begins with a Python controller's call: read the sensors now
+        # (the driver calls the controller without entering the kernel once more)
+        if has_hand:
+            _reading(q, qd, sens, n_last, out, pn, pt, kind, index, h, obs)
+        return n_max, CALL_DUE, n_last, pn, pt, slip, mu, lj, lp
     return n_max, DONE, n_last, pn, pt, slip, mu, lj, lp

@@ -62,12 +62,13 @@ def _read_hand(q, qd, enc, vres, ia, ib, kind, index, pn, pt, normal, h, qm, qdm
 
 
 @njit(cache=True)
-def pad_image(img, finger, ia, ib, pa, pb, curv, pn, h, kind, index, q, base, lengths,
+def pad_image(img, finger, rows, pn, h, kind, index, q, base, lengths,
               fu, fv, Bv, BuT, modulus, cell, threshold):  # fmt: skip  # pragma: no cover
     """The tactile image of fingertip ``finger``'s pad into ``img`` (rows, cols) [Pa]: the
     sum of the sphere images (:func:`robots.sensors.tactile_kernel.sphere_image_add`) of
-    its touches in the step result's arrays (``ia, ib, pa, pb, curv, pn``: bodies, points,
-    curvature, normal impulses), placed along the pad by the fingertip frame of the true
+    its touches in the step's candidate ``rows`` (n, 10) (bodies, gap, points a and b,
+    normal, curvature: the columns of :func:`planner.sim.planar.stepper._result`) with
+    normal impulses ``pn`` (n,) [N s], placed along the pad by the fingertip frame of the true
     ``q`` (the operations of :meth:`HandModel.frames`; ``base`` (2, 2), ``lengths``
     (2, 3) [m]). Compiled :meth:`TactileImages._image_reference` (same operations, same
     order: equal images)."""
@@ -77,11 +78,11 @@ def pad_image(img, finger, ia, ib, pa, pb, curv, pn, h, kind, index, q, base, le
     for k in range(pn.shape[0]):
         if pn[k] <= 0:
             continue
-        a, b = ia[k], ib[k]
+        a, b = int(rows[k, 0]), int(rows[k, 1])
         if kind[a] == TIP and index[a] == finger:
-            px, py = pa[k, 0], pa[k, 1]
+            px, py = rows[k, 3], rows[k, 4]
         elif kind[b] == TIP and index[b] == finger:
-            px, py = pb[k, 0], pb[k, 1]
+            px, py = rows[k, 5], rows[k, 6]
         else:
             continue
         if not framed:
@@ -95,7 +96,7 @@ def pad_image(img, finger, ia, ib, pa, pb, curv, pn, h, kind, index, q, base, le
             c, s = math.cos(s3), math.sin(s3)
             framed = True
         u = c * (px - x) + s * (py - y)
-        kappa = curv[k]
+        kappa = rows[k, 9]
         radius = 1e-3 if math.isinf(kappa) else (1.0 if kappa < 1.0 else 1.0 / kappa)
         sphere_image_add(img, u, 0.0, radius, pn[k] / h, fu, fv, Bv, BuT, modulus, cell,
                          threshold)  # fmt: skip
@@ -171,7 +172,9 @@ class TactileImages(Mapping):
         q: (6,) true joint angles at observation time [rad] (a copy);
         fingers: ``{finger: index}`` of the flat fingertips;
         touches: ``{finger: [(point (2,), normal force [N], curvature [1/m])]}``, or None
-            with ``source``: ``(world, step result)`` to find them on first access.
+            with ``source``: ``(world, (rows (n, 10), p_n (n,)) or None)``: the world and
+            its last step's candidate rows and normal impulses
+            (:meth:`PlanarWorld._step_rows`, immutable copies) to find them on first access.
     """
 
     def __init__(
@@ -207,12 +210,11 @@ class TactileImages(Mapping):
             return self._image_reference(finger)  # given touches, another array model
         arr = self._array
         img = np.zeros((arr.rows, arr.cols))
-        world, res = self._source
-        if res is None or len(res.p_n) == 0:
+        world, step = self._source
+        if step is None or len(step[1]) == 0:
             return img
         kind, index = _kinds(world)
-        pad_image(img, self._frames[finger], res.body_a, res.body_b, res.point_a, res.point_b,
-                  res.curvature, res.p_n, world.dt, kind, index, self._q,
+        pad_image(img, self._frames[finger], step[0], step[1], world.dt, kind, index, self._q,
                   *_hand_geometry(self._hand), *arr.kernel_args)  # fmt: skip
         return img
 
@@ -222,7 +224,7 @@ class TactileImages(Mapping):
         arr = self._array
         img = np.zeros((arr.rows, arr.cols))
         if self._touches is None:
-            per_tip = _touches(*self._source)
+            per_tip = _touches(self._source[0], self._result())
             self._touches = {f: per_tip[k] for f, k in self._frames.items()}
         touches = self._touches[finger]
         if touches:
@@ -233,6 +235,16 @@ class TactileImages(Mapping):
                 radius = 1e-3 if math.isinf(kappa) else (1.0 if kappa < 1.0 else 1.0 / kappa)
                 img += arr.sphere_images(np.array([u, 0.0]), radius, fn)
         return img
+
+    def _result(self):
+        """The source's step as a :class:`StepResult` (bodies, points, curvature, impulses)."""
+        from planner.sim.planar.stepper import _result
+
+        step = self._source[1]
+        if step is None:
+            return None
+        z = np.zeros(0)
+        return _result(step[0], z, step[1], z, z, np.zeros(0, np.int64), z)
 
     def __repr__(self) -> str:
         return f"TactileImages({sorted(self._frames)})"
@@ -250,7 +262,8 @@ def _tactile(world):
     if not flat:
         return {}
     fingers = {FINGERS[k]: k for k in flat}
-    return TactileImages(arr, world.hand, world.q.copy(), fingers, None, (world, world._last))
+    return TactileImages(arr, world.hand, world.q.copy(), fingers, None,
+                         (world, world._step_rows()))  # fmt: skip
 
 
 _EMPTY = (np.zeros(0, np.int64), np.zeros(0), np.zeros((0, 2)))
@@ -266,9 +279,13 @@ def _read(world) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         q, qd = read_joints(sens, world.q, world.qd)
         return q, qd, read_forces(sens, _true_tip_forces(world), world.rng)
     reading = getattr(world, "_reading", None)
+    noise = getattr(world, "_noise", None)
     if reading is not None:  # read by the compiled loop for this call (fast_run)
         q, qd, f = (a.copy() for a in reading)
-        return q, qd, _gauges(force, f, world.rng)
+        return q, qd, _gauges(force, f, world.rng, noise)
+    if noise is not None:  # a read outside the compiled loop's: the generator first
+        noise.sync()
+        world._noise = None
     res = world._last
     kind, index = _kinds(world)
     if res is None:
@@ -283,14 +300,54 @@ def _read(world) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return q, qd, _gauges(force, f, world.rng)
 
 
-def _gauges(force, f: np.ndarray, rng) -> np.ndarray:
+def _gauges(force, f: np.ndarray, rng, noise: GaugeNoise | None = None) -> np.ndarray:
     """:meth:`robots.sensors.ForceSensor.measure` of true forces ``f`` (2, 2) [N] (same
-    draws and operations; ``force`` None: exact)."""
+    draws and operations; ``force`` None: exact); the draw from ``noise`` when given."""
     if force is None:
         return f
     if force.noise_std > 0:
-        f = f + rng.normal(0.0, force.noise_std, f.shape)
+        f = f + (rng.normal(0.0, force.noise_std, f.shape) if noise is None else noise.take())
     return np.rint(f / force.resolution) * force.resolution
+
+
+class GaugeNoise:
+    """The strain gauges' noise drawn ahead from a world's generator, one (2, 2) reading
+    per :meth:`take` (for the compiled run loop: one draw call per block instead of one per
+    controller call).
+
+    ``Generator.normal`` fills a block element by element from the same stream, so the
+    readings equal those of one draw per reading; :meth:`sync` rewinds the generator and
+    redraws what was taken, leaving it where the reference's draws leave it (call it
+    before anything else draws from the generator).
+
+    Args:
+        rng: the world's ``numpy.random.Generator``; std: the gauge noise std [N].
+    """
+
+    BLOCK = 256
+
+    def __init__(self, rng, std: float) -> None:
+        self.rng, self.std = rng, float(std)
+        self._state = rng.bit_generator.state
+        self._taken = 0  # readings handed out since the saved state
+        self._buf = rng.normal(0.0, self.std, (self.BLOCK, 2, 2))
+        self._pos = 0
+
+    def take(self) -> np.ndarray:
+        """The next reading's noise (2, 2) [N]."""
+        if self._pos == len(self._buf):
+            self._buf, self._pos = self.rng.normal(0.0, self.std, (self.BLOCK, 2, 2)), 0
+        self._pos += 1
+        self._taken += 1
+        return self._buf[self._pos - 1]
+
+    def sync(self) -> None:
+        """Leave the generator as if only the readings taken had been drawn."""
+        self.rng.bit_generator.state = self._state
+        if self._taken:
+            self.rng.normal(0.0, self.std, (self._taken, 2, 2))
+        self._state, self._taken = self.rng.bit_generator.state, 0
+        self._buf, self._pos = self._buf[:0], 0
 
 
 def observe(world, oracle: bool = False) -> Observation:

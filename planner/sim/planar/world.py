@@ -88,11 +88,49 @@ class PlanarWorld(WorldBase):
         self.q = np.zeros(0)
         self.qd = np.zeros(0)
         self._events = []
-        self._last: StepResult | None = None
+        self._pending: tuple | None = None  # a compiled step's raw result (see _last)
+        self._last_result: StepResult | None = None
         self._records: tuple[Contact, ...] | None = None
         self._touch: dict[str, float] = {}
         self._dropped: set[str] = set()
         self._limits_on: set[int] = set()
+
+    # ------------------------------------------------------------------ last step
+    @property
+    def _last(self) -> StepResult | None:
+        """The last step's :class:`StepResult`; the compiled run loop leaves its raw arrays
+        (:meth:`_set_pending`), turned into the result only when something reads it."""
+        if self._pending is not None:
+            from planner.sim.planar.stepper import _result
+
+            self._last_result, self._pending = _result(*self._pending), None
+        return self._last_result
+
+    @_last.setter
+    def _last(self, res: StepResult | None) -> None:
+        self._last_result, self._pending = res, None
+
+    def _set_pending(self, rows: np.ndarray, mu, pn, pt, slip, lj, lp) -> None:
+        """The last step's result as the kernel's arrays: candidate rows (n, 10) (a copy;
+        columns of :func:`planner.sim.planar.stepper._result`), mu, impulses, slip, limit
+        rows."""
+        self._pending, self._last_result, self._records = (
+            (rows, mu, pn, pt, slip, lj, lp),
+            None,
+            None,
+        )
+
+    def _step_rows(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """``(rows (n, 10), p_n (n,))`` of the last step (None before the first): the
+        kernel's arrays when pending, else rebuilt from the :class:`StepResult`."""
+        if self._pending is not None:
+            return self._pending[0], self._pending[2]
+        res = self._last_result
+        if res is None:
+            return None
+        rows = np.column_stack([res.body_a, res.body_b, res.gap, res.point_a, res.point_b,
+                                res.normal, res.curvature]).astype(float)  # fmt: skip
+        return rows.reshape(-1, 10), res.p_n
 
     # ------------------------------------------------------------------ building
     def _name(self, name: str | None, stem: str) -> str:
