@@ -223,6 +223,14 @@ class GaitController:
         """The ``stop`` callback of ``world.run``: the event that ends the phase, if any."""
         return self.event
 
+    def fast_loop_plugin(self, fast, stop):
+        """The compiled phase loop (:class:`.gait_loop.GaitLoop`) for a run of the planar
+        world's compiled loop ``fast`` with ``stop`` (a :class:`.gait_loop.PhaseStop` of
+        this controller), or None (then the loop calls :meth:`__call__` and ``stop``)."""
+        from planner.exploration.planar.gait_loop import GaitLoop
+
+        return GaitLoop(fast, self, stop) if GaitLoop.usable(fast, self, stop) else None
+
 
 _NO_POSE = (0.0,) * 7
 _NO_ROLL = (0.0,) * 7

@@ -14,6 +14,9 @@ are entered only when needed:
   each call is one kernel step, whose log row and events cost no Python;
 * a ``stop`` callback is called after every step (the kernel then advances one step per
   call), exactly as in the reference loop;
+* a controller with a ``fast_loop_plugin(fast_loop, stop)`` method may return a plugin
+  that advances the run instead (its own compiled loop: the gait's phases,
+  :mod:`planner.exploration.planar.gait_loop`), or None;
 * an iteration the kernel cannot do as the reference does (position projection, the Python
   contact search, an LCP the kernel cannot verify, a bad command) is handed back before
   anything is committed, and run by :meth:`planner.sim.loop.LoopState.iteration`.
@@ -129,6 +132,10 @@ class FastLoop:
                    lg.contact_point, lg.contact_normal, lg.normal_force, lg.tangential_force,
                    lg.slip_velocity, lg.gap)  # fmt: skip
         self._to_kernel()
+        # a controller may run inside its own compiled loop (the gait's phases:
+        # planner.exploration.planar.gait_loop); it drives this loop's state and kernel
+        hook = getattr(state.controller, "fast_loop_plugin", None)
+        self.plugin = hook(self, state.stop) if hook is not None and self.mode == 2 else None
 
     # ------------------------------------------------------------------ state copies
     def _to_kernel(self) -> None:
@@ -264,6 +271,9 @@ class FastLoop:
 
     def advance(self, n_max: int) -> None:
         """Up to ``n_max`` iterations (fewer when the run stops or a ``stop`` is given)."""
+        if self.plugin is not None:
+            self.plugin.advance(n_max)
+            return
         s = self.s
         if s.stop is not None:
             n_max = 1
