@@ -74,6 +74,10 @@ _DAMP = 0.02
 C_CALLS, C_FALLBACK, C_IMAGES, C_EVENT, C_C0 = 0, 1, 2, 3, 4
 
 
+#: ``rows0, pn0, pt0`` of :func:`gait_advance` when the world has not stepped yet
+_NO_STEP = (np.zeros((0, 0)), np.zeros(0), np.zeros(0))
+
+
 class PhaseStop:
     """The ``stop`` callback of one gait phase (the machine's per-step check).
 
@@ -158,6 +162,7 @@ def gait_advance(
     x, v, mass, inertia, com, q, qd, P, limits, covers, out, counts, watch, order, active,
     pair_code, ev_i, ev_f, lg, obs, times, sv_rows, noise, gauge, padg, pad, img, geo,
     taxel_u, buf, sv, ks, inputs, row, ctau, last_tau, trace, imgs, img_t, cnt, stop_s,
+    rows0, pn0, pt0,
 ):  # noqa: E741  # fmt: skip  # pragma: no cover
     """Up to ``n_max`` iterations of the run loop with the gait controller compiled in.
 
@@ -170,7 +175,10 @@ def gait_advance(
     ``geo`` ... ``ctau``: :func:`gait_kernel`'s arrays; ``last_tau`` (6,) the last good
     command; ``trace`` (m, 29) and ``imgs``/``img_t`` its rows and kept images; ``cnt``
     (6,) counters (``C_*``; ``cnt[5]`` trace rows before the chunk); ``stop_s`` (3,): the
-    centre after the phase's first step (2) and ``hold_slip`` [m] (<= 0: none).
+    centre after the phase's first step (2) and ``hold_slip`` [m] (<= 0: none);
+    ``rows0`` (n, 10), ``pn0``, ``pt0``: the step before this call
+    (:meth:`PlanarWorld._step_rows`; ``rows0`` of shape (0, 0): none, its call runs in
+    Python).
 
     Returns:
         ``(done, exit, n, pn, pt, slip, mu, lim_joint, lim_impulse)`` as ``advance``; exit
@@ -187,6 +195,12 @@ def gait_advance(
     pn, pt, slip, mu, lp = np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0)
     lj = np.zeros(0, np.int64)
     n_last = -1
+    if rows0.shape[1] == 10 and rows0.shape[0] <= out.shape[0]:
+        # the last step before this call (its rows into the candidate buffer, scratch until
+        # the next step): the chunk's first call reads it
+        n_last = rows0.shape[0]
+        out[:n_last] = rows0
+        pn, pt = pn0, pt0
     j = 0  # calls made
     for done in range(n_max):
         if flags[NEV] + 2 * nb * nb + nb + 16 > ev_i.shape[0]:
@@ -339,6 +353,7 @@ class GaitLoop:
         hand, pk = w.hand, cs.packed
         sens = c.sensing
         n_pairs0, calls0 = int(f.flags[NPAIRS]), int(f.flags[4])
+        prev = w._step_rows() or _NO_STEP
         done, code, n, pn, pt, slip, mu, lj, lp = gait_advance(
             m, s.k, f.clock, f.flags, f.tau, f.sens, s.lim, f.sc, pk.F, pk.I, pk.pairs,
             cs.poses, cs.kind, cs.index, cs.mu, w._x, w._v, cs.mass, cs.inertia, f.com, w.q,
@@ -346,7 +361,7 @@ class GaitLoop:
             f.active, f.pair_code, f.ev_i, f.ev_f, f.lg, f.obs, self.times[:calls],
             self.sv_rows[:calls], noise, self.gauge, self.padg, self.pad, self.img, sens.geo,
             sens.taxel_u, sens.buffer, c._sv, c._ks, c._inputs, c._row, c._tau, self.last_tau,
-            self.trace, self.imgs, self.img_t, self.cnt, self.stop_s,
+            self.trace, self.imgs, self.img_t, self.cnt, self.stop_s, *prev,
         )  # fmt: skip
         if n >= 0:
             w._set_pending(cs.out[:n].copy(), mu, pn, pt, slip, lj, lp)
@@ -399,10 +414,13 @@ class GaitLoop:
         f = self.fast
         s, w = f.s, f.w
         left = n_max
+        python_call = False  # the kernel could not make the call that is due
         while left > 0 and not s.stopped:
-            if w.time >= s.next_call - 1e-9 * w.dt:  # a call first: the reference's
+            due = w.time >= s.next_call - 1e-9 * w.dt
+            if due and (python_call or w._step_rows() is None):  # the reference's call
                 f._sync_noise()
                 f._control(0)
+                python_call = False
                 if s.stopped:
                     return
             # an event of that call ends the run after one step: the kernel does only that
@@ -426,6 +444,7 @@ class GaitLoop:
                 s.check_stop()
                 if s.stopped:
                     return
+            python_call = code == CALL_DUE
             if code in (PYTHON_STEP, STEP_IN_PYTHON):
                 f._sync_world()
                 s.iteration()  # the reference iteration (a call made here is not due again)

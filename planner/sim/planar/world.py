@@ -120,17 +120,18 @@ class PlanarWorld(WorldBase):
             None,
         )
 
-    def _step_rows(self) -> tuple[np.ndarray, np.ndarray] | None:
-        """``(rows (n, 10), p_n (n,))`` of the last step (None before the first): the
-        kernel's arrays when pending, else rebuilt from the :class:`StepResult`."""
+    def _step_rows(self) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+        """``(rows (n, 10), p_n (n,), p_t (n,))`` of the last step (None before the first):
+        the kernel's arrays when pending, else rebuilt from the :class:`StepResult`."""
         if self._pending is not None:
-            return self._pending[0], self._pending[2]
+            return self._pending[0], self._pending[2], self._pending[3]
         res = self._last_result
         if res is None:
             return None
-        rows = np.column_stack([res.body_a, res.body_b, res.gap, res.point_a, res.point_b,
-                                res.normal, res.curvature]).astype(float)  # fmt: skip
-        return rows.reshape(-1, 10), res.p_n
+        rows = np.column_stack(
+            [res.body_a, res.body_b, res.gap, res.point_a, res.point_b, res.normal, res.curvature]
+        ).astype(float)
+        return rows.reshape(-1, 10), res.p_n, res.p_t
 
     # ------------------------------------------------------------------ building
     def _name(self, name: str | None, stem: str) -> str:
