@@ -24,7 +24,10 @@ observation that controller reads, the events and the log rows - and hands singl
 iterations back to :meth:`LoopState.iteration` / :meth:`LoopState.control` for what it
 cannot do the reference way (Python controllers' calls, ``stop`` after every step, steps
 needing the Python fallback). Its logs equal the reference loop's to the bit
-(``tests/test_sim_fast_run.py``). Why compiled and not vectorized: with the step at ~10 us,
+(``tests/test_sim_fast_run.py``). A controller may bring its own compiled loop through the
+planar world's (``fast_loop_plugin``: the gait's phases, with their ``stop`` check,
+:mod:`planner.exploration.planar.gait_loop`; equal to the reference loop to the bit,
+``tests/test_gait_speed.py``). Why compiled and not vectorized: with the step at ~10 us,
 the per-step Python of the loop (observation objects, controller call, log row, event sets:
 ~145 us) was 90 % of a run; only removing the interpreter from the step brought the hand
 scenes past 20x real time.

@@ -16,6 +16,10 @@ The laws themselves live in :mod:`planner.control` (the reference implementation
 the plain controller of ``benchmarks/naive_gait.py``); the replay test
 (tests/test_gait_controller.py) checks torques, trace and events against the controller as
 first written, on observations recorded from ``ball_with_ridge``.
+
+Run with a :class:`.gait_loop.PhaseStop` in the planar world's compiled loop, the calls of a
+phase run inside that loop (:meth:`GaitController.fast_loop_plugin`, :mod:`.gait_loop`):
+the same kernel on the same readings, many steps per numba call.
 """
 
 from __future__ import annotations

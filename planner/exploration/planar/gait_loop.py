@@ -321,6 +321,7 @@ class GaitLoop:
             and not ctrl._python_step
             and fast.mode == 2
             and fast.readings
+            and not fast.s.oracle
             and (arr is None or type(arr) is TactileArray)
         )
 
