@@ -144,6 +144,13 @@ class GaitController:
         """The object rotation estimate [rad] (rolling integration of eq. 2.4 in phase 1)."""
         return float(self._ks[ck.S_THETA])
 
+    def set_radius(self, radius: float) -> None:
+        """Use ``radius`` [m] as the estimate's radius (sensing, rolling integration, object
+        model) from the next control step on (SH's executor re-plans non-round objects on a
+        local circle; needs ``GraspSensing.set_radius`` of s4-shape)."""
+        self.sensing.set_radius(radius)
+        self._ks[ck.K_R] = float(radius)
+
     # ------------------------------------------------------------------ phases
     def start(self, segment: Segment, t: float) -> None:
         """Begin ``segment`` at world time ``t`` [s]."""
