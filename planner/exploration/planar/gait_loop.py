@@ -38,6 +38,7 @@ import time
 import numpy as np
 
 from planner.exploration.planar import controller_kernel as ck
+from planner.exploration.planar.controller import _references
 from planner.exploration.planar.gait_loop_kernel import (
     C_C0,
     C_CALLS,
@@ -60,6 +61,11 @@ CHUNK = 64
 #: never reached were a third of the gait's Python time with fixed chunks)
 FIRST_CHUNK = 4
 
+
+try:  # the segments' vectorized references (s4-ball), equal to the callables' values
+    from planner.exploration.planar.segments import segment_references as _vectorized
+except ImportError:  # pragma: no cover (the branch without them)
+    _vectorized = None
 
 #: ``rows0, pn0, pt0`` of :func:`gait_advance` when the world has not stepped yet
 _NO_STEP = (np.zeros((0, 0)), np.zeros(0), np.zeros(0))
@@ -158,21 +164,27 @@ class GaitLoop:
     # ------------------------------------------------------------------ one chunk
     def _predict(self, m: int) -> int:
         """The call times of the next ``m`` steps (the loop's clock arithmetic) and their
-        references into ``times``/``sv_rows``; returns their number."""
-        from planner.exploration.planar.controller import _references
-
+        references into ``times``/``sv_rows``; returns their number. The references come
+        from ``segments.segment_references`` (vectorized; s4-ball) when it exists, else
+        from the segment's callables call by call (:func:`.controller._references`)."""
         s, w, c = self.fast.s, self.fast.w, self.ctrl
         t, nc, per, h = w.time, s.next_call, s.period, w.dt
-        seg, t0 = c.segment, c.t0
         k = 0
         for _ in range(m):
             if t >= nc - 1e-9 * h:
-                tl = t - t0
                 self.times[k] = t
-                self.sv_rows[k] = (seg.hold_force(tl), *_references(seg, tl), t, tl)
                 k += 1
                 nc += per * max(1, math.ceil((t - nc) / per + 1e-9))
             t = t + h
+        if k:
+            seg, times, rows = c.segment, self.times[:k], self.sv_rows[:k]
+            tl = times - c.t0
+            rows[:, ck.V_T], rows[:, ck.V_TL] = times, tl
+            if _vectorized is not None:
+                rows[:, : ck.V_T] = _vectorized(seg, tl)
+            else:
+                for i, x in enumerate(tl.tolist()):
+                    rows[i, : ck.V_T] = (seg.hold_force(x), *_references(seg, x))
         return k
 
     def _kernel(self, m: int, calls: int, noise: np.ndarray):
