@@ -55,7 +55,7 @@ from planner.sim.planar.sensing import _hand_geometry
 __all__ = ["CHUNK", "GaitLoop", "PhaseStop"]
 
 #: steps per kernel call at most (the references of its calls are evaluated ahead)
-CHUNK = 64
+CHUNK = 256
 #: steps of the first kernel call of a run and after a step run in Python: chunks double up
 #: to CHUNK while the kernel runs them through (references evaluated for calls the kernel
 #: never reached were a third of the gait's Python time with fixed chunks)
