@@ -54,8 +54,6 @@ from planner.sim.planar.sensing import _hand_geometry
 
 __all__ = ["CHUNK", "GaitLoop", "PhaseStop"]
 
-#: steps per kernel call at most (the references of its calls are evaluated ahead)
-CHUNK = 256
 #: steps of the first kernel call of a run and after a step run in Python: chunks double up
 #: to CHUNK while the kernel runs them through (references evaluated for calls the kernel
 #: never reached were a third of the gait's Python time with fixed chunks)
@@ -66,6 +64,10 @@ try:  # the segments' vectorized references (s4-ball), equal to the callables' v
     from planner.exploration.planar.segments import segment_references as _vectorized
 except ImportError:  # pragma: no cover (the branch without them)
     _vectorized = None
+
+#: steps per kernel call at most (the references of its calls are evaluated ahead; past a
+#: phase's end they are evaluated for nothing: cheap when vectorized)
+CHUNK = 256 if _vectorized is not None else 64
 
 #: ``rows0, pn0, pt0`` of :func:`gait_advance` when the world has not stepped yet
 _NO_STEP = (np.zeros((0, 0)), np.zeros(0), np.zeros(0))
