@@ -28,6 +28,7 @@ from planner.exploration.planar.segments import explore_segment, phase1_segment
 from planner.exploration.planar.sensed_features import rotation_cap, sensed_bump
 from planner.exploration.planar.settings import GaitSettings
 from planner.exploration.planar.setup import build_world, gait_prior
+from planner.exploration.planar.shape_tracking import ShapeTracker
 
 FULL_TURN = 2 * math.pi
 CX = TRACE_NAMES.index("cx")
@@ -71,7 +72,9 @@ def explore_object(
             2.5 cm round right tip).
         mu: true friction coefficient of fingers, palm and object [-] (> 0).
         nominal: the planner's model of the object (a closed profile; default a feature-less
-            circle of the object's area). Only its mean radius is used by the planners.
+            circle of the object's area). A round one is used through its mean radius; a
+            non-round one is also posed from the sensed contacts at every phase start
+            (:class:`.shape_tracking.ShapeTracker`).
         seed: seed of the sensor noise.
         duration: simulated time limit [s] (default: until ``max_rotation`` or failure).
         settings: :class:`GaitSettings` (gains, speeds, thresholds, time step).
@@ -107,6 +110,7 @@ def explore_object(
     nlp_build = time.perf_counter() - t_build
     runner = _Runner(world, ctrl, nlp, s, hand, start, duration, max_rotation)
     runner.on_progress = on_progress
+    runner.shape = ShapeTracker.of(nominal, hand, float(np.abs(ctrl.sensing.taxel_u).max()))
     runner.execute()
     log = concat_logs(runner.logs)
     rotation = runner.rotation()
@@ -165,6 +169,7 @@ class _Runner:
         self._stroking = False  # the phase being run is a back-stroke
         self._plan1 = None  # the last phase-1 plan (its solve statistics)
         self.sensed_features: list[float] = []  # object-frame angles of sensed bumps [rad]
+        self.shape: ShapeTracker | None = None  # the posed nominal outline (non-round only)
 
     def rotation(self) -> float:
         """True rotation of the object so far [rad] (unwrapped from the logs)."""
@@ -187,6 +192,8 @@ class _Runner:
                 return
             obs = self.world.observe()
             est = self.ctrl.sensing.update(obs, {1: "auto", 2: "pad", 3: "palm"}[kind])
+            if self.shape is not None:
+                self.shape.update(est, self.theta)
             seg, planned, nlp_t, why = self._plan(kind, est, obs.q)
             if seg is None:
                 failures += 1
@@ -229,9 +236,16 @@ class _Runner:
         if kind == 1:
             r = self.hand.params.right.tip_radius
             mu = s.mu * (1 - s.friction_margin)
-            R = self._fit_radius(est, r)
-            self.ctrl.sensing.radius = R
             est = self.ctrl.sensing.update(self.world.observe(), "auto")
+            local = self.shape.local_circle(est, r, self.R_nominal) if self.shape else None
+            if local is None:
+                R = self._fit_radius(est, r)
+                self.ctrl.sensing.radius = R
+                est = self.ctrl.sensing.update(self.world.observe(), "auto")
+            else:  # the circle through the posed outline's contacts
+                R = local[1]
+                self.ctrl.sensing.radius = R
+                est = posed_estimate(est, local)
             plan = self.nlp.solve(q, est.centre, R, r, mu, est.beta, est.u, margin=s.nlp_margin,
                                   joint_margin=s.joint_margin + 0.02,
                                   home_x=self.start["rest"][0],
@@ -339,6 +353,8 @@ class _Runner:
         horizon = min(seg.duration + 0.5, self.t_end - t0)
         c0 = []  # the centre as this phase senses it (its own source), at its first step
         moved = [False]
+        holder = 0 if kind == 2 else 1
+        tip0 = c.sensing.est.tips[holder].copy()
 
         def stop(t, world):
             if not c0:
@@ -349,7 +365,7 @@ class _Runner:
             # phases 2/3: the held object must stay where it is; a sensed centre that moved
             # HOLD_SLIP means the explorer drags it (a ridge caught the round right tip and
             # rolled the ball 30 deg back along the palm before this check)
-            if kind != 1 and math.hypot(*(c.sensing.est.centre - c0[0])) > HOLD_SLIP:
+            if kind != 1 and self._moved(c0[0], tip0, holder):
                 moved[0] = True
                 return "object moved"
             return c.stop(t, world)
@@ -397,6 +413,15 @@ class _Runner:
             self.events.append({"t": w.time, "kind": "deviation", "phase": 1, "message": msg})
         return event, rec
 
+    def _moved(self, centre0, tip0, holder: int) -> bool:
+        """The hold check of phases 2/3: the sensed centre (round objects) or, on a posed
+        outline, the holding fingertip (encoders) moved more than :data:`HOLD_SLIP` from
+        the phase start ``centre0`` / ``tip0`` [m]."""
+        e = self.ctrl.sensing.est
+        if self.shape is not None:
+            return math.hypot(*(e.tips[holder] - tip0)) > HOLD_SLIP
+        return math.hypot(*(e.centre - centre0)) > HOLD_SLIP
+
     def _next(self, kind, event, est):
         if kind == 1:
             return 2, False
@@ -408,8 +433,13 @@ class _Runner:
 
             obs = self.world.observe()
             e = self.ctrl.sensing.update(obs, "pad")
-            palm = np.array([e.centre[0], 0.0])
-            eps = float(epsilon_two_planar(e.p[1], -e.n[1], palm, np.array([0.0, 1.0]), self.s.mu))
+            if self.shape is not None:
+                self.shape.update(e, self.theta)
+                eps = self.shape.right_palm_epsilon(e, self.s.mu)
+            else:
+                palm = np.array([e.centre[0], 0.0])
+                eps = float(epsilon_two_planar(e.p[1], -e.n[1], palm, np.array([0.0, 1.0]),
+                                               self.s.mu))  # fmt: skip
             if eps < self.s.min_epsilon:
                 self.events.append({"t": self.world.time, "kind": "transition_4",
                                     "message": f"phase 2 ended by {event}; right-palm grasp "
@@ -444,6 +474,18 @@ def stall_outcome(rotation: float) -> tuple[str, str]:
         return "ok", (f"object turned {math.degrees(turned):.1f} deg (a full turn); the cycle "
                       f"after it stopped: {why}")  # fmt: skip
     return "failed", why
+
+
+def posed_estimate(est, local):
+    """A copy of the ``GraspEstimate`` ``est`` with the centre, contact angles and pad
+    contact of ``local`` (``ShapeTracker.local_circle``'s ``(centre, R, beta, u)``)."""
+    from planner.exploration.planar.sensing import GraspEstimate
+
+    e = GraspEstimate(est.buffer.copy())
+    e.centre[:] = local[0]
+    e.beta[:] = local[2]
+    e.u = local[3]
+    return e
 
 
 def trace_arrays(ctrl) -> dict:
