@@ -44,6 +44,9 @@ RADIUS_FIT = (0.85, 1.2)
 #: safety net: the sliding pad rolls the ball 1-5 mm per phase 3, more over the ridge)
 HOLD_SLIP = 0.01
 STALL_ROTATION = math.radians(5.0)
+#: largest travel of the planned centre in phase 1 on a posed outline [m] (a square pivoting
+#: on its corner lifts its centre up to 23 mm)
+SHAPE_TRAVEL = 0.03
 #: sensed features closer than this (object frame) are one [rad]
 SAME_FEATURE = math.radians(15.0)
 #: simulated time between two calls of ``on_progress`` [s]
@@ -170,6 +173,7 @@ class _Runner:
         self._plan1 = None  # the last phase-1 plan (its solve statistics)
         self.sensed_features: list[float] = []  # object-frame angles of sensed bumps [rad]
         self.shape: ShapeTracker | None = None  # the posed nominal outline (non-round only)
+        self._nlp_shape = None  # the phase-1 NLP with the outline's palm clearance
 
     def rotation(self) -> float:
         """True rotation of the object so far [rad] (unwrapped from the logs)."""
@@ -244,12 +248,15 @@ class _Runner:
                 est = self.ctrl.sensing.update(self.world.observe(), "auto")
             else:  # the circle through the posed outline's contacts
                 R = local[1]
-                self.ctrl.sensing.radius = R
+                self._set_radius(R)
                 est = posed_estimate(est, local)
-            plan = self.nlp.solve(q, est.centre, R, r, mu, est.beta, est.u, margin=s.nlp_margin,
-                                  joint_margin=s.joint_margin + 0.02,
-                                  home_x=self.start["rest"][0],
-                                  max_rotation=self._rotation_cap())  # fmt: skip
+            nlp, extra = self.nlp, {}
+            if local is not None:  # the outline's palm clearance
+                nlp = self._shape_nlp()
+                extra = {"palm_points": self.shape.palm_points(local[0])}
+            plan = nlp.solve(q, est.centre, R, r, mu, est.beta, est.u, margin=s.nlp_margin,
+                             joint_margin=s.joint_margin + 0.02, home_x=self.start["rest"][0],
+                             max_rotation=self._rotation_cap(), **extra)  # fmt: skip
             self._plan1 = plan
             if not plan.success or abs(plan.rotation) < math.radians(1.0):
                 why = self._blocking(est, q, mu)
@@ -267,6 +274,24 @@ class _Runner:
             target = self._left_regrasp_angle(est)
         seg = explore_segment(kind, est, q, target, self.theta, s, self.hand, PHASE1_TRAVEL)
         return seg, 0.0, 0.0, ""
+
+    def _set_radius(self, R: float) -> None:
+        """The estimate's radius [m] everywhere it is used (the per-step sensing and the
+        controller's rolling integration and object model): the plan's local circle."""
+        from planner.exploration.planar import controller_kernel as ck
+
+        self.ctrl.sensing.set_radius(R)
+        self.ctrl._ks[ck.K_R] = R  # TODO(SP): GaitController.set_radius (SH_SP.md)
+
+    def _shape_nlp(self):
+        """The phase-1 NLP with the posed outline's palm clearance (built at first use)."""
+        if self._nlp_shape is None:
+            from planner.exploration.planar.shape_tracking import PALM_POINTS
+            from planner.trajectory import RollingNLP
+
+            self._nlp_shape = RollingNLP(self.hand, knots=self.s.nlp_knots, travel=SHAPE_TRAVEL,
+                                         palm_points=PALM_POINTS)  # fmt: skip
+        return self._nlp_shape
 
     def _rotation_cap(self) -> float:
         """The phase-1 rotation cap [rad] that keeps sensed features off the palm."""

@@ -212,7 +212,7 @@ def fit_pose(
                         xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=200)  # fmt: skip
     x = np.asarray(sol.x, float)
     cost = float(np.linalg.norm(f(x)))
-    near = bool(np.all(np.abs(x - g) <= max_step))
+    near = bool(np.all(np.abs(x - g) <= max_step + 1e-12))
     return PoseFit(x, cost, bool(sol.status > 0) and near)
 
 

@@ -11,8 +11,9 @@ It replaces the per-step circle (:mod:`.sensing`) where that one was false on a 
   face its tactile centroid sits at the pad's edge and the centre jumped 16 mm while the
   square stood still);
 * the transition-4 decision: the right-palm grasp from the posed outline's contacts;
-* the phase-1 start: the local circle through the posed outline's contacts (the pad's and
-  the tip's), and the outline's hull points for the NLP's palm clearance.
+* the phase-1 start: the local circle tangent to the pad at its sensed contact and touching
+  the tip (the controller's radius is set to it, so that its per-step estimate and the plan
+  agree), and the posed outline's hull points for the NLP's palm clearance.
 """
 
 from __future__ import annotations
@@ -124,17 +125,20 @@ class ShapeTracker:
                                         np.array([0.0, 1.0]), mu))  # fmt: skip
 
     def local_circle(self, est, r: float, R0: float, span=(0.3, 4.0)):
-        """The circle the phase-1 NLP plans on: tangent to the pad at the posed outline's
-        pad contact and touching the round tip (``|T - p + R n| = R + r``), its radius
+        """The circle the phase-1 NLP plans on (the documented reduction of rolling on the
+        outline: the local curvature between the two contacts): tangent to the pad at its
+        sensed contact and touching the round tip (``|T - p + R n| = R + r``), its radius
         clamped to ``span`` times ``R0`` [m]. Returns ``(centre (2,), R, beta (2,), u)`` or
         None (no pad or tip contact on the posed outline)."""
         rd = self.readings(est, True)
         if rd.pad_point is None or rd.tip_centre is None:
             return None
-        p = contacts(self.outline, self.pose, rd)["pad"]
         c, s = math.cos(rd.pad_angle), math.sin(rd.pad_angle)
         n, t = np.array([s, -c]), np.array([c, s])
-        p = rd.pad_point + float((p - rd.pad_point) @ t) * t  # on the pad's line
+        # the pad contact where the tactile array senses it (the controller's per-step
+        # estimate uses it too: a plan from the posed outline's contact, 1-2 mm beside it,
+        # started with a jump of the rolling references)
+        p = rd.pad_point + rd.pad_u * t
         d = rd.tip_centre - p
         den = 2.0 * (float(d @ n) - r)
         if abs(den) < 1e-9:
