@@ -228,3 +228,61 @@ def test_square_nlp_needs_its_points(square_plan):
     plan = square_plan[0]
     with pytest.raises(InvalidParameter, match="palm_points"):
         nlp.solve(plan.q[0], plan.centre[0], 0.05, 0.025, 0.8, plan.beta[0], 0.0)
+
+
+# ------------------------------------------------- the NLP on the polygon (contact modes)
+@pytest.fixture(scope="module")
+def polygon_plan():
+    from planner.exploration.planar.heuristics import best_margin_ik, pad_angle
+    from planner.kinds.gait import HandConfig
+    from planner.trajectory import OutlineNLP
+
+    hand = HandConfig(joint_lower_deg=(-40, 0, -10), joint_upper_deg=(90, 150, 130)).hand(1.0)
+    r = hand.params.right.tip_radius
+    yl, yr = 0.08, 0.05  # the pad flat on the left face, the tip on the right face
+    qL = hand.inverse_kinematics("left", np.array([-A, yl]), angle=pad_angle(math.pi, -math.pi / 2))
+    qR = best_margin_ik(hand, "right", np.array([A + r, yr]), around=math.pi / 2)
+    q = np.r_[qL, qR]
+    contact = {"pad_point": np.array([-A, yl - A]), "pad_face": True,
+               "tip_normal": np.array([1.0, 0.0]), "tip_offset": A,
+               "tip_range": (-A + 0.002, A - 0.002)}  # fmt: skip
+    nlp = OutlineNLP(hand, 4, knots=6)
+    plan = nlp.solve(q, np.array([0.0, A, 0.0]), contact, SQUARE.points, r, 0.9)
+    return plan, nlp, hand, contact, r
+
+
+def test_polygon_nlp_constraints_hold_at_the_solution(polygon_plan):
+    plan, nlp, *_ = polygon_plan
+    assert plan.success and plan.rotation < -math.radians(10)
+    X, p = nlp.last_solution
+    g = np.asarray(nlp.constraints(X.ravel(), p)).ravel()
+    assert np.all(g >= nlp._lbg - 1e-6) and np.all(g <= nlp._ubg + 1e-6)
+
+
+def test_polygon_nlp_rolls_and_pivots(polygon_plan):
+    """Checked with the hand's own kinematics: the pad's contact point stays on the pad's
+    line at a fixed place (no slip), the pad turns with the face, the tip rolls along the
+    right face (eq. 2.4 on a line) and the square stays above the palm."""
+    plan, nlp, hand, contact, r = polygon_plan
+    X, _ = nlp.last_solution
+    u, a, phis, ths = [], [], [], []
+    for x, y, th, *q in X:
+        L, Rt = hand.fingertip_pose(q, "left"), hand.fingertip_pose(q, "right")
+        c, s = math.cos(th), math.sin(th)
+        w = np.array([x, y]) + np.array([[c, -s], [s, c]]) @ contact["pad_point"]
+        t = np.array([math.cos(L.angle), math.sin(L.angle)])
+        n = np.array([math.sin(L.angle), -math.cos(L.angle)])
+        assert n @ (w - L.position) == pytest.approx(0.0, abs=1e-7)
+        m = np.array([c, s])  # the right face's outward normal, turned
+        assert m @ (Rt.position - (x, y)) - A == pytest.approx(r, abs=1e-7)
+        u.append(t @ (w - L.position))
+        a.append(np.array([-s, c]) @ (Rt.position - (x, y)))
+        phis.append((L.angle - th, Rt.angle))
+        ths.append(th)
+        low = (SQUARE.posed((x, y, th)))[:, 1].min()
+        assert low > -1e-6
+    u, a, phis, ths = np.array(u), np.array(a), np.array(phis), np.array(ths)
+    np.testing.assert_allclose(u, u[0], atol=1e-7)
+    np.testing.assert_allclose(phis[:, 0], phis[0, 0], atol=1e-7)
+    np.testing.assert_allclose((a - a[0]) + r * ((ths - ths[0]) - (phis[:, 1] - phis[0, 1])),
+                               0.0, atol=1e-7)  # fmt: skip

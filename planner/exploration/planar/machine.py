@@ -47,6 +47,12 @@ STALL_ROTATION = math.radians(5.0)
 #: largest travel of the planned centre in phase 1 on a posed outline [m] (a square pivoting
 #: on its corner lifts its centre up to 23 mm)
 SHAPE_TRAVEL = 0.03
+#: plan phase 1 of a posed polygon with ``planner.trajectory.OutlineNLP`` (its contacts'
+#: modes) instead of the local circle. Off: the controller (its object impedance and
+#: rolling PD) tracks a circle about the pad-based centre, and the polygon plans it executed
+#: turned the 11 cm and 8 cm squares the wrong way (+30 and +41 deg where -25 were planned;
+#: measured 2026-11-23, 10 s, seed 0)
+PLAN_ON_OUTLINE = False
 #: sensed features closer than this (object frame) are one [rad]
 SAME_FEATURE = math.radians(15.0)
 #: simulated time between two calls of ``on_progress`` [s]
@@ -174,6 +180,7 @@ class _Runner:
         self.sensed_features: list[float] = []  # object-frame angles of sensed bumps [rad]
         self.shape: ShapeTracker | None = None  # the posed nominal outline (non-round only)
         self._nlp_shape = None  # the phase-1 NLP with the outline's palm clearance
+        self._nlp_outline = None  # the phase-1 NLP on a polygonal outline
 
     def rotation(self) -> float:
         """True rotation of the object so far [rad] (unwrapped from the logs)."""
@@ -240,7 +247,12 @@ class _Runner:
         if kind == 1:
             r = self.hand.params.right.tip_radius
             mu = s.mu * (1 - s.friction_margin)
+            if self.shape is not None:
+                self._set_radius(self.R_nominal)
             est = self.ctrl.sensing.update(self.world.observe(), "auto")
+            modes = self.shape.contact_modes(est) if self.shape and PLAN_ON_OUTLINE else None
+            if modes is not None:  # a straight face under the round tip: the outline NLP
+                return self._plan_outline(est, q, modes, mu)
             local = self.shape.local_circle(est, r, self.R_nominal) if self.shape else None
             if local is None:
                 R = self._fit_radius(est, r)
@@ -263,6 +275,15 @@ class _Runner:
                 return None, 0.0, plan.solve_time_s, f"phase-1 NLP: {plan.stop}; {why}"
             seg = phase1_segment(plan, est, q, self.theta, s, self.hand, lift=0.0015)
             return seg, plan.rotation, plan.solve_time_s, ""
+        if self.shape is not None:
+            # on the posed outline, back to the start grasp's world angles (a grasp that
+            # was stable and reachable with the object resting on the palm)
+            from planner.exploration.planar.outline_segments import outline_explore_segment
+
+            target = self.start["beta"][1 if kind == 2 else 0]
+            seg = outline_explore_segment(kind, est, q, self.shape, target, self.theta, s,
+                                          self.hand)  # fmt: skip
+            return seg, 0.0, 0.0, ""
         if kind == 2:
             target = max(self.start["beta"][1], self._right_hold_angle())
         elif self._via is not None:  # the back-stroke: onto the feature's far side and back
@@ -274,6 +295,27 @@ class _Runner:
             target = self._left_regrasp_angle(est)
         seg = explore_segment(kind, est, q, target, self.theta, s, self.hand, PHASE1_TRAVEL)
         return seg, 0.0, 0.0, ""
+
+    def _plan_outline(self, est, q, modes, mu):
+        """Phase 1 of a posed polygonal outline (:class:`planner.trajectory.OutlineNLP`)."""
+        s = self.s
+        if self._nlp_outline is None:
+            from planner.exploration.planar.shape_tracking import PALM_POINTS
+            from planner.trajectory import OutlineNLP
+
+            self._nlp_outline = OutlineNLP(self.hand, PALM_POINTS, knots=s.nlp_knots)
+        plan = self._nlp_outline.solve(
+            q, self.shape.pose, modes, self.shape.hull_points(), self.hand.params.right.tip_radius,
+            mu, margin=s.nlp_margin, joint_margin=s.joint_margin + 0.02,
+            home_x=self.start["rest"][0], max_rotation=self._rotation_cap(),
+            radius=self.R_nominal, u_sensed=float(est.u),
+        )  # fmt: skip
+        self._plan1 = plan
+        if not plan.success or abs(plan.rotation) < math.radians(1.0):
+            why = self._blocking(est, q, mu)
+            return None, 0.0, plan.solve_time_s, f"phase-1 outline NLP: {plan.stop}; {why}"
+        seg = phase1_segment(plan, est, q, self.theta, s, self.hand, lift=0.0)
+        return seg, plan.rotation, plan.solve_time_s, ""
 
     def _set_radius(self, R: float) -> None:
         """The estimate's radius [m] everywhere it is used (the per-step sensing and the
@@ -451,7 +493,7 @@ class _Runner:
         if kind == 1:
             return 2, False
         if kind == 2:
-            if event == "path finished":
+            if event == "path finished" and self.shape is None:
                 return 3, False
             # phase 2 ended early: can the right finger hold the object with the palm?
             from planner.grasp import epsilon_two_planar

@@ -22,7 +22,13 @@ import math
 
 import numpy as np
 
-from planner.exploration.planar.outline_pose import Outline, Readings, contacts, fit_pose
+from planner.exploration.planar.outline_pose import (
+    FLAT_TOL,
+    Outline,
+    Readings,
+    contacts,
+    fit_pose,
+)
 
 #: a nominal outline whose ``roundness`` is below this is a circle (no tracker) [-]
 ROUND_TOL = 0.03
@@ -34,6 +40,10 @@ THETA_WEIGHT = 0.01
 FIT_TOL = 3e-3
 #: offsets of the rotation starts of a fit from the prior [rad]
 THETA_STARTS = (0.0, -0.15, 0.15, -0.3, 0.3)
+#: a straight face shorter than this is not one for the outline NLP [m]
+MIN_FACE = 0.01
+#: the round contact keeps this far from a face's ends [m]
+FACE_MARGIN = 0.002
 #: hull points of the outline the phase-1 NLP keeps above the palm
 PALM_POINTS = 16
 
@@ -149,6 +159,79 @@ class ShapeTracker:
         tip = rd.tip_centre - centre
         br = math.atan2(tip[1], tip[0])
         return centre, R, np.array([bl, br]), float((p - rd.pad_point) @ t)
+
+    def hull_points(self) -> np.ndarray:
+        """(PALM_POINTS, 2) hull points of the outline, object frame [m] (the last one
+        repeated when the hull has fewer)."""
+        H = self.hull
+        return np.vstack([H, np.repeat(H[-1:], PALM_POINTS - len(H), axis=0)])
+
+    def contact_modes(self, est) -> dict | None:
+        """The contacts' modes for :class:`planner.trajectory.OutlineNLP` (object frame), or
+        None when the round tip is not on a straight face at least :data:`MIN_FACE` long
+        (then the outline is planned on its local circle).
+
+        Returns:
+            ``{"pad_point", "pad_face", "tip_normal", "tip_offset", "tip_range"}``.
+        """
+        rd = self.readings(est, True)
+        if rd.pad_point is None or rd.tip_centre is None:
+            return None
+        x, y, a = self.pose
+        c, s = math.cos(a), math.sin(a)
+        Rt = np.array([[c, s], [-s, c]])  # world -> object frame
+
+        def to_obj(w):
+            return Rt @ (np.asarray(w, float) - (x, y))
+
+        con = contacts(self.outline, self.pose, rd)
+        pad = to_obj(con["pad"])
+        W = self.outline.posed(self.pose)
+        cp, sp = math.cos(rd.pad_angle), math.sin(rd.pad_angle)
+        h = W @ np.array([sp, -cp])
+        sup = (W[h >= h.max() - FLAT_TOL] - rd.pad_point) @ np.array([cp, sp])
+        face = self._face(to_obj(con["tip"]))
+        if face is None:
+            return None
+        A, B = face
+        e = (B - A) / np.linalg.norm(B - A)
+        m = np.array([e[1], -e[0]])
+        if m @ (A - self.outline.points.mean(axis=0)) < 0:  # outward
+            m, e = -m, -e
+        eo = np.array([-m[1], m[0]])
+        lo, hi = sorted((float(A @ eo), float(B @ eo)))
+        return {
+            "pad_point": pad,
+            "pad_face": bool(sup.max() - sup.min() > 2e-3),
+            "tip_normal": m,
+            "tip_offset": float(m @ A),
+            "tip_range": (lo + FACE_MARGIN, hi - FACE_MARGIN),
+        }
+
+    def _face(self, point):
+        """The straight face of the outline (object frame) through ``point``: its two
+        ends ``(A, B)``, or None when shorter than :data:`MIN_FACE`."""
+        P = self.outline.points
+        n = len(P)
+        k = int(np.argmin(np.linalg.norm(P - point, axis=1)))
+        d = np.diff(np.vstack([P, P[:1]]), axis=0)
+        ang = np.arctan2(d[:, 1], d[:, 0])
+
+        def same(i, j):
+            return abs(math.remainder(ang[i % n] - ang[j % n], 2 * math.pi)) < 1e-3
+
+        # the segment through the point: k-1 -> k or k -> k+1, whichever is nearer
+        seg = k if np.linalg.norm(P[(k + 1) % n] - point) < np.linalg.norm(P[k - 1] - point) \
+            else k - 1  # fmt: skip
+        i, j = seg, seg
+        while same(i - 1, seg) and (seg - i) < n:
+            i -= 1
+        while same(j + 1, seg) and (j - seg) < n:
+            j += 1
+        A, B = P[i % n], P[(j + 1) % n]
+        if np.linalg.norm(B - A) < MIN_FACE:
+            return None
+        return A, B
 
     def palm_points(self, centre) -> np.ndarray:
         """(PALM_POINTS, 2) hull points of the posed outline relative to ``centre`` [m]
