@@ -286,3 +286,23 @@ def test_polygon_nlp_rolls_and_pivots(polygon_plan):
     np.testing.assert_allclose(phis[:, 0], phis[0, 0], atol=1e-7)
     np.testing.assert_allclose((a - a[0]) + r * ((ths - ths[0]) - (phis[:, 1] - phis[0, 1])),
                                0.0, atol=1e-7)  # fmt: skip
+
+
+# ------------------------------------------------------------ the explorer's outline path
+def test_polyline_path_closed_forms():
+    from planner.exploration.planar.outline_segments import PolylinePath
+
+    path = PolylinePath(SQUARE.points[::-1])  # clockwise input is turned counter-clockwise
+    assert path.length == pytest.approx(8 * A)
+    s = path.arclength_of((A + 0.01, 0.02))  # on the right face, 0.02 above its middle
+    p, t = path.at(s)
+    np.testing.assert_allclose(p, [A, 0.02], atol=1e-12)
+    np.testing.assert_allclose(t, [0.0, 1.0], atol=1e-12)  # counter-clockwise: up
+    np.testing.assert_allclose(path.at(s + path.length)[0], p, atol=1e-12)
+    # the outward normal, averaged over a window: the face's away from corners, the
+    # corner's bisector on it
+    assert path.normal_angle(s, 0.005) == pytest.approx(0.0, abs=1e-12)
+    corner = path.arclength_of((A, A))
+    assert path.normal_angle(corner, 0.005) == pytest.approx(math.pi / 4, abs=1e-9)
+    top = path.point_at_angle((0.0, 0.0), math.pi / 2 - 0.1)
+    assert path.at(top)[0][1] == pytest.approx(A)

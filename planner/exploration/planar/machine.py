@@ -19,6 +19,7 @@ import time
 import numpy as np
 
 from planner.errors import InvalidParameter
+from planner.exploration.planar import shape_planning
 from planner.exploration.planar.controller import TRACE_NAMES, GaitController
 from planner.exploration.planar.heuristics import regrasp_left_angle, stable_pair
 from planner.exploration.planar.logs import concat_logs
@@ -44,15 +45,6 @@ RADIUS_FIT = (0.85, 1.2)
 #: safety net: the sliding pad rolls the ball 1-5 mm per phase 3, more over the ridge)
 HOLD_SLIP = 0.01
 STALL_ROTATION = math.radians(5.0)
-#: largest travel of the planned centre in phase 1 on a posed outline [m] (a square pivoting
-#: on its corner lifts its centre up to 23 mm)
-SHAPE_TRAVEL = 0.03
-#: plan phase 1 of a posed polygon with ``planner.trajectory.OutlineNLP`` (its contacts'
-#: modes) instead of the local circle. Off: the controller (its object impedance and
-#: rolling PD) tracks a circle about the pad-based centre, and the polygon plans it executed
-#: turned the 11 cm and 8 cm squares the wrong way (+30 and +41 deg where -25 were planned;
-#: measured 2026-11-23, 10 s, seed 0)
-PLAN_ON_OUTLINE = False
 #: sensed features closer than this (object frame) are one [rad]
 SAME_FEATURE = math.radians(15.0)
 #: simulated time between two calls of ``on_progress`` [s]
@@ -179,8 +171,7 @@ class _Runner:
         self._plan1 = None  # the last phase-1 plan (its solve statistics)
         self.sensed_features: list[float] = []  # object-frame angles of sensed bumps [rad]
         self.shape: ShapeTracker | None = None  # the posed nominal outline (non-round only)
-        self._nlp_shape = None  # the phase-1 NLP with the outline's palm clearance
-        self._nlp_outline = None  # the phase-1 NLP on a polygonal outline
+        self.nlps: dict = {}  # the shape planner's NLPs, built at first use
 
     def rotation(self) -> float:
         """True rotation of the object so far [rad] (unwrapped from the logs)."""
@@ -248,27 +239,14 @@ class _Runner:
             r = self.hand.params.right.tip_radius
             mu = s.mu * (1 - s.friction_margin)
             if self.shape is not None:
-                self._set_radius(self.R_nominal)
+                return shape_planning.plan_phase1(self, q, mu)
+            R = self._fit_radius(est, r)
+            self.ctrl.sensing.radius = R
             est = self.ctrl.sensing.update(self.world.observe(), "auto")
-            modes = self.shape.contact_modes(est) if self.shape and PLAN_ON_OUTLINE else None
-            if modes is not None:  # a straight face under the round tip: the outline NLP
-                return self._plan_outline(est, q, modes, mu)
-            local = self.shape.local_circle(est, r, self.R_nominal) if self.shape else None
-            if local is None:
-                R = self._fit_radius(est, r)
-                self.ctrl.sensing.radius = R
-                est = self.ctrl.sensing.update(self.world.observe(), "auto")
-            else:  # the circle through the posed outline's contacts
-                R = local[1]
-                self._set_radius(R)
-                est = posed_estimate(est, local)
-            nlp, extra = self.nlp, {}
-            if local is not None:  # the outline's palm clearance
-                nlp = self._shape_nlp()
-                extra = {"palm_points": self.shape.palm_points(local[0])}
-            plan = nlp.solve(q, est.centre, R, r, mu, est.beta, est.u, margin=s.nlp_margin,
-                             joint_margin=s.joint_margin + 0.02, home_x=self.start["rest"][0],
-                             max_rotation=self._rotation_cap(), **extra)  # fmt: skip
+            plan = self.nlp.solve(q, est.centre, R, r, mu, est.beta, est.u, margin=s.nlp_margin,
+                                  joint_margin=s.joint_margin + 0.02,
+                                  home_x=self.start["rest"][0],
+                                  max_rotation=self._rotation_cap())  # fmt: skip
             self._plan1 = plan
             if not plan.success or abs(plan.rotation) < math.radians(1.0):
                 why = self._blocking(est, q, mu)
@@ -276,14 +254,7 @@ class _Runner:
             seg = phase1_segment(plan, est, q, self.theta, s, self.hand, lift=0.0015)
             return seg, plan.rotation, plan.solve_time_s, ""
         if self.shape is not None:
-            # on the posed outline, back to the start grasp's world angles (a grasp that
-            # was stable and reachable with the object resting on the palm)
-            from planner.exploration.planar.outline_segments import outline_explore_segment
-
-            target = self.start["beta"][1 if kind == 2 else 0]
-            seg = outline_explore_segment(kind, est, q, self.shape, target, self.theta, s,
-                                          self.hand)  # fmt: skip
-            return seg, 0.0, 0.0, ""
+            return shape_planning.plan_explore(self, kind, est, q), 0.0, 0.0, ""
         if kind == 2:
             target = max(self.start["beta"][1], self._right_hold_angle())
         elif self._via is not None:  # the back-stroke: onto the feature's far side and back
@@ -295,45 +266,6 @@ class _Runner:
             target = self._left_regrasp_angle(est)
         seg = explore_segment(kind, est, q, target, self.theta, s, self.hand, PHASE1_TRAVEL)
         return seg, 0.0, 0.0, ""
-
-    def _plan_outline(self, est, q, modes, mu):
-        """Phase 1 of a posed polygonal outline (:class:`planner.trajectory.OutlineNLP`)."""
-        s = self.s
-        if self._nlp_outline is None:
-            from planner.exploration.planar.shape_tracking import PALM_POINTS
-            from planner.trajectory import OutlineNLP
-
-            self._nlp_outline = OutlineNLP(self.hand, PALM_POINTS, knots=s.nlp_knots)
-        plan = self._nlp_outline.solve(
-            q, self.shape.pose, modes, self.shape.hull_points(), self.hand.params.right.tip_radius,
-            mu, margin=s.nlp_margin, joint_margin=s.joint_margin + 0.02,
-            home_x=self.start["rest"][0], max_rotation=self._rotation_cap(),
-            radius=self.R_nominal, u_sensed=float(est.u),
-        )  # fmt: skip
-        self._plan1 = plan
-        if not plan.success or abs(plan.rotation) < math.radians(1.0):
-            why = self._blocking(est, q, mu)
-            return None, 0.0, plan.solve_time_s, f"phase-1 outline NLP: {plan.stop}; {why}"
-        seg = phase1_segment(plan, est, q, self.theta, s, self.hand, lift=0.0)
-        return seg, plan.rotation, plan.solve_time_s, ""
-
-    def _set_radius(self, R: float) -> None:
-        """The estimate's radius [m] everywhere it is used (the per-step sensing and the
-        controller's rolling integration and object model): the plan's local circle."""
-        from planner.exploration.planar import controller_kernel as ck
-
-        self.ctrl.sensing.set_radius(R)
-        self.ctrl._ks[ck.K_R] = R  # TODO(SP): GaitController.set_radius (SH_SP.md)
-
-    def _shape_nlp(self):
-        """The phase-1 NLP with the posed outline's palm clearance (built at first use)."""
-        if self._nlp_shape is None:
-            from planner.exploration.planar.shape_tracking import PALM_POINTS
-            from planner.trajectory import RollingNLP
-
-            self._nlp_shape = RollingNLP(self.hand, knots=self.s.nlp_knots, travel=SHAPE_TRAVEL,
-                                         palm_points=PALM_POINTS)  # fmt: skip
-        return self._nlp_shape
 
     def _rotation_cap(self) -> float:
         """The phase-1 rotation cap [rad] that keeps sensed features off the palm."""
@@ -495,7 +427,8 @@ class _Runner:
         if kind == 2:
             if event == "path finished" and self.shape is None:
                 return 3, False
-            # phase 2 ended early: can the right finger hold the object with the palm?
+            # phase 2 ended early (or, on a posed outline, at all): can the right finger
+            # hold the object with the palm?
             from planner.grasp import epsilon_two_planar
 
             obs = self.world.observe()
@@ -541,18 +474,6 @@ def stall_outcome(rotation: float) -> tuple[str, str]:
         return "ok", (f"object turned {math.degrees(turned):.1f} deg (a full turn); the cycle "
                       f"after it stopped: {why}")  # fmt: skip
     return "failed", why
-
-
-def posed_estimate(est, local):
-    """A copy of the ``GraspEstimate`` ``est`` with the centre, contact angles and pad
-    contact of ``local`` (``ShapeTracker.local_circle``'s ``(centre, R, beta, u)``)."""
-    from planner.exploration.planar.sensing import GraspEstimate
-
-    e = GraspEstimate(est.buffer.copy())
-    e.centre[:] = local[0]
-    e.beta[:] = local[2]
-    e.u = local[3]
-    return e
 
 
 def trace_arrays(ctrl) -> dict:

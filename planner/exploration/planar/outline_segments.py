@@ -45,7 +45,9 @@ class PolylinePath:
         """Arclength [m] of the polygon point nearest to ``point``."""
         q, _ = nearest_on_polygon(self.W, point)
         A, B = self.W, np.roll(self.W, -1, axis=0)
-        d = np.abs(np.cross(B - A, q - A)) + np.hypot(*(q - A).T) + np.hypot(*(q - B).T)
+        AB, AQ = B - A, q - A
+        cross = np.abs(AB[:, 0] * AQ[:, 1] - AB[:, 1] * AQ[:, 0])
+        d = cross + np.hypot(*(q - A).T) + np.hypot(*(q - B).T)
         k = int(np.argmin(d - self.seg))  # the segment q lies on
         return float(self.cum[k] + np.hypot(*(q - A[k])))
 
@@ -60,7 +62,7 @@ class PolylinePath:
     def normal_angle(self, s: float, window: float) -> float:
         """World angle [rad] of the outward normal averaged over ``s +- window`` [m]."""
         nx = ny = 0.0
-        for v in np.linspace(s - window, s + window, 9):
+        for v in np.linspace(s - window, s + window, 8):  # even: symmetric about a corner
             _, (tx, ty) = self.at(float(v))
             nx, ny = nx + ty, ny - tx
         return math.atan2(ny, nx)
