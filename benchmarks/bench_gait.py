@@ -21,7 +21,13 @@ Rows:
 The objects run in parallel worker processes (``--jobs``, forked after a warm-up run so
 the compiled kernels are shared; a worker over its wall cap is killed and reported).
 
-Run: ``python benchmarks/bench_gait.py [--quick] [--duration S] [--jobs N] [--ball S]``.
+The executor's model of each object (``--nominal``): ``true`` (default; the object's outline,
+posed from the sensed contacts at every phase start, as the §2.3.1 simulation modelled the
+shape) or ``circle`` (a feature-less circle of the object's area). ``--only square,gon``
+runs the objects whose name or family contains one of the substrings.
+
+Run: ``python benchmarks/bench_gait.py [--quick] [--duration S] [--jobs N] [--ball S]
+[--nominal true|circle] [--only SUBSTRINGS]``.
 """
 
 from __future__ import annotations
