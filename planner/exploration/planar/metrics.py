@@ -62,18 +62,58 @@ MERGE_ANGLE = math.radians(3.0)
 
 
 def object_rotation(trace: dict, radius: float) -> np.ndarray:
-    """The sensed object rotation [rad] of every trace row: the controller's rolling
-    estimate (eq. 2.4) in phase 1; in phases 2/3 the object lies on the palm and rolls on it,
-    so its rotation follows the sensed centre, ``theta_0 - (c_x - c_x0) / R`` from the
-    phase's first row (the controller holds theta there)."""
+    """The sensed object rotation [rad] of every trace row, chained over the phases from
+    the first row's estimate; each phase adds its own sensed increment:
+
+    * phase 1: the controller's rolling estimate (eq. 2.4: the pad's polar angle minus its
+      rolled arclength over ``R``);
+    * phase 2: the same rolling estimate on the holding left pad,
+      ``d(beta_L) - d(u) / R`` (:func:`pad_rolling`);
+    * phase 3: the ball lies on the palm and rolls on it, ``-(c_x - c_x0) / R`` from the
+      phase's first row (the holder is the round right tip, whose contact says little).
+
+    Why the pad in phase 2: when the sliding right tip drags the ball over the ridge
+    ("object moved"), the ball slides on the palm while it turns; the palm estimate then
+    read +19.4 deg of turning as -10.6 deg, and every later sensed angle was 30 deg off
+    (the ridge was found 25-29 deg from its place). On ``ball_with_ridge`` the chained
+    error at the end of the turn was 1-3 deg with the pad (seeds 0-3, 0.6 N hold) against
+    32-38 deg with the palm; a normal phase 2 turned the ball 0.5-1.0 deg and the pad
+    read it within 0.35 deg, the palm 0.6-0.9 deg too low.
+    """
     th = np.array(trace["theta"], float)
-    kind, cx = trace["kind"], trace["cx"]
-    idx = np.flatnonzero(kind > 1)
-    if idx.size:
-        breaks = np.flatnonzero((np.diff(idx) > 1) | (np.diff(kind[idx]) != 0)) + 1
-        for run in np.split(idx, breaks):
-            th[run] = th[run[0]] - (cx[run] - cx[run[0]]) / radius
-    return th
+    kind = np.asarray(trace["kind"])
+    if th.size == 0:
+        return th
+    out = np.empty_like(th)
+    acc = th[0]
+    runs = np.split(np.arange(th.size), np.flatnonzero(np.diff(kind) != 0) + 1)
+    pad = pad_rolling(trace, radius) if np.any(kind == 2) else None
+    for run in runs:
+        k = kind[run[0]]
+        if k == 2 and pad is not None:
+            inc = pad[run] - pad[run[0]]
+        elif k > 1:
+            inc = -(trace["cx"][run] - trace["cx"][run[0]]) / radius
+        else:
+            inc = th[run] - th[run[0]]
+        out[run] = acc + inc
+        acc = out[run[-1]]
+    return out
+
+
+def pad_rolling(trace: dict, radius: float) -> np.ndarray:
+    """The rotation [rad] of an object of ``radius`` [m] rolling on the flat left pad, up to a
+    constant, per trace row: ``beta_L - u / R`` (eq. 2.4; ``beta_L`` the unwrapped polar
+    angle of the pad's contact about the sensed centre, ``u`` the contact's place on the
+    pad [m]); rows where the pad does not touch hold the last touching value."""
+    b = np.unwrap(np.arctan2(trace["pLy"] - trace["cy"], trace["pLx"] - trace["cx"]))
+    val = b - np.asarray(trace["u"], float) / radius
+    touch = np.asarray(trace["pad_touch"]) > 0
+    if not touch.any():
+        return np.zeros_like(val)
+    last = np.maximum.accumulate(np.where(touch, np.arange(val.size), -1))
+    first = int(np.flatnonzero(touch)[0])
+    return val[np.where(last >= 0, last, first)]
 
 
 def steady_sliding(trace: dict, explore_force: float = 0.3) -> np.ndarray:
@@ -285,11 +325,43 @@ def summary_metrics(res, ridge_angle, explore_force: float, internal_force: floa
     return out
 
 
+def round_tip_shadow(radius: float, height: float, tip_radius: float) -> float:
+    """Polar angle [rad] beside a radial step of ``height`` [m] on a circle of ``radius``
+    [m] (a ridge's side wall) that a round fingertip of ``tip_radius`` [m] cannot touch: the
+    tip touching the circle and the step's top corner has its centre at ``R + r`` from the
+    circle's centre and ``r`` from the corner (at ``R + h``), so the angle between the wall
+    and the tip's contact on the circle is::
+
+        arccos(((R + h)^2 + (R + r)^2 - r^2) / (2 (R + h) (R + r)))
+
+    The 25 mm right tip beside the 3 mm ridge of the 10 cm ball: 10.8 deg per side.
+    """
+    R, h, r = float(radius), float(height), float(tip_radius)
+    c = ((R + h) ** 2 + (R + r) ** 2 - r * r) / (2.0 * (R + h) * (R + r))
+    return math.acos(min(max(c, -1.0), 1.0))
+
+
+def pad_shadow(radius: float, height: float, reach: float) -> float:
+    """Polar angle [rad] beside a radial step of ``height`` [m] on a circle of ``radius``
+    [m] that a flat pad tangent to the circle cannot touch when its end lies ``reach`` [m]
+    ahead of its contact (along the pad, towards the step): the pad stops when its end
+    meets the wall (``atan(reach / R)``) or, if its face passes above the wall's foot, when
+    the face meets the step's corner (``atan(sqrt((R + h)^2 - R^2) / R)``), whichever is
+    nearer. A 20 mm pad touching with its middle (reach 10 mm) at the 3 mm ridge of the
+    10 cm ball: 11.3 deg; touching 1.5 mm from its end (the back-stroke): 1.7 deg."""
+    R, h = float(radius), float(height)
+    corner = math.sqrt((R + h) ** 2 - R * R)
+    return math.atan(min(float(reach), corner) / R)
+
+
 __all__ = [
     "VIRTUAL_RADIUS",
     "coverage_of",
     "object_rotation",
+    "pad_rolling",
     "outline_bins",
+    "pad_shadow",
+    "round_tip_shadow",
     "detect_pad_features",
     "slip_distance",
     "steady_sliding",

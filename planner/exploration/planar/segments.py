@@ -18,6 +18,7 @@ import math
 
 import numpy as np
 
+from planner.errors import InvalidParameter
 from planner.exploration.planar.controller import Segment
 from planner.exploration.planar.heuristics import pad_angle, regrasp_orientation
 from planner.exploration.planar.sensing import round_contact_arclength
@@ -212,4 +213,58 @@ def explore_segment(
     )
 
 
-__all__ = ["explore_segment", "friction_lag", "phase1_segment"]
+def hold_tangential_force(
+    beta_hold: float, normal_hold: float, moment_other: float, radius: float
+) -> float:
+    """The tangential force [N] a holding fingertip must apply for a round object resting
+    on the palm to stay in equilibrium (phases 2/3, no rolling on the palm).
+
+    Args:
+        beta_hold: world polar angle of the holder's contact about the object centre [rad]
+            (the palm contact is at ``-pi/2``, straight below the centre).
+        normal_hold: the holder's normal force on the object [N] (pressing: > 0).
+        moment_other: moment about the palm contact [N m] (counter-clockwise positive) of
+            every other force on the object (the explorer's normal force and its friction;
+            gravity acts through the centre, straight above the palm contact: none).
+        radius: object radius [m].
+
+    Returns:
+        the holder's tangential force on the object along the counter-clockwise tangent
+        ``(-sin beta, cos beta)`` [N].
+
+    Moments about the palm contact ``P`` (the palm's force has none there): with ``L`` the
+    holder's contact, ``n = -(cos beta, sin beta)`` and ``t = (-sin beta, cos beta)``,
+    ``(L - P) x n = R cos beta`` and ``(L - P) x t = R (1 + sin beta)``, so::
+
+        T = -(N cos beta + M / R) / (1 + sin beta)
+
+    With ``M = 0`` this is ``T / N = tan((beta - pi/2) / 2)``: the force along the chord to
+    the palm contact (the inscribed angle), the squeeze that ``holding_force`` commands.
+    The commanded direction does not change ``T`` in equilibrium (the holder's stiffness
+    about its anchor supplies the rest): only the normal force does. ``T`` has the sign of
+    the squeeze's part while ``N |cos beta| > M / R`` (sign opposite to the explorer's
+    drag below it): the sign of Fig. 2.14's phase-2 trace is set by the hold force.
+    """
+    c, s = math.cos(beta_hold), math.sin(beta_hold)
+    if 1.0 + s <= 1e-9:
+        raise InvalidParameter(
+            f"beta_hold: the holder cannot sit on the palm contact, got {beta_hold!r}"
+        )
+    return -(normal_hold * c + moment_other / radius) / (1.0 + s)
+
+
+def palm_moment(point, force, centre, radius: float) -> float:
+    """Moment [N m] (counter-clockwise positive) of ``force`` (2,) [N] applied at ``point``
+    (2,) [m] about the palm contact of a round object of ``radius`` [m] centred at
+    ``centre`` (2,) [m] (the contact straight below the centre)."""
+    px, py = point[0] - centre[0], point[1] - centre[1] + radius
+    return float(px * force[1] - py * force[0])
+
+
+__all__ = [
+    "explore_segment",
+    "friction_lag",
+    "hold_tangential_force",
+    "palm_moment",
+    "phase1_segment",
+]
