@@ -242,3 +242,21 @@ def test_fig214_counts_sign_changes_at_the_2_to_3_switches():
     assert m["tangential_off_ridge_N"] == pytest.approx(0.3)
     assert m["tactile_elongation_at_ridge"] == pytest.approx(2.0)
     assert m["tactile_elongation_off_ridge"] == pytest.approx(1.0)
+
+
+def test_ridge_coverage_splits_the_untouched_cells_by_the_shadow():
+    """Ridge at 170 deg, walls at 168/172 deg, 10 deg of shadow: cells 172-182 and 158-168
+    are shadowed; a gap at 173-182 lies in it (coverage outside the shadow stays 1), a
+    gap at 90-92 does not."""
+    from planner.exploration.planar.metrics import ridge_coverage
+
+    mask = np.ones(360, bool)
+    mask[173:182] = False
+    out = ridge_coverage(mask, math.radians(170), math.radians(2), math.radians(10))
+    assert out["uncovered_deg"] == [[173.0, 182.0]]
+    assert out["shadow_cells"] == 20
+    assert out["coverage_outside_shadow"] == 1.0
+    mask[90:92] = False
+    out = ridge_coverage(mask, math.radians(170), math.radians(2), math.radians(10))
+    assert out["uncovered_deg"] == [[90.0, 92.0], [173.0, 182.0]]
+    assert out["coverage_outside_shadow"] == pytest.approx(338 / 340)

@@ -13,7 +13,15 @@ VIRTUAL_RADIUS = 0.003
 
 
 def coverage_of(log, body: str, profile, cells: int = 360) -> float:
-    """Fraction of the outline's polar-angle cells touched by a fingertip (true contacts)."""
+    """Fraction of the outline's polar-angle cells touched by a fingertip (true contacts):
+    the mean of :func:`coverage_mask`."""
+    return float(coverage_mask(log, body, profile, cells).mean())
+
+
+def coverage_mask(log, body: str, profile, cells: int = 360) -> np.ndarray:
+    """(cells,) whether each polar-angle cell of the outline (object frame, cell ``k``
+    spans ``[k, k + 1) 360 / cells`` deg) holds a true contact point of a fingertip
+    (``*.left`` / ``*.right``) with a positive normal force."""
     hit = np.zeros(cells, dtype=bool)
     pose = log.poses[body]
     for j, pair in enumerate(log.pairs):
@@ -30,7 +38,43 @@ def coverage_of(log, body: str, profile, cells: int = 360) -> float:
         ox, oy = c * dx + s * dy, -s * dx + c * dy
         k = (np.floor(np.mod(np.arctan2(oy, ox), 2 * np.pi) / (2 * np.pi) * cells)).astype(int)
         hit[np.clip(k, 0, cells - 1)] = True
-    return float(hit.mean())
+    return hit
+
+
+def ridge_coverage(mask: np.ndarray, ridge_angle: float, half_angle: float, shadow: float) -> dict:
+    """Coverage beside a ridge: the cells (``mask`` of :func:`coverage_mask`) left
+    untouched, and the coverage of the cells outside the ridge's shadows.
+
+    Args:
+        mask: (cells,) touched cells.
+        ridge_angle: the ridge's middle (object frame) [rad]; half_angle: half its width as
+            a polar angle [rad] (its walls at ``ridge_angle +- half_angle``).
+        shadow: polar angle beside each wall that the fingertips cannot touch [rad]
+            (:func:`round_tip_shadow`, :func:`pad_shadow`).
+
+    Returns:
+        ``{"uncovered_deg": [[from, to], ...], "shadow_deg": ..., "shadow_cells": n,
+        "coverage_outside_shadow": ...}`` (runs of untouched cells, in degrees).
+    """
+    cells = mask.size
+    mid = (np.arange(cells) + 0.5) * 2 * math.pi / cells
+    off = np.abs(np.remainder(mid - ridge_angle + math.pi, 2 * math.pi) - math.pi)
+    shade = (off > half_angle) & (off < half_angle + shadow)
+    outside = ~shade
+    runs, start = [], None
+    for k in range(cells + 1):
+        free = k < cells and not mask[k]
+        if free and start is None:
+            start = k
+        elif not free and start is not None:
+            runs.append([round(start * 360.0 / cells, 2), round(k * 360.0 / cells, 2)])
+            start = None
+    return {
+        "uncovered_deg": runs,
+        "shadow_deg": math.degrees(shadow),
+        "shadow_cells": int(shade.sum()),
+        "coverage_outside_shadow": float(mask[outside].mean()) if outside.any() else float("nan"),
+    }
 
 
 def _detect(points: np.ndarray, normals: np.ndarray) -> list[tuple[np.ndarray, int]]:
@@ -356,11 +400,13 @@ def pad_shadow(radius: float, height: float, reach: float) -> float:
 
 __all__ = [
     "VIRTUAL_RADIUS",
+    "coverage_mask",
     "coverage_of",
     "object_rotation",
     "pad_rolling",
     "outline_bins",
     "pad_shadow",
+    "ridge_coverage",
     "round_tip_shadow",
     "detect_pad_features",
     "slip_distance",
