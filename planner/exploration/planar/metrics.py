@@ -201,13 +201,17 @@ def outline_bins(points: np.ndarray, normals: np.ndarray) -> tuple[np.ndarray, n
     the holder's compliance): in time order that trace folds back on itself, and the
     detector read every fold as a convex/concave pair (one spurious pair per phase 3).
     Binning by polar angle keeps the shape and drops the time order."""
+    from planner.exploration.planar.macro import binned_median
+
     a = np.unwrap(np.arctan2(points[:, 1], points[:, 0]))
     r = np.hypot(points[:, 0], points[:, 1])
     k = np.floor((a - a.min()) / BIN_ANGLE).astype(int)
-    occupied = np.unique(k)
-    rad = np.array([np.median(r[k == i]) for i in occupied])
-    ang = np.array([np.mean(a[k == i]) for i in occupied])
-    nrm = np.array([normals[k == i].mean(axis=0) for i in occupied])
+    occupied, rad = binned_median(k, r)
+    order = np.argsort(k, kind="stable")  # each bin's rows in their original order
+    start = np.searchsorted(k[order], occupied)
+    count = np.diff(np.r_[start, k.size])
+    ang = np.add.reduceat(a[order], start) / count
+    nrm = np.add.reduceat(normals[order], start, axis=0) / count[:, None]
     nrm /= np.maximum(np.linalg.norm(nrm, axis=1, keepdims=True), 1e-12)
     return np.column_stack([rad * np.cos(ang), rad * np.sin(ang)]), nrm
 
