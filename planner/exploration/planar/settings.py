@@ -29,9 +29,10 @@ class GaitSettings:
             friction) above ``N = M / (R |cos beta|)`` and the right finger's drag's below
             it. On ball_with_ridge the threshold was 0.9 N (beta 140 deg, M / R 0.7 N;
             the statics predicted the sensed tangential force within 0.01 N): 2 N gave
-            0/20 sign changes at the 2 -> 3 switches, 1 N 1-2 of 20, 0.6 N (the scenario's
-            value) 18-21 of 23, the ball still held (0.5-1 deg per phase 2, as with 2 N).
-            Default 2 N (the threshold depends on the object and the grasp).
+            0/20 sign changes at the 2 -> 3 switches, 1 N 1-2 of 20, 0.6 N 18-21 of 23,
+            0.4 N (the scenario's value; 0.5-0.6 N sensed, a tangential 0.18 N, a third of
+            the friction cone) 18-21 of 20-22, the ball still held (0.5-1 deg per phase 2,
+            as with 2 N). Default 2 N (the threshold depends on the object and the grasp).
         sensed_features: use the macro features the pad senses in phase 3 (see
             :mod:`.sensed_features`): a back-stroke onto a crossed ridge's far side and a
             phase-1 rotation cap that keeps it off the palm. Measured on ball_with_ridge
