@@ -295,3 +295,71 @@ def test_outline_bins_match_the_per_bin_loop():
     pts, normals = outline_bins(P, N)
     np.testing.assert_allclose(pts, np.c_[rad * np.cos(mean), rad * np.sin(mean)], atol=1e-15)
     np.testing.assert_allclose(normals, nrm, atol=1e-15)
+
+
+# --------------------------------------------------------------------- vectorized references
+def _est(beta_left: float, beta_right: float = 0.4):
+    c = np.array([0.0, R])
+    p = np.array([_polar(beta_left), _polar(beta_right)])
+    return SimpleNamespace(
+        centre=c, p=p, beta=np.array([beta_left, beta_right]), normal_force=np.array([0.3, 1.1]),
+        u=0.001, tips=p, n=-(p - c) / R,
+    )  # fmt: skip
+
+
+def _scalar_rows(seg, tl):
+    from planner.exploration.planar.controller import _references
+
+    return np.array([[seg.hold_force(t), *_references(seg, t)] for t in tl])
+
+
+@pytest.mark.parametrize("kind", [2, 3])
+@pytest.mark.parametrize("via", [None, 2.2])
+def test_explore_segment_references_vectorized_equal_the_callables(kind, via):
+    """Phases 2/3 (and the back-stroke's two pieces): the table of
+    :func:`segment_references` holds the scalar callables' numbers (to 1e-15; bit for bit
+    where numpy's and libm's cos/sin agree)."""
+    from planner.exploration.planar.segments import explore_segment, segment_references
+    from planner.exploration.planar.settings import GaitSettings
+    from robots.planar_hand import PlanarHand
+
+    s = GaitSettings()
+    seg = explore_segment(kind, _est(2.6), np.full(6, 0.2), 2.3, 0.1, s, PlanarHand(), via=via)
+    tl = np.r_[-0.01, 0.0, np.linspace(0.0, seg.duration + 0.1, 397), s.startup_time]
+    table = segment_references(seg, tl)
+    assert table.shape == (tl.size, 23)
+    np.testing.assert_allclose(table, _scalar_rows(seg, tl), rtol=0, atol=1e-15)
+
+
+def test_phase1_segment_references_vectorized_equal_the_callables():
+    from planner.exploration.planar.segments import phase1_segment, segment_references
+    from planner.exploration.planar.settings import GaitSettings
+    from robots.planar_hand import PlanarHand
+
+    rng = np.random.default_rng(5)
+    k = 7
+    centre = np.c_[rng.normal(0, 1e-3, k), R + rng.normal(0, 1e-3, k)]
+    beta = np.c_[np.linspace(2.6, 2.3, k), np.linspace(0.4, 0.1, k)]
+    q = rng.normal(0.0, 0.5, (k, 6))
+    plan = SimpleNamespace(rotation=-0.4, theta=np.linspace(0.0, -0.4, k), centre=centre,
+                           q=q, beta=beta, u=np.linspace(0, 0.01, k))  # fmt: skip
+    s = GaitSettings()
+    seg = phase1_segment(plan, _est(2.6), np.zeros(6), 0.3, s, PlanarHand(), lift=0.0015)
+    tl = np.r_[-0.01, np.linspace(0.0, seg.duration + 0.2, 501)]
+    np.testing.assert_allclose(
+        segment_references(seg, tl), _scalar_rows(seg, tl), rtol=0, atol=1e-15
+    )
+
+
+def test_references_of_plain_callables_are_called_row_by_row():
+    from planner.exploration.planar.controller import Segment
+    from planner.exploration.planar.segments import segment_references
+
+    seg = Segment(
+        kind=3, duration=1.0, hold_force=lambda t: 2 * t, explore_force=lambda t: 0.3,
+        explore=lambda t: ((t, 1.0), (0.5, 0.0), -t),
+    )  # fmt: skip
+    tl = np.array([0.0, 0.5])
+    table = segment_references(seg, tl)
+    np.testing.assert_allclose(table, _scalar_rows(seg, tl), rtol=0, atol=1e-15)
+    assert table[1, 0] == 1.0 and table[1, 15] == 1.0 and table[1, 1] == 0.0
