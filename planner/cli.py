@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import signal
 import sys
 import traceback
 from collections.abc import Sequence
@@ -272,5 +273,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_BROKEN_PIPE
 
 
+def entry() -> int:
+    """The ``hapex`` console script: :func:`main`, then Ctrl-C is ignored while the
+    interpreter exits. The command's work is done and its exit code decided; a SIGINT that
+    arrived while Python joined worker threads or flushed files killed the process with the
+    signal (exit -2 seen by the caller) after a sweep had finished and written everything."""
+    code = main()
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    return code
+
+
 if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())
+    sys.exit(entry())

@@ -286,3 +286,26 @@ def test_bad_input_found_by_a_runner_is_exit_2_nothing_written(tmp_path, monkeyp
     err = capsys.readouterr().err
     assert code == 2 and err.strip() == "(scenario):0: sampling: too coarse"
     assert not out.exists()
+
+
+def test_the_console_script_ignores_ctrl_c_once_the_command_is_done(monkeypatch):
+    """``entry`` returns main's exit code and leaves SIGINT ignored for the interpreter's
+    exit (a late Ctrl-C must not turn a finished command into a death by signal)."""
+    import signal
+
+    import planner.cli as cli
+
+    calls = []
+
+    def fake_main(argv=None):
+        calls.append(signal.getsignal(signal.SIGINT))
+        return 7
+
+    monkeypatch.setattr(cli, "main", fake_main)
+    before = signal.getsignal(signal.SIGINT)
+    try:
+        assert cli.entry() == 7
+        assert calls == [before]  # the command itself runs with the normal handler
+        assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+    finally:
+        signal.signal(signal.SIGINT, before)

@@ -11,13 +11,11 @@ from hypothesis import strategies as st
 from planner.sim.spatial import Plane, SpatialWorld
 from planner.sim.spatial import step_kernel as sk
 from planner.sim.spatial.finger_codegen import reduced_dynamics_function
-from planner.sim.spatial.kernel import HAVE_NUMBA
 from planner.sim.spatial.scenes import ridge_slide_scene
 from planner.sim.spatial.stepping import held_inverse_mass
 from robots.three_gm import ThreeGM
 
 GM = ThreeGM()
-pytestmark = pytest.mark.skipif(not HAVE_NUMBA, reason="the compiled path needs numba")
 
 
 def _pair(seed=0):

@@ -15,19 +15,51 @@
 The feature and trace types live in :mod:`planner.geometry` and are re-exported here.
 """
 
-from planner.detection.algorithms import ALGORITHMS, curvature_signal, detect_features
-from planner.detection.curvature_limit import CurvatureLimited, curvature_limit_smoothing
-from planner.detection.datafile import read_trace_file
-from planner.detection.macro import classify_signs, macro_features
-from planner.detection.multiscale import detect_multiscale
-from planner.detection.noise import NoiseAnalysis, noise_analysis
-from planner.detection.scheme_b2 import SchemeResult, b2_scheme
-from planner.detection.scoring import Score, score_features
-from planner.detection.settings import DetectionSettings
-from planner.detection.smoothing import FILTERS, smooth
-from planner.detection.types import CurvatureSignal
-from planner.geometry.features import CurvatureFeature, MacroFeature
-from planner.geometry.measurement import FingertipTrace, simulate_trace
+import importlib
+
+#: where each public name lives; a submodule is imported on first use (PEP 562), so that
+#: ``from planner.detection import detect_features`` does not load scipy.signal and
+#: scipy.stats (1.5-2 s) for the smoothing and noise tools it does not use
+_HOME = {
+    "ALGORITHMS": "algorithms",
+    "curvature_signal": "algorithms",
+    "detect_features": "algorithms",
+    "CurvatureLimited": "curvature_limit",
+    "curvature_limit_smoothing": "curvature_limit",
+    "read_trace_file": "datafile",
+    "classify_signs": "macro",
+    "macro_features": "macro",
+    "detect_multiscale": "multiscale",
+    "NoiseAnalysis": "noise",
+    "noise_analysis": "noise",
+    "SchemeResult": "scheme_b2",
+    "b2_scheme": "scheme_b2",
+    "Score": "scoring",
+    "score_features": "scoring",
+    "DetectionSettings": "settings",
+    "FILTERS": "smoothing",
+    "smooth": "smoothing",
+    "CurvatureSignal": "types",
+    "CurvatureFeature": "planner.geometry.features",
+    "MacroFeature": "planner.geometry.features",
+    "FingertipTrace": "planner.geometry.measurement",
+    "simulate_trace": "planner.geometry.measurement",
+}
+
+
+def __getattr__(name: str):
+    home = _HOME.get(name)
+    if home is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    module = importlib.import_module(home if "." in home else f"{__name__}.{home}")
+    value = getattr(module, name)
+    globals()[name] = value  # later lookups skip __getattr__
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))
+
 
 __all__ = [
     "ALGORITHMS",
@@ -54,3 +86,6 @@ __all__ = [
     "simulate_trace",
     "smooth",
 ]
+
+if sorted(_HOME) != sorted(__all__):  # pragma: no cover - a name added to one list only
+    raise ImportError("planner.detection: _HOME and __all__ list different names")

@@ -32,12 +32,13 @@ from __future__ import annotations
 import numpy as np
 
 from planner.errors import InvalidParameter
-from planner.sim.lcp import lemke_verified, njit
+from planner.sim.lcp import _residual, lemke_verified, njit
 from planner.sim.planar.geometry_kernel import contacts_into
 
 __all__ = [
     "contact_step",
     "full_step",
+    "project_positions",
     "hand_dynamics",
     "hand_kinematics",
     "hand_parameters",
@@ -317,24 +318,92 @@ def contact_step(
 
 
 @njit(cache=True)
-def full_step(
-    h, gx, gy, margin, proj_tol, F, I, pairs, poses, kind, index, mu_body, x, v, mass,
-    inertia, has_hand, q, qd, tau, P, limits, covers, out, counts,
-):  # noqa: E741  # fmt: skip
-    """The whole step in one call: kinematics, contact search, :func:`contact_step`.
+def project_positions(
+    cand, kind, index, x, mass, inertia, has_hand, q, P, limits, covers,
+):  # fmt: skip
+    """Post-stabilization of :func:`planner.sim.planar.stepper._project`, compiled: the
+    minimum-kinetic-metric displacement ``dq = M^-1 N^T z`` with ``z`` the LCP
+    ``(N M^-1 N^T, phi)`` over the candidates' normal rows and the joint-limit rows within
+    0.01 rad (``phi`` their gaps); a failed Lemke path is retried on ``G + eps I``
+    (eps = 1e-9 max(1, max diag G)) and accepted when its residual on ``G`` is <= 1e-6.
+    ``x`` (nfree, 3) and ``q`` (6,) are moved in place. Returns False (nothing moved)
+    when no verified answer exists (the Python step then raises)."""
+    nc = cand.shape[0]
+    nfree = x.shape[0]
+    nh = 6 if has_hand else 0
+    nv = 3 * nfree + nh
+    Minv = np.zeros((nv, nv))
+    for b in range(nfree):
+        k = 3 * b
+        Minv[k, k] = 1.0 / mass[b]
+        Minv[k + 1, k + 1] = 1.0 / mass[b]
+        Minv[k + 2, k + 2] = 1.0 / inertia[b]
+    joints = np.zeros((2, 3, 2))
+    lim_rows = np.zeros(12, np.int64)
+    lim_phi = np.zeros(12)
+    lim_side = np.zeros(12)
+    nlim = 0
+    if has_hand:
+        M = np.zeros((6, 6))
+        hb = np.zeros(6)
+        hand_dynamics(q, np.zeros(6), 0.0, 0.0, P, M, hb)
+        Mi = np.zeros((6, 6))
+        _inv3_into(M, 0, Mi)
+        _inv3_into(M, 3, Mi)
+        o = 3 * nfree
+        for i in range(6):
+            for j in range(6):
+                Minv[o + i, o + j] = Mi[i, j]
+        tips = np.zeros((2, 3))
+        hand_kinematics(q, P, joints, tips)
+        for k in range(6):
+            g0, g1 = q[k] - limits[k, 0], limits[k, 1] - q[k]
+            if g0 < 0.01:
+                lim_rows[nlim], lim_phi[nlim], lim_side[nlim] = k, g0, 1.0
+                nlim += 1
+            if g1 < 0.01:
+                lim_rows[nlim], lim_phi[nlim], lim_side[nlim] = k, g1, -1.0
+                nlim += 1
+    nn = nc + nlim
+    N = np.zeros((nn, nv))
+    phi = np.zeros(nn)
+    for r in range(nc):
+        i, j = int(cand[r, 0]), int(cand[r, 1])
+        nx, ny = cand[r, 7], cand[r, 8]
+        _add_row(N[r], kind[i], index[i], nfree, x, joints, cand[r, 3], cand[r, 4], nx, ny, 1.0)
+        _add_row(N[r], kind[j], index[j], nfree, x, joints, cand[r, 5], cand[r, 6], nx, ny, -1.0)
+        phi[r] = cand[r, 2]
+    for m in range(nlim):
+        N[nc + m, 3 * nfree + lim_rows[m]] = lim_side[m]
+        phi[nc + m] = lim_phi[m]
+    MNt = Minv @ N.T
+    G = N @ MNt
+    it = 50 * nn + 10
+    z, status, _ = lemke_verified(G, phi, covers, it, 1e-9)
+    if status != 0:
+        big = 1.0
+        for r in range(nn):
+            big = max(big, abs(G[r, r]))
+        Gr = G.copy()
+        for r in range(nn):
+            Gr[r, r] += 1e-9 * big
+        z, status, _ = lemke_verified(Gr, phi, covers, it, 1e-9)
+        if status != 0 or _residual(G, phi, z) > 1e-6:
+            return False
+    dq = MNt @ z
+    for b in range(nfree):
+        for c in range(3):
+            x[b, c] += dq[3 * b + c]
+    if has_hand:
+        for i in range(6):
+            q[i] += dq[3 * nfree + i]
+    return True
 
-    The contact search is :func:`planner.sim.planar.geometry_kernel.contacts_into` over the
-    packed outlines ``F, I`` and body ``pairs``; ``poses`` (nbodies, 3) holds the fixed
-    bodies' poses (the others are written here), ``out`` (cap, 10) and ``counts`` (npairs,)
-    are its buffers. The margin of a pair is ``margin`` plus twice the distance each of its
-    bodies can move in the step (as :func:`planner.sim.planar.stepper.find_contacts`).
 
-    Returns:
-        ``(status, n, pn, pt, slip, mu, lim_joint, lim_impulse)``: status 0 ok (the n
-        candidates are ``out[:n]``), 1/2 no verified LCP answer, 3 a penetration needs the
-        position projection, 4 ``out`` too small (n rows needed), 5 a pair needs the Python
-        geometry; nothing is updated unless the status is 0.
-    """
+@njit(cache=True)
+def _search(h, margin, F, I, pairs, poses, kind, index, x, v, has_hand, q, qd, P, out, counts):  # noqa: E741
+    """Kinematics and the contact search of :func:`full_step`: fills ``out`` and ``counts``
+    and returns the candidate count (larger than ``out`` when it is too small)."""
     nb = kind.shape[0]
     joints = np.zeros((2, 3, 2))
     tips = np.zeros((2, 3))
@@ -358,18 +427,66 @@ def full_step(
     margins = np.empty(pairs.shape[0])
     for k in range(pairs.shape[0]):
         margins[k] = margin + reach[pairs[k, 0]] + reach[pairs[k, 1]]
+    return contacts_into(F, I, poses, pairs, margins, out, counts)
+
+
+@njit(cache=True)
+def full_step(
+    h, gx, gy, margin, proj_tol, F, I, pairs, poses, kind, index, mu_body, x, v, mass,
+    inertia, has_hand, q, qd, tau, P, limits, covers, out, counts,
+):  # noqa: E741  # fmt: skip
+    """The whole step in one call: kinematics, contact search, :func:`contact_step`.
+
+    The contact search is :func:`planner.sim.planar.geometry_kernel.contacts_into` over the
+    packed outlines ``F, I`` and body ``pairs``; ``poses`` (nbodies, 3) holds the fixed
+    bodies' poses (the others are written here), ``out`` (cap, 10) and ``counts`` (npairs,)
+    are its buffers. The margin of a pair is ``margin`` plus twice the distance each of its
+    bodies can move in the step (as :func:`planner.sim.planar.stepper.find_contacts`).
+
+    Returns:
+        ``(status, n, pn, pt, slip, mu, lim_joint, lim_impulse)``: status 0 ok (the n
+        candidates are ``out[:n]``), 1/2 no verified LCP answer, 3 the position projection
+        (:func:`project_positions`, done here when a gap is below ``-proj_tol``) had no
+        verified answer, 4 ``out`` too small (n rows needed), 5 a pair needs the Python
+        geometry; nothing is updated unless the status is 0.
+    """
     e0, e1 = np.zeros(0), np.zeros(0, np.int64)
-    n = contacts_into(F, I, poses, pairs, margins, out, counts)
-    if n > out.shape[0]:
-        return 4, n, e0, e0, e0, e0, e1, e0
-    for k in range(pairs.shape[0]):
-        if counts[k] < 0:
-            return 5, n, e0, e0, e0, e0, e1, e0
-    for r in range(n):
-        if out[r, 2] < -proj_tol:
-            return 3, n, e0, e0, e0, e0, e1, e0
-    st, pn, pt, slip, mu, lj, lp = contact_step(
-        h, gx, gy, out[:n], kind, index, mu_body, x, v, mass, inertia, has_hand, q, qd, tau,
-        P, limits, covers,
-    )  # fmt: skip
-    return st, n, pn, pt, slip, mu, lj, lp
+    # a projected step keeps the positions it started from: nothing is updated unless the
+    # step succeeds
+    x_bak, q_bak = np.empty((0, 3)), np.empty(0)
+    projected = False
+    st, n = 0, 0
+    for attempt in range(2):
+        n = _search(h, margin, F, I, pairs, poses, kind, index, x, v, has_hand, q, qd, P, out,
+                    counts)  # fmt: skip
+        if n > out.shape[0]:
+            st = 4
+            break
+        for k in range(pairs.shape[0]):
+            if counts[k] < 0:
+                st = 5
+        if st != 0:
+            break
+        deep = False
+        for r in range(n):
+            if out[r, 2] < -proj_tol:
+                deep = True
+        if not deep or attempt == 1:  # the Python step projects once too
+            break
+        x_bak, q_bak = x.copy(), q.copy()
+        projected = True
+        if not project_positions(out[:n], kind, index, x, mass, inertia, has_hand, q, P,
+                                 limits, covers):  # fmt: skip
+            st = 3
+            break
+    if st == 0:
+        st, pn, pt, slip, mu, lj, lp = contact_step(
+            h, gx, gy, out[:n], kind, index, mu_body, x, v, mass, inertia, has_hand, q, qd,
+            tau, P, limits, covers,
+        )  # fmt: skip
+        if st == 0:
+            return st, n, pn, pt, slip, mu, lj, lp
+    if projected:
+        x[:] = x_bak
+        q[:] = q_bak
+    return st, n, e0, e0, e0, e0, e1, e0

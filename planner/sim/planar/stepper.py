@@ -409,11 +409,11 @@ def step_fast(world, tau) -> StepResult:
     """:func:`step` with the whole step in one compiled call (same state to ~1e-15).
 
     Kinematics, the contact search (:mod:`planner.sim.planar.geometry_kernel`), dynamics,
-    contact rows, the LCP and the update run in
-    :func:`planner.sim.planar.step_kernel.full_step`. A step that needs a position
-    projection, or whose LCP the kernel cannot answer, is done by :func:`step` instead
-    (which projects, retries and raises); bodies with pieces the compiled search does not
-    know (Gaussian bumps, splines) use the Python search with the compiled rest.
+    contact rows, the position projection and the LCP and the update run in
+    :func:`planner.sim.planar.step_kernel.full_step`. A step whose projection or LCP the
+    kernel cannot answer is done by :func:`step` instead (which retries and raises); bodies
+    with pieces the compiled search does not know (Gaussian bumps, splines) use the Python
+    search with the compiled rest.
     """
     from planner.sim.planar.step_kernel import full_step
 

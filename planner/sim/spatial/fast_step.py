@@ -3,7 +3,7 @@ path: one numba call per step).
 
 Same scheme and results as :func:`planner.sim.spatial.stepping.step_body` (tested equal on
 random states), for the case that matters for speed: the finger alone over one
-:class:`Plate` or :class:`Plane`, numba installed and the generated dynamics compiled to C.
+:class:`Plate` or :class:`Plane` and the generated dynamics compiled to C.
 Anything the kernel does not resolve (a sliding root it could not certify) goes through the
 general path.
 """
@@ -15,7 +15,7 @@ import numpy as np
 from planner.sim.records import Contact
 from planner.sim.spatial import step_kernel as sk
 from planner.sim.spatial.finger_codegen import CompiledFunction
-from planner.sim.spatial.kernel import HAVE_NUMBA, pack_plate
+from planner.sim.spatial.kernel import pack_plate
 from planner.sim.spatial.plate import Plane, Plate
 
 __all__ = ["FingerKernel", "KernelContact", "fast_plate"]
@@ -84,9 +84,9 @@ def _check_layout(dyn, kin) -> None:
 
 
 def fast_plate(world) -> FingerKernel | None:
-    """The packed kernel when the world is one finger over one Plate/Plane (numba installed,
+    """The packed kernel when the world is one finger over one Plate/Plane (its
     dynamics compiled), else None."""
-    if world.spheres or world.finger is None or len(world.surfaces) != 1 or not HAVE_NUMBA:
+    if world.spheres or world.finger is None or len(world.surfaces) != 1:
         return None
     f = world.finger
     if not (isinstance(f.fn, CompiledFunction) and isinstance(f.kin, CompiledFunction)):

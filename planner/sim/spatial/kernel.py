@@ -19,23 +19,14 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba import njit
 
-try:  # optional accelerator
-    from numba import njit as _njit
 
-    def _jit(f):
-        return _njit(cache=True, fastmath=False)(f)
+def _jit(f):
+    return njit(cache=True, fastmath=False)(f)
 
-    HAVE_NUMBA = True
-except ImportError:  # pragma: no cover - depends on the environment
-
-    def _jit(f):
-        return f
-
-    HAVE_NUMBA = False
 
 __all__ = [
-    "HAVE_NUMBA",
     "finger_readings",
     "joint_force_readings",
     "owts_sample_decode",

@@ -34,19 +34,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-
-try:  # the hot path needs numba; without it the world runs the general path
-    from llvmlite import ir
-    from numba import njit, types
-    from numba.extending import intrinsic
-except ImportError:  # pragma: no cover - depends on the environment
-
-    def njit(**_):
-        return lambda f: f
-
-    def intrinsic(f):
-        return f
-
+from llvmlite import ir
+from numba import njit, types
+from numba.extending import intrinsic
 
 from planner.sim.spatial.cone_kernel import cone_impulse
 from planner.sim.spatial.kernel import plate_foot, plate_seed

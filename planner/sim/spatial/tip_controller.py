@@ -16,7 +16,6 @@ import numpy as np
 from planner import checks
 from planner.sim.spatial.finger import tcs_rotation
 from planner.sim.spatial.finger_codegen import CompiledFunction, reduced_dynamics_function
-from planner.sim.spatial.kernel import HAVE_NUMBA
 from planner.sim.spatial.step_kernel import call_compiled, njit
 
 __all__ = ["TipForceVelocityController", "tip_torques"]
@@ -101,7 +100,7 @@ class TipForceVelocityController:
         self.model = reduced_dynamics_function(gm, gravity, kinematics=True).clone()
         self._state = np.array([0.0, 0.0, 1.0, 0.0])  # n_W, touched
         self._prm = np.array([*self.start, *self.vd, self.fn, self.kp, self.kv])
-        self._compiled = HAVE_NUMBA and isinstance(self.model, CompiledFunction)
+        self._compiled = isinstance(self.model, CompiledFunction)
         self._none = (np.zeros((0, 3)), np.zeros(0, bool))
 
     @property

@@ -33,7 +33,7 @@ projection of step 5 keeps held joints fixed (``M⁻¹`` conditioned on them). A
 starts to be held emits a ``joint_limit`` event (data: ``joint``, ``side``, ``limit``,
 ``theta``).
 
-One finger over one :class:`Plate`/:class:`Plane` (numba installed, dynamics compiled) runs as
+One finger over one :class:`Plate`/:class:`Plane` (dynamics compiled) runs as
 ONE compiled call per step (:mod:`planner.sim.spatial.step_kernel`: dynamics, foot, cone,
 limits, integration, projection, contact record, OWTS rows), with compiled ``record`` and
 ``observe``; everything else through :mod:`planner.sim.spatial.stepping`, the reference; both
