@@ -363,3 +363,19 @@ def test_references_of_plain_callables_are_called_row_by_row():
     table = segment_references(seg, tl)
     np.testing.assert_allclose(table, _scalar_rows(seg, tl), rtol=0, atol=1e-15)
     assert table[1, 0] == 1.0 and table[1, 15] == 1.0 and table[1, 1] == 0.0
+
+
+def test_curvature_features_need_the_smoothing_window_inside_the_pass():
+    """A detection nearer an end of the pass than three of the detector's largest scales
+    (EDGE_ARC = 2.25 mm for the 3 mm virtual tip) sees the padding: dropped."""
+    from planner.exploration.planar.metrics import EDGE_ARC, VIRTUAL_RADIUS, inside_pass
+
+    assert EDGE_ARC == pytest.approx(3 * VIRTUAL_RADIUS / 4)
+    a = np.radians(np.linspace(20.0, 40.0, 81))
+    pts = R * np.c_[np.cos(a), np.sin(a)]
+    at = [R * np.array([math.cos(math.radians(x)), math.sin(math.radians(x))])
+          for x in (21.1, 28.9, 38.0, 37.0)]  # fmt: skip
+    kept = inside_pass([(p, 1) for p in at], pts)
+    # 1.1 deg (0.96 mm) and 2.0 deg (1.75 mm) from an end: dropped; 8.9 and 3 deg: kept
+    assert [round(math.degrees(math.atan2(p[1], p[0])), 1) for p, _ in kept] == [28.9, 37.0]
+    assert inside_pass([], pts) == []

@@ -276,7 +276,7 @@ def detect_pad_features(
             found = _detect(P, N)
         except Exception:  # noqa: BLE001 - a trace the detector cannot use adds nothing
             continue
-        for pos, sign in found:
+        for pos, sign in inside_pass(found, P):
             a = math.atan2(pos[1], pos[0])
             if truth:
                 err = [math.atan2(math.sin(a - b), math.cos(a - b)) for b in truth]
@@ -287,6 +287,27 @@ def detect_pad_features(
             else:
                 out.append(DetectedFeature(a, "convex" if sign > 0 else "concave"))
     return macro + _merge(out)
+
+
+#: a curvature feature needs this much of the pass on each side [m]: three of the
+#: detector's largest smoothing scale (``VIRTUAL_RADIUS / 4`` for the tactile algorithm 1,
+#: ``planner.detection.signals.default_scale``), the reach of its Gaussian derivatives;
+#: nearer an end they see the padding. On ball_with_ridge (merged with main 243732f) seeds
+#: 0 and 2 reported a convex (21.1 deg) and a convex/concave pair (27.7/28.9 deg) 1.2-2.4 deg
+#: from the first sample of a pass, where the ball has no feature.
+EDGE_ARC = 3.0 * VIRTUAL_RADIUS / 4.0
+
+
+def inside_pass(found: list, points: np.ndarray) -> list:
+    """The detections ``[(position (2,), sign), ...]`` at least :data:`EDGE_ARC` (straight
+    distance: the binned outline's radial noise lengthens its arclength) from both ends of
+    the outline ``points`` (N, 2) [m]."""
+    out = []
+    for pos, sign in found:
+        p = np.asarray(pos, float)
+        if min(np.hypot(*(p - points[0])), np.hypot(*(p - points[-1]))) >= EDGE_ARC:
+            out.append((pos, sign))
+    return out
 
 
 def _merge(found: list[DetectedFeature]) -> list[DetectedFeature]:
@@ -413,6 +434,7 @@ __all__ = [
     "ridge_coverage",
     "round_tip_shadow",
     "detect_pad_features",
+    "inside_pass",
     "slip_distance",
     "steady_sliding",
     "summary_metrics",
