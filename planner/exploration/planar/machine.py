@@ -23,6 +23,7 @@ from planner.exploration.planar import shape_planning
 from planner.exploration.planar.controller import TRACE_NAMES, GaitController
 from planner.exploration.planar.heuristics import regrasp_left_angle, stable_pair
 from planner.exploration.planar.logs import concat_logs
+from planner.exploration.planar.metrics import pad_rolling
 from planner.exploration.planar.objects import mean_radius
 from planner.exploration.planar.result import ExplorationResult, PhaseRecord
 from planner.exploration.planar.segments import explore_segment, phase1_segment
@@ -374,9 +375,17 @@ class _Runner:
         self._rows = (n0, len(c.trace))
         self.theta = c.theta
         if kind != 1 and len(c.trace) > n0 + 1:
-            # phases 2/3 hold the object on the palm, where it rolls (the explorer's friction
-            # rolled the ball back 1-5 deg per phase): theta -= dx / R from the sensed centre
-            self.theta -= (c.trace[-1][CX] - c.trace[n0][CX]) / self.ctrl.sensing.radius
+            # phases 2/3 hold the object on the palm, where it rolls: phase 2 reads its turn
+            # from the object rolling on the holding pad (eq. 2.4; a drag over the ridge
+            # turned the ball +19.4 deg where the palm's -dx/R said -10.6 deg), phase 3 from
+            # the centre rolling on the palm (theta -= dx / R)
+            rows = np.asarray(c.trace[n0:], dtype=float)
+            if kind == 2:
+                cols = {k: rows[:, i] for i, k in enumerate(TRACE_NAMES)}
+                roll = pad_rolling(cols, self.ctrl.sensing.radius)
+                self.theta += float(roll[-1] - roll[0])
+            else:
+                self.theta -= (rows[-1, CX] - rows[0, CX]) / self.ctrl.sensing.radius
         event = "object moved" if moved[0] else (c.event or "time limit")
         if c.event_data:
             self.events.append({"t": w.time, "kind": "phase_end", "phase": kind,
