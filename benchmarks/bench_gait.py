@@ -21,7 +21,13 @@ Rows:
 The objects run in parallel worker processes (``--jobs``, forked after a warm-up run so
 the compiled kernels are shared; a worker over its wall cap is killed and reported).
 
-Run: ``python benchmarks/bench_gait.py [--quick] [--duration S] [--jobs N] [--ball S]``.
+The executor's model of each object (``--nominal``): ``true`` (default; the object's outline,
+posed from the sensed contacts at every phase start, as the §2.3.1 simulation modelled the
+shape) or ``circle`` (a feature-less circle of the object's area). ``--only square,gon``
+runs the objects whose name or family contains one of the substrings.
+
+Run: ``python benchmarks/bench_gait.py [--quick] [--duration S] [--jobs N] [--ball S]
+[--nominal true|circle] [--only SUBSTRINGS]``.
 """
 
 from __future__ import annotations
@@ -115,8 +121,12 @@ def map_verdict(profile, hand, mu: float) -> tuple[bool, str]:
     return bool(g.feasible), g.reason
 
 
-def run_object(obj: BatchObject, duration: float, min_rotation_deg: float, mu: float) -> dict:
-    """Execute one object (in a worker process); the batch row."""
+def run_object(
+    obj: BatchObject, duration: float, min_rotation_deg: float, mu: float, nominal: str = "circle"
+) -> dict:
+    """Execute one object (in a worker process); the batch row. ``nominal``: the planner's
+    model, ``"circle"`` (a feature-less circle of the object's area) or ``"true"`` (the
+    object's outline, posed from the sensed contacts: the §2.3.1 simulation modelled it)."""
     from planner.exploration import explore_object
     from planner.exploration.planar.setup import check_fits
 
@@ -130,7 +140,8 @@ def run_object(obj: BatchObject, duration: float, min_rotation_deg: float, mu: f
         row.update(verdict="does not fit", status="-", reason=why)
         return row
     t0, c0 = time.perf_counter(), time.process_time()
-    res = explore_object(obj.profile, hand=hand, mu=mu, duration=duration, seed=0)
+    model = obj.profile if nominal == "true" else None
+    res = explore_object(obj.profile, hand=hand, mu=mu, nominal=model, duration=duration, seed=0)
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     turn = -math.degrees(res.rotation)  # clockwise positive
     sim = float(res.log.t[-1]) if len(res.log.t) else 0.0
@@ -259,8 +270,14 @@ def bench_batch(args) -> list[dict]:
     from planner.geometry import shapes
 
     explore_object(shapes.circle(0.05), hand=batch_hand(), duration=0.05)  # warm-up, shared
-    objs = interleaved(objects(args.quick))
-    tasks = [(o, args.duration, args.min_rotation, 1.0) for o in objs]
+    objs = interleaved(
+        [
+            o
+            for o in objects(args.quick)
+            if not args.only or any(k in o.name or k in o.family for k in args.only.split(","))
+        ]
+    )
+    tasks = [(o, args.duration, args.min_rotation, 1.0, args.nominal) for o in objs]
     rows = run_parallel(tasks, run_object, args.jobs, args.wall_cap, args.budget)
     for o, r in zip(objs, rows, strict=True):
         r.setdefault("benchmark", "batch")
@@ -421,6 +438,13 @@ def main() -> None:
     p.add_argument("--ball", type=float, default=0.0, help="ball_with_ridge seconds (0: skip)")
     p.add_argument("--ball-seeds", type=int, default=1, help="ball_with_ridge sensor seeds")
     p.add_argument("--no-nlp", action="store_true", help="skip the NLP rows")
+    p.add_argument(
+        "--nominal",
+        choices=("true", "circle"),
+        default="true",
+        help="the planner's model: the object's outline (posed) or a circle",
+    )
+    p.add_argument("--only", default="", help="comma-separated name/family substrings")
     args = p.parse_args()
     if args.quick:
         args.duration = min(args.duration, 2.0)
@@ -438,7 +462,10 @@ def main() -> None:
         "ball_with_ridge hand), mu = 1; polygons with 1 mm corner fillets (sharp polygons hit "
         "a star-shape check bug in Profile.point_at_polar_angle)",
         "plan_gait: map space on the TRUE object (resolution 72, pure rolling, fixed "
-        "contact model); the executor plans from a nominal circle and senses the rest",
+        "contact model); the executor's model: "
+        + ("the object's outline, posed from the sensed contacts at every phase start"
+           if args.nominal == "true" else "a nominal circle of the object's area")
+        + (f"; objects matching {args.only!r} only" if args.only else ""),
         "rtf = simulated / wall time (inflated by the machine's load), cpu_rtf = simulated / "
         "CPU time of the worker (what load does not distort)",
         "ball_with_ridge rows: the bundled scenario (its hand and gains) per sensor-noise "

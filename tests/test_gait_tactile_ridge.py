@@ -70,7 +70,8 @@ def _trace(angles: np.ndarray, line: np.ndarray, force: float = 0.3) -> dict:
     return {
         "t": t, "kind": np.full(n, 3.0), "pad_touch": np.ones(n), "fnL": np.full(n, force),
         "pLx": 0.05 * np.cos(angles), "pLy": 0.05 * np.sin(angles), "cx": np.zeros(n),
-        "cy": np.zeros(n), "image_t": t, "images": imgs,
+        "cy": np.zeros(n), "image_t": t, "images": imgs, "u": np.zeros(n),
+        "nLx": np.cos(angles), "nLy": np.sin(angles),
     }  # fmt: skip
 
 

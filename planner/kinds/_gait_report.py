@@ -26,6 +26,8 @@ def report(config, ctx, res, profile, duration: float, hand):
              if config.object.shape == "circle_with_ridge" else None)  # fmt: skip
     theta = _rotation(config, res, profile)
     metrics = _metrics(config, res, profile, ridge, duration, theta)
+    if ridge is not None:
+        metrics.update(_ridge_coverage(config, res, profile, hand))
     arrays = {f"log/{k}": v for k, v in res.log.arrays().items() if k != "pairs"}
     arrays.update({f"trace/{k}": np.asarray(v) for k, v in res.trace.items()})
     events = _events(res)
@@ -42,6 +44,27 @@ def report(config, ctx, res, profile, duration: float, hand):
                      events=events, figures=figures, files=files)  # fmt: skip
 
 
+def _ridge_coverage(config, res, profile, hand) -> dict:
+    """The untouched cells beside the ridge and the coverage outside its shadows
+    (:func:`planner.exploration.planar.metrics.ridge_coverage`): the part of each side that
+    neither the round right tip nor the pad touching with its middle can reach (the
+    smaller of the two shadows; the pad's end reaches nearer, only in a back-stroke)."""
+    from planner.exploration.planar.metrics import (
+        coverage_mask,
+        pad_shadow,
+        ridge_coverage,
+        round_tip_shadow,
+    )
+
+    o = config.object
+    R = o.radius
+    shadow = min(round_tip_shadow(R, o.ridge_height, hand.params.right.tip_radius),
+                 pad_shadow(R, o.ridge_height, hand.params.left.pad_half_width))  # fmt: skip
+    mask = coverage_mask(res.log, "object", profile)
+    out = ridge_coverage(mask, math.radians(o.ridge_angle_deg), o.ridge_width / (2 * R), shadow)
+    return {f"ridge_{k}" if not k.startswith("coverage") else k: v for k, v in out.items()}
+
+
 def _failure(res) -> str:
     """The executor's reason, with the simulator's own message when the simulator stopped
     (``"sim fault in phase 1: sim fault"`` says less than the Lemke ray behind it)."""
@@ -52,8 +75,10 @@ def _failure(res) -> str:
 
 
 def _rotation(config, res, profile):
-    """(N,) sensed object rotation [rad] of every trace row (rolling on the palm in phases
-    2/3 included), with the planner's radius (the nominal shape's, else the object's)."""
+    """(N,) sensed object rotation [rad] of every trace row (rolling on the holding pad in
+    phase 2 and on the palm in phase 3 included:
+    :func:`planner.exploration.planar.metrics.object_rotation`), with the planner's radius
+    (the nominal shape's, else the object's)."""
     from planner.exploration.planar.metrics import object_rotation
     from planner.exploration.planar.objects import mean_radius
 

@@ -23,7 +23,13 @@ position ``u_k`` across the flat left pad [m]. Constraints, at every knot:
   angular margin, ``(-n_i) . u_i >= cos(atan(mu) - margin)``;
 * the object above the palm (``c_y >= R``) and near its start, set down at the end (its
   final centre at most :data:`SET_DOWN` above the start: phases 2/3 hold it against the
-  palm); monotone clockwise rotation with at most ``max_step`` per knot.
+  palm); monotone clockwise rotation with at most ``max_step`` per knot;
+* with ``palm_points`` K > 0 (an object that is not the circle: the executor's posed
+  outline), the palm constraint is the outline's instead: K points ``v_j`` of its hull
+  (relative to the start centre, parameters) stay above the palm,
+  ``c_y + (Rot(theta) v_j)_y >= min(0, start height)``, and the lowest of them ends at most
+  :data:`SET_DOWN` above it (rotating an 11 cm square about its centre needs up to 23 mm of
+  lift; the circle's ``c_y >= R`` put its corners 13 mm into the palm at 16 deg).
 
 Objective: maximize the rotation ``-theta_N`` plus a small smoothness term. The NLP is built
 once (:class:`RollingNLP`, parameters = the estimate and the start state) and solved with
@@ -89,6 +95,8 @@ class RollingNLP:
         max_tip_angle: largest angle of the round contact from the tip axis [rad].
         travel: largest displacement of the object centre from its start [m].
         pad_use: fraction of the pad's half-width the contact may use [-].
+        palm_points: number K of outline points kept above the palm (0: the circle's
+            ``c_y`` constraint; see the module docstring).
     """
 
     def __init__(
@@ -100,6 +108,7 @@ class RollingNLP:
         travel: float = 0.01,
         pad_use: float = 0.6,
         tol: float = 1e-5,
+        palm_points: int = 0,
     ) -> None:
         import casadi as cs
 
@@ -111,11 +120,13 @@ class RollingNLP:
         self.max_step = checks.positive("max_step", max_step, "rad")
         self.max_tip_angle = checks.in_range("max_tip_angle", max_tip_angle, 0.0, math.pi, "rad")
         self.travel = checks.positive("travel", travel, "m")
+        self.K = K = checks.integer("palm_points", palm_points, 0)
         pad = hand.params.left.pad_half_width
         N = self.N
         nk = 12  # theta, cx, cy, q(6), betaL, betaR, u
         X = cs.SX.sym("x", nk * (N + 1))
-        P = cs.SX.sym("p", _NP)
+        P = cs.SX.sym("p", _NP + 2 * K)
+        V = [P[_NP + 2 * j : _NP + 2 * j + 2] for j in range(K)]  # hull points - c0 [m]
         R, r, mu, margin = P[0], P[1], P[2], P[3]
         c0, q0, beta0, u0, qm, home = P[4:6], P[6:12], P[12:14], P[14], P[15], P[16]
         max_rot = P[17]
@@ -186,7 +197,11 @@ class RollingNLP:
             lo_st = 0 if k > 0 else -cs.inf  # the start is what it is
             add(cs.dot(-nL, ud) - cos_cone, lo_st, cs.inf)
             add(cs.dot(nR, ud) - cos_cone, lo_st, cs.inf)
-            if k > 0:
+            lows = [c[1] + cs.sin(th) * v[0] + cs.cos(th) * v[1] for v in V]
+            if k > 0 and K:
+                for v, low in zip(V, lows, strict=True):  # the outline above the palm
+                    add(low - cs.fmin(0.0, X[2] + v[1]), 0, cs.inf)
+            elif k > 0:
                 # above the palm: not lower than the start or the circle resting on it (an
                 # object that is not the model circle rests lower than R; c_y >= R made
                 # the start itself infeasible for a 12 x 10 cm ellipse)
@@ -197,7 +212,13 @@ class RollingNLP:
                 # against the palm, and an object left lifted fell back under the holding
                 # finger there, rolling back (a 3 cm circle ended phase 1 11 mm up and rolled
                 # back 14 of its 27 deg in phase 2: "no progress")
-                add(c[1] - X[2], -cs.inf, SET_DOWN)
+                if K:  # the outline's lowest point back on the palm
+                    low = lows[0]
+                    for e in lows[1:]:
+                        low = cs.fmin(low, e)
+                    add(low, -cs.inf, SET_DOWN)
+                else:
+                    add(c[1] - X[2], -cs.inf, SET_DOWN)
                 add(th + max_rot, 0, cs.inf)  # at most max_rotation clockwise
         obj += X[nk * N]  # theta_N (negative): minimize = rotate as far as possible
         # bring the object back over the hand's middle: the explorers' friction rolls it along
@@ -250,6 +271,7 @@ class RollingNLP:
         warm: bool = True,
         home_x: float | None = None,
         max_rotation: float = math.inf,
+        palm_points=None,
     ) -> RollingPlan:
         """Plan phase 1 from the current configuration.
 
@@ -265,6 +287,8 @@ class RollingNLP:
             home_x: where the object centre should end, x [m] (default: where it starts).
             max_rotation: the largest rotation to plan [rad] (e.g. to stop before a sensed
                 feature reaches the palm).
+            palm_points: (K, 2) outline points relative to ``centre`` [m] (world axes at the
+                start), required when built with ``palm_points`` K > 0.
 
         Returns:
             the :class:`RollingPlan`.
@@ -285,6 +309,13 @@ class RollingNLP:
                 [min(float(max_rotation), 10.0)],
             ]
         )
+        if self.K:
+            if palm_points is None:
+                raise checks.InvalidParameter(
+                    f"palm_points: expected ({self.K}, 2) outline points [m], got None"
+                )
+            pts = checks.points("palm_points", palm_points, dims=(2,), n=self.K)
+            p = np.concatenate([p, pts.ravel()])
         x0 = self.initial_guess(q0, centre, beta0, u0)
         args = {"x0": x0, "p": p, "lbg": self._lbg, "ubg": self._ubg}
         if warm and self._last is not None:
@@ -330,8 +361,9 @@ class RollingNLP:
             + ["start"] * 0
             + ["flat pad", "rolling", "rolling", "step"]
             + ["joint limit"] * 12
-            + ["pad edge", "tip angle", "stability", "stability", "palm", "travel", "set down"]
-            + ["rotation cap"]
+            + ["pad edge", "tip angle", "stability", "stability"]
+            + ["palm"] * max(self.K, 1)
+            + ["travel", "set down", "rotation cap"]
         )
         last = lam[-len(names) :]
         k = int(np.argmax(np.abs(last)))

@@ -19,15 +19,18 @@ import time
 import numpy as np
 
 from planner.errors import InvalidParameter
+from planner.exploration.planar import shape_planning
 from planner.exploration.planar.controller import TRACE_NAMES, GaitController
 from planner.exploration.planar.heuristics import regrasp_left_angle, stable_pair
 from planner.exploration.planar.logs import concat_logs
+from planner.exploration.planar.metrics import pad_rolling
 from planner.exploration.planar.objects import mean_radius
 from planner.exploration.planar.result import ExplorationResult, PhaseRecord
 from planner.exploration.planar.segments import explore_segment, phase1_segment
 from planner.exploration.planar.sensed_features import rotation_cap, sensed_bump
 from planner.exploration.planar.settings import GaitSettings
 from planner.exploration.planar.setup import build_world, gait_prior
+from planner.exploration.planar.shape_tracking import ShapeTracker
 
 FULL_TURN = 2 * math.pi
 CX = TRACE_NAMES.index("cx")
@@ -71,7 +74,9 @@ def explore_object(
             2.5 cm round right tip).
         mu: true friction coefficient of fingers, palm and object [-] (> 0).
         nominal: the planner's model of the object (a closed profile; default a feature-less
-            circle of the object's area). Only its mean radius is used by the planners.
+            circle of the object's area). A round one is used through its mean radius; a
+            non-round one is also posed from the sensed contacts at every phase start
+            (:class:`.shape_tracking.ShapeTracker`).
         seed: seed of the sensor noise.
         duration: simulated time limit [s] (default: until ``max_rotation`` or failure).
         settings: :class:`GaitSettings` (gains, speeds, thresholds, time step).
@@ -107,6 +112,7 @@ def explore_object(
     nlp_build = time.perf_counter() - t_build
     runner = _Runner(world, ctrl, nlp, s, hand, start, duration, max_rotation)
     runner.on_progress = on_progress
+    runner.shape = ShapeTracker.of(nominal, hand, float(np.abs(ctrl.sensing.taxel_u).max()))
     runner.execute()
     log = concat_logs(runner.logs)
     rotation = runner.rotation()
@@ -165,6 +171,8 @@ class _Runner:
         self._stroking = False  # the phase being run is a back-stroke
         self._plan1 = None  # the last phase-1 plan (its solve statistics)
         self.sensed_features: list[float] = []  # object-frame angles of sensed bumps [rad]
+        self.shape: ShapeTracker | None = None  # the posed nominal outline (non-round only)
+        self.nlps: dict = {}  # the shape planner's NLPs, built at first use
 
     def rotation(self) -> float:
         """True rotation of the object so far [rad] (unwrapped from the logs)."""
@@ -187,6 +195,8 @@ class _Runner:
                 return
             obs = self.world.observe()
             est = self.ctrl.sensing.update(obs, {1: "auto", 2: "pad", 3: "palm"}[kind])
+            if self.shape is not None:
+                self.shape.update(est, self.theta)
             seg, planned, nlp_t, why = self._plan(kind, est, obs.q)
             if seg is None:
                 failures += 1
@@ -229,6 +239,8 @@ class _Runner:
         if kind == 1:
             r = self.hand.params.right.tip_radius
             mu = s.mu * (1 - s.friction_margin)
+            if self.shape is not None:
+                return shape_planning.plan_phase1(self, q, mu)
             R = self._fit_radius(est, r)
             self.ctrl.sensing.radius = R
             est = self.ctrl.sensing.update(self.world.observe(), "auto")
@@ -242,6 +254,8 @@ class _Runner:
                 return None, 0.0, plan.solve_time_s, f"phase-1 NLP: {plan.stop}; {why}"
             seg = phase1_segment(plan, est, q, self.theta, s, self.hand, lift=0.0015)
             return seg, plan.rotation, plan.solve_time_s, ""
+        if self.shape is not None:
+            return shape_planning.plan_explore(self, kind, est, q), 0.0, 0.0, ""
         if kind == 2:
             target = max(self.start["beta"][1], self._right_hold_angle())
         elif self._via is not None:  # the back-stroke: onto the feature's far side and back
@@ -339,6 +353,8 @@ class _Runner:
         horizon = min(seg.duration + 0.5, self.t_end - t0)
         c0 = []  # the centre as this phase senses it (its own source), at its first step
         moved = [False]
+        holder = 0 if kind == 2 else 1
+        tip0 = c.sensing.est.tips[holder].copy()
 
         def stop(t, world):
             if not c0:
@@ -349,7 +365,7 @@ class _Runner:
             # phases 2/3: the held object must stay where it is; a sensed centre that moved
             # HOLD_SLIP means the explorer drags it (a ridge caught the round right tip and
             # rolled the ball 30 deg back along the palm before this check)
-            if kind != 1 and math.hypot(*(c.sensing.est.centre - c0[0])) > HOLD_SLIP:
+            if kind != 1 and self._moved(c0[0], tip0, holder):
                 moved[0] = True
                 return "object moved"
             return c.stop(t, world)
@@ -359,9 +375,17 @@ class _Runner:
         self._rows = (n0, len(c.trace))
         self.theta = c.theta
         if kind != 1 and len(c.trace) > n0 + 1:
-            # phases 2/3 hold the object on the palm, where it rolls (the explorer's friction
-            # rolled the ball back 1-5 deg per phase): theta -= dx / R from the sensed centre
-            self.theta -= (c.trace[-1][CX] - c.trace[n0][CX]) / self.ctrl.sensing.radius
+            # phases 2/3 hold the object on the palm, where it rolls: phase 2 reads its turn
+            # from the object rolling on the holding pad (eq. 2.4; a drag over the ridge
+            # turned the ball +19.4 deg where the palm's -dx/R said -10.6 deg), phase 3 from
+            # the centre rolling on the palm (theta -= dx / R)
+            rows = np.asarray(c.trace[n0:], dtype=float)
+            if kind == 2:
+                cols = {k: rows[:, i] for i, k in enumerate(TRACE_NAMES)}
+                roll = pad_rolling(cols, self.ctrl.sensing.radius)
+                self.theta += float(roll[-1] - roll[0])
+            else:
+                self.theta -= (rows[-1, CX] - rows[0, CX]) / self.ctrl.sensing.radius
         event = "object moved" if moved[0] else (c.event or "time limit")
         if c.event_data:
             self.events.append({"t": w.time, "kind": "phase_end", "phase": kind,
@@ -397,19 +421,34 @@ class _Runner:
             self.events.append({"t": w.time, "kind": "deviation", "phase": 1, "message": msg})
         return event, rec
 
+    def _moved(self, centre0, tip0, holder: int) -> bool:
+        """The hold check of phases 2/3: the sensed centre (round objects) or, on a posed
+        outline, the holding fingertip (encoders) moved more than :data:`HOLD_SLIP` from
+        the phase start ``centre0`` / ``tip0`` [m]."""
+        e = self.ctrl.sensing.est
+        if self.shape is not None:
+            return math.hypot(*(e.tips[holder] - tip0)) > HOLD_SLIP
+        return math.hypot(*(e.centre - centre0)) > HOLD_SLIP
+
     def _next(self, kind, event, est):
         if kind == 1:
             return 2, False
         if kind == 2:
-            if event == "path finished":
+            if event == "path finished" and self.shape is None:
                 return 3, False
-            # phase 2 ended early: can the right finger hold the object with the palm?
+            # phase 2 ended early (or, on a posed outline, at all): can the right finger
+            # hold the object with the palm?
             from planner.grasp import epsilon_two_planar
 
             obs = self.world.observe()
             e = self.ctrl.sensing.update(obs, "pad")
-            palm = np.array([e.centre[0], 0.0])
-            eps = float(epsilon_two_planar(e.p[1], -e.n[1], palm, np.array([0.0, 1.0]), self.s.mu))
+            if self.shape is not None:
+                self.shape.update(e, self.theta)
+                eps = self.shape.right_palm_epsilon(e, self.s.mu)
+            else:
+                palm = np.array([e.centre[0], 0.0])
+                eps = float(epsilon_two_planar(e.p[1], -e.n[1], palm, np.array([0.0, 1.0]),
+                                               self.s.mu))  # fmt: skip
             if eps < self.s.min_epsilon:
                 self.events.append({"t": self.world.time, "kind": "transition_4",
                                     "message": f"phase 2 ended by {event}; right-palm grasp "

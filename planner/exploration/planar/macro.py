@@ -154,6 +154,27 @@ def pass_regions(angles: np.ndarray, heights: np.ndarray, passes=None) -> list:
     return seen
 
 
+def binned_median(keys: np.ndarray, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The occupied keys (sorted) and the median of ``values`` in each: the same numbers as
+    ``np.median(values[keys == k])`` per key (the middle element, or the mean of the two
+    middle ones), from one sort instead of a mask and a partition per key (3,550 calls
+    took 0.23 s of the detection on ``ball_with_ridge``).
+
+    Args:
+        keys: (N,) integer bin of each value; values: (N,) floats.
+    """
+    keys, values = np.asarray(keys), np.asarray(values, float)
+    if keys.size == 0:
+        return keys.astype(int), values
+    order = np.lexsort((values, keys))
+    k, v = keys[order], values[order]
+    start = np.flatnonzero(np.r_[True, k[1:] != k[:-1]])
+    count = np.diff(np.r_[start, k.size])
+    lo = start + (count - 1) // 2
+    hi = start + count // 2
+    return k[start], np.where(lo == hi, v[lo], (v[lo] + v[hi]) / 2.0)
+
+
 def _pass_regions(angles: np.ndarray, heights: np.ndarray, local: bool = False) -> list:
     """Feature regions of one pass: ``[(middle angle [rad], sign), ...]``; ``local``: drop
     regions covering :data:`MACRO_LOCAL` of the pass."""
@@ -161,8 +182,8 @@ def _pass_regions(angles: np.ndarray, heights: np.ndarray, local: bool = False) 
     k = np.floor(np.mod(angles, 2 * math.pi) / MACRO_BIN).astype(int) % n
     count = np.bincount(k, minlength=n)
     med = np.zeros(n)
-    for i in np.flatnonzero(count):
-        med[i] = np.median(heights[k == i])
+    occupied, medians = binned_median(k, heights)
+    med[occupied] = medians
     out = []
     for sign in (1, -1):
         flag = (count > 0) & (sign * med > MACRO_HEIGHT)
@@ -236,6 +257,7 @@ def _truth_clusters(profile) -> list[float]:
 
 __all__ = [
     "as_feature",
+    "binned_median",
     "detect_macro_features",
     "macro_regions",
     "pass_regions",

@@ -13,7 +13,15 @@ VIRTUAL_RADIUS = 0.003
 
 
 def coverage_of(log, body: str, profile, cells: int = 360) -> float:
-    """Fraction of the outline's polar-angle cells touched by a fingertip (true contacts)."""
+    """Fraction of the outline's polar-angle cells touched by a fingertip (true contacts):
+    the mean of :func:`coverage_mask`."""
+    return float(coverage_mask(log, body, profile, cells).mean())
+
+
+def coverage_mask(log, body: str, profile, cells: int = 360) -> np.ndarray:
+    """(cells,) whether each polar-angle cell of the outline (object frame, cell ``k``
+    spans ``[k, k + 1) 360 / cells`` deg) holds a true contact point of a fingertip
+    (``*.left`` / ``*.right``) with a positive normal force."""
     hit = np.zeros(cells, dtype=bool)
     pose = log.poses[body]
     for j, pair in enumerate(log.pairs):
@@ -30,7 +38,43 @@ def coverage_of(log, body: str, profile, cells: int = 360) -> float:
         ox, oy = c * dx + s * dy, -s * dx + c * dy
         k = (np.floor(np.mod(np.arctan2(oy, ox), 2 * np.pi) / (2 * np.pi) * cells)).astype(int)
         hit[np.clip(k, 0, cells - 1)] = True
-    return float(hit.mean())
+    return hit
+
+
+def ridge_coverage(mask: np.ndarray, ridge_angle: float, half_angle: float, shadow: float) -> dict:
+    """Coverage beside a ridge: the cells (``mask`` of :func:`coverage_mask`) left
+    untouched, and the coverage of the cells outside the ridge's shadows.
+
+    Args:
+        mask: (cells,) touched cells.
+        ridge_angle: the ridge's middle (object frame) [rad]; half_angle: half its width as
+            a polar angle [rad] (its walls at ``ridge_angle +- half_angle``).
+        shadow: polar angle beside each wall that the fingertips cannot touch [rad]
+            (:func:`round_tip_shadow`, :func:`pad_shadow`).
+
+    Returns:
+        ``{"uncovered_deg": [[from, to], ...], "shadow_deg": ..., "shadow_cells": n,
+        "coverage_outside_shadow": ...}`` (runs of untouched cells, in degrees).
+    """
+    cells = mask.size
+    mid = (np.arange(cells) + 0.5) * 2 * math.pi / cells
+    off = np.abs(np.remainder(mid - ridge_angle + math.pi, 2 * math.pi) - math.pi)
+    shade = (off > half_angle) & (off < half_angle + shadow)
+    outside = ~shade
+    runs, start = [], None
+    for k in range(cells + 1):
+        free = k < cells and not mask[k]
+        if free and start is None:
+            start = k
+        elif not free and start is not None:
+            runs.append([round(start * 360.0 / cells, 2), round(k * 360.0 / cells, 2)])
+            start = None
+    return {
+        "uncovered_deg": runs,
+        "shadow_deg": math.degrees(shadow),
+        "shadow_cells": int(shade.sum()),
+        "coverage_outside_shadow": float(mask[outside].mean()) if outside.any() else float("nan"),
+    }
 
 
 def _detect(points: np.ndarray, normals: np.ndarray) -> list[tuple[np.ndarray, int]]:
@@ -62,18 +106,58 @@ MERGE_ANGLE = math.radians(3.0)
 
 
 def object_rotation(trace: dict, radius: float) -> np.ndarray:
-    """The sensed object rotation [rad] of every trace row: the controller's rolling
-    estimate (eq. 2.4) in phase 1; in phases 2/3 the object lies on the palm and rolls on it,
-    so its rotation follows the sensed centre, ``theta_0 - (c_x - c_x0) / R`` from the
-    phase's first row (the controller holds theta there)."""
+    """The sensed object rotation [rad] of every trace row, chained over the phases from
+    the first row's estimate; each phase adds its own sensed increment:
+
+    * phase 1: the controller's rolling estimate (eq. 2.4: the pad's polar angle minus its
+      rolled arclength over ``R``);
+    * phase 2: the same rolling estimate on the holding left pad,
+      ``d(beta_L) - d(u) / R`` (:func:`pad_rolling`);
+    * phase 3: the ball lies on the palm and rolls on it, ``-(c_x - c_x0) / R`` from the
+      phase's first row (the holder is the round right tip, whose contact says little).
+
+    Why the pad in phase 2: when the sliding right tip drags the ball over the ridge
+    ("object moved"), the ball slides on the palm while it turns; the palm estimate then
+    read +19.4 deg of turning as -10.6 deg, and every later sensed angle was 30 deg off
+    (the ridge was found 25-29 deg from its place). On ``ball_with_ridge`` the chained
+    error at the end of the turn was 1-3 deg with the pad (seeds 0-3, 0.6 N hold) against
+    32-38 deg with the palm; a normal phase 2 turned the ball 0.5-1.0 deg and the pad
+    read it within 0.35 deg, the palm 0.6-0.9 deg too low.
+    """
     th = np.array(trace["theta"], float)
-    kind, cx = trace["kind"], trace["cx"]
-    idx = np.flatnonzero(kind > 1)
-    if idx.size:
-        breaks = np.flatnonzero((np.diff(idx) > 1) | (np.diff(kind[idx]) != 0)) + 1
-        for run in np.split(idx, breaks):
-            th[run] = th[run[0]] - (cx[run] - cx[run[0]]) / radius
-    return th
+    kind = np.asarray(trace["kind"])
+    if th.size == 0:
+        return th
+    out = np.empty_like(th)
+    acc = th[0]
+    runs = np.split(np.arange(th.size), np.flatnonzero(np.diff(kind) != 0) + 1)
+    pad = pad_rolling(trace, radius) if np.any(kind == 2) else None
+    for run in runs:
+        k = kind[run[0]]
+        if k == 2 and pad is not None:
+            inc = pad[run] - pad[run[0]]
+        elif k > 1:
+            inc = -(trace["cx"][run] - trace["cx"][run[0]]) / radius
+        else:
+            inc = th[run] - th[run[0]]
+        out[run] = acc + inc
+        acc = out[run[-1]]
+    return out
+
+
+def pad_rolling(trace: dict, radius: float) -> np.ndarray:
+    """The rotation [rad] of an object of ``radius`` [m] rolling on the flat left pad, up to a
+    constant, per trace row: ``beta_L - u / R`` (eq. 2.4; ``beta_L`` the unwrapped polar
+    angle of the pad's contact about the sensed centre, ``u`` the contact's place on the
+    pad [m]); rows where the pad does not touch hold the last touching value."""
+    b = np.unwrap(np.arctan2(trace["pLy"] - trace["cy"], trace["pLx"] - trace["cx"]))
+    val = b - np.asarray(trace["u"], float) / radius
+    touch = np.asarray(trace["pad_touch"]) > 0
+    if not touch.any():
+        return np.zeros_like(val)
+    last = np.maximum.accumulate(np.where(touch, np.arange(val.size), -1))
+    first = int(np.flatnonzero(touch)[0])
+    return val[np.where(last >= 0, last, first)]
 
 
 def steady_sliding(trace: dict, explore_force: float = 0.3) -> np.ndarray:
@@ -117,13 +201,17 @@ def outline_bins(points: np.ndarray, normals: np.ndarray) -> tuple[np.ndarray, n
     the holder's compliance): in time order that trace folds back on itself, and the
     detector read every fold as a convex/concave pair (one spurious pair per phase 3).
     Binning by polar angle keeps the shape and drops the time order."""
+    from planner.exploration.planar.macro import binned_median
+
     a = np.unwrap(np.arctan2(points[:, 1], points[:, 0]))
     r = np.hypot(points[:, 0], points[:, 1])
     k = np.floor((a - a.min()) / BIN_ANGLE).astype(int)
-    occupied = np.unique(k)
-    rad = np.array([np.median(r[k == i]) for i in occupied])
-    ang = np.array([np.mean(a[k == i]) for i in occupied])
-    nrm = np.array([normals[k == i].mean(axis=0) for i in occupied])
+    occupied, rad = binned_median(k, r)
+    order = np.argsort(k, kind="stable")  # each bin's rows in their original order
+    start = np.searchsorted(k[order], occupied)
+    count = np.diff(np.r_[start, k.size])
+    ang = np.add.reduceat(a[order], start) / count
+    nrm = np.add.reduceat(normals[order], start, axis=0) / count[:, None]
     nrm /= np.maximum(np.linalg.norm(nrm, axis=1, keepdims=True), 1e-12)
     return np.column_stack([rad * np.cos(ang), rad * np.sin(ang)]), nrm
 
@@ -188,7 +276,7 @@ def detect_pad_features(
             found = _detect(P, N)
         except Exception:  # noqa: BLE001 - a trace the detector cannot use adds nothing
             continue
-        for pos, sign in found:
+        for pos, sign in inside_pass(found, P):
             a = math.atan2(pos[1], pos[0])
             if truth:
                 err = [math.atan2(math.sin(a - b), math.cos(a - b)) for b in truth]
@@ -199,6 +287,27 @@ def detect_pad_features(
             else:
                 out.append(DetectedFeature(a, "convex" if sign > 0 else "concave"))
     return macro + _merge(out)
+
+
+#: a curvature feature needs this much of the pass on each side [m]: three of the
+#: detector's largest smoothing scale (``VIRTUAL_RADIUS / 4`` for the tactile algorithm 1,
+#: ``planner.detection.signals.default_scale``), the reach of its Gaussian derivatives;
+#: nearer an end they see the padding. On ball_with_ridge (merged with main 243732f) seeds
+#: 0 and 2 reported a convex (21.1 deg) and a convex/concave pair (27.7/28.9 deg) 1.2-2.4 deg
+#: from the first sample of a pass, where the ball has no feature.
+EDGE_ARC = 3.0 * VIRTUAL_RADIUS / 4.0
+
+
+def inside_pass(found: list, points: np.ndarray) -> list:
+    """The detections ``[(position (2,), sign), ...]`` at least :data:`EDGE_ARC` (straight
+    distance: the binned outline's radial noise lengthens its arclength) from both ends of
+    the outline ``points`` (N, 2) [m]."""
+    out = []
+    for pos, sign in found:
+        p = np.asarray(pos, float)
+        if min(np.hypot(*(p - points[0])), np.hypot(*(p - points[-1]))) >= EDGE_ARC:
+            out.append((pos, sign))
+    return out
 
 
 def _merge(found: list[DetectedFeature]) -> list[DetectedFeature]:
@@ -285,12 +394,47 @@ def summary_metrics(res, ridge_angle, explore_force: float, internal_force: floa
     return out
 
 
+def round_tip_shadow(radius: float, height: float, tip_radius: float) -> float:
+    """Polar angle [rad] beside a radial step of ``height`` [m] on a circle of ``radius``
+    [m] (a ridge's side wall) that a round fingertip of ``tip_radius`` [m] cannot touch: the
+    tip touching the circle and the step's top corner has its centre at ``R + r`` from the
+    circle's centre and ``r`` from the corner (at ``R + h``), so the angle between the wall
+    and the tip's contact on the circle is::
+
+        arccos(((R + h)^2 + (R + r)^2 - r^2) / (2 (R + h) (R + r)))
+
+    The 25 mm right tip beside the 3 mm ridge of the 10 cm ball: 10.8 deg per side.
+    """
+    R, h, r = float(radius), float(height), float(tip_radius)
+    c = ((R + h) ** 2 + (R + r) ** 2 - r * r) / (2.0 * (R + h) * (R + r))
+    return math.acos(min(max(c, -1.0), 1.0))
+
+
+def pad_shadow(radius: float, height: float, reach: float) -> float:
+    """Polar angle [rad] beside a radial step of ``height`` [m] on a circle of ``radius``
+    [m] that a flat pad tangent to the circle cannot touch when its end lies ``reach`` [m]
+    ahead of its contact (along the pad, towards the step): the pad stops when its end
+    meets the wall (``atan(reach / R)``) or, if its face passes above the wall's foot, when
+    the face meets the step's corner (``atan(sqrt((R + h)^2 - R^2) / R)``), whichever is
+    nearer. A 20 mm pad touching with its middle (reach 10 mm) at the 3 mm ridge of the
+    10 cm ball: 11.3 deg; touching 1.5 mm from its end (the back-stroke): 1.7 deg."""
+    R, h = float(radius), float(height)
+    corner = math.sqrt((R + h) ** 2 - R * R)
+    return math.atan(min(float(reach), corner) / R)
+
+
 __all__ = [
     "VIRTUAL_RADIUS",
+    "coverage_mask",
     "coverage_of",
     "object_rotation",
+    "pad_rolling",
     "outline_bins",
+    "pad_shadow",
+    "ridge_coverage",
+    "round_tip_shadow",
     "detect_pad_features",
+    "inside_pass",
     "slip_distance",
     "steady_sliding",
     "summary_metrics",

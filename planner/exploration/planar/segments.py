@@ -18,6 +18,7 @@ import math
 
 import numpy as np
 
+from planner.errors import InvalidParameter
 from planner.exploration.planar.controller import Segment
 from planner.exploration.planar.heuristics import pad_angle, regrasp_orientation
 from planner.exploration.planar.sensing import round_contact_arclength
@@ -46,7 +47,43 @@ def _interp(times: np.ndarray, values: np.ndarray):
             [(y - x) / h if inside else 0.0 for x, y in zip(a, b, strict=True)],
         )
 
+    T, V = np.asarray(ts), np.asarray(vs)
+
+    def many(t: np.ndarray):
+        k = np.clip(np.searchsorted(T, t, side="left") - 1, 0, n - 2)
+        a, b = V[k], V[k + 1]
+        h = (T[k + 1] - T[k])[:, None]
+        w = np.clip((t[:, None] - T[k][:, None]) / h, 0.0, 1.0)
+        inside = ((T[0] <= t) & (t <= T[-1]))[:, None]
+        return a + w * (b - a), np.where(inside, (b - a) / h, 0.0)
+
+    f.many = many  # (m,) times -> values (m, k) and rates (m, k), the same numbers
     return f
+
+
+def _ramp_many(ramp: ForceRamp, t: np.ndarray) -> np.ndarray:
+    """``ForceRamp.__call__`` (scalar ends) at the times ``t`` (m,) [s], same arithmetic."""
+    s = np.clip(t / ramp.duration, 0.0, 1.0)
+    w = s**3 * (10.0 - 15.0 * s + 6.0 * s * s)
+    return float(ramp.start) * (1.0 - w) + float(ramp.end) * w
+
+
+def _quintic_many(spline: QuinticSpline):
+    """:meth:`QuinticSpline.scalar` of a 1-D spline for arrays of times: ``t (m,) -> (x, v,
+    a)``, each (m,), the same arithmetic."""
+    c0, c1, c2, c3, c4, c5 = (float(x) for x in spline.coefficients[:, 0])
+    T = spline.duration
+    v_end, a_end = spline.scalar()(T)[1:]
+
+    def at(t: np.ndarray):
+        t = np.clip(t, 0.0, T)
+        p = c0 + t * (c1 + t * (c2 + t * (c3 + t * (c4 + t * c5))))
+        v = c1 + t * (2 * c2 + t * (3 * c3 + t * (4 * c4 + t * 5 * c5)))
+        a = 2 * c2 + t * (6 * c3 + t * (12 * c4 + t * 20 * c5))
+        end = t >= T
+        return p, np.where(end, v_end, v), np.where(end, a_end, a)
+
+    return at
 
 
 def phase1_segment(plan, est, q, theta0: float, settings, hand, lift: float) -> Segment:
@@ -75,6 +112,11 @@ def phase1_segment(plan, est, q, theta0: float, settings, hand, lift: float) -> 
         v, rate = roll_f(t)
         return v[0], v[1], v[2:4], rate[2:4]
 
+    def rolling_many(t):
+        v, rate = roll_f.many(t)
+        return np.column_stack([v, rate[:, 2:4]])
+
+    rolling.many = rolling_many  # (m,) -> (m, 6): u, s, phi (2), phid (2)
     f0 = float(max(min(est.normal_force), 0.0))
     ramp = ForceRamp(f0, s.internal_force, s.startup_time)
     return Segment(
@@ -82,9 +124,19 @@ def phase1_segment(plan, est, q, theta0: float, settings, hand, lift: float) -> 
         duration=float(ts[-1]) + 0.05,
         pose=pose_f,
         rolling=rolling,
-        hold_force=lambda t: float(ramp(t)),
+        hold_force=_ramp_function(ramp),
         theta0=theta0,
     )
+
+
+def _ramp_function(ramp: ForceRamp):
+    """``t -> float(ramp(t))`` with its ``many`` twin."""
+
+    def f(t: float) -> float:
+        return float(ramp(t))
+
+    f.many = lambda t: _ramp_many(ramp, t)
+    return f
 
 
 def friction_lag(settings) -> float:
@@ -109,19 +161,37 @@ def _stroke(b0: float, b1: float, via: float | None, radius: float, speed: float
     the time [s] it reaches ``via`` (or ``b1``) and its duration [s] (``radius`` [m],
     ``speed`` [m/s])."""
     stops = [b0, b1] if via is None else [b0, via, b1]
-    pieces, times = [], [0.0]
+    pieces, splines, times = [], [], [0.0]
     for a, b in zip(stops, stops[1:], strict=False):
         T = max(abs(b - a) * radius / speed, 0.05)
-        pieces.append(QuinticSpline.between([a], [b], T).scalar())
+        splines.append(QuinticSpline.between([a], [b], T))
+        pieces.append(splines[-1].scalar())
         times.append(times[-1] + T)
+    many = [_quintic_many(x) for x in splines]
     if len(pieces) == 1:
+        pieces[0] = _with_many(pieces[0], many[0])
         return pieces[0], times[-1], times[-1]
     split = times[1]
 
     def path(tm: float):
         return pieces[0](tm) if tm < split else pieces[1](tm - split)
 
+    def path_many(tm: np.ndarray):
+        first, second = many[0](tm), many[1](tm - split)
+        return tuple(np.where(tm < split, x, y) for x, y in zip(first, second, strict=True))
+
+    path.many = path_many
     return path, split, times[-1]
+
+
+def _with_many(f, many):
+    """``f`` (a scalar callable) wrapped so that it carries ``many``."""
+
+    def g(t):
+        return f(t)
+
+    g.many = many
+    return g
 
 
 def explore_segment(
@@ -169,11 +239,18 @@ def explore_segment(
         def phi_of(t, b):
             w = min(max((t - s.startup_time) / T_move, 0.0), 1.0)
             return phi0 + w * (phi1 - phi0)
+
+        def phi_many(t, b):
+            return phi0 + np.clip((t - s.startup_time) / T_move, 0.0, 1.0) * (phi1 - phi0)
     else:
         phi0 = float(q[0:3].sum())
 
         def phi_of(t, b):
             return pad_angle(b, phi0)
+
+        def phi_many(t, b):  # pad_angle: round() and np.round both round half to even
+            phi = b + 0.5 * math.pi
+            return phi + 2 * math.pi * np.round((phi0 - phi) / (2 * math.pi))
 
     lag = friction_lag(s) * math.copysign(1.0, b1 - b0)
     cx, cy = float(c[0]), float(c[1])
@@ -192,6 +269,20 @@ def explore_segment(
         v = (-radius * bd * sb, radius * bd * cb)
         return p, v, phi_of(t, b)
 
+    def explore_many(t: np.ndarray) -> np.ndarray:
+        tm = t - s.startup_time
+        b, bd, _ = path.many(tm)
+        cb, sb = np.cos(b), np.sin(b)
+        w = np.clip(np.minimum(tm, T_move - tm) / s.startup_time, 0.0, 1.0)
+        if via is None:
+            ahead = w * lag
+        else:
+            ahead = np.clip(bd * w_speed, -1.0, 1.0) * abs(lag) + w * trail
+        return np.column_stack([cx + radius * cb - ahead * sb, cy + radius * sb + ahead * cb,
+                                -radius * bd * sb, radius * bd * cb, phi_many(t, b)])  # fmt: skip
+
+    explore.many = explore_many  # (m,) -> (m, 5): p (2), v (2), phi
+
     holder = 0 if kind == 2 else 1
     f_hold0 = float(max(est.normal_force[holder], 0.0))
     f_hold = s.left_hold_force if holder == 0 else s.hold_force
@@ -201,15 +292,121 @@ def explore_segment(
     phiR = float(q[3:6].sum())
     keep = (float(est.u), round_contact_arclength(est.beta[1], phiR, r),
             [float(q[0:3].sum()), phiR], [0.0, 0.0])  # fmt: skip
+
+    def rolling(t):
+        return keep
+
+    row = [keep[0], keep[1], *keep[2], *keep[3]]
+    rolling.many = lambda t: np.tile(row, (len(t), 1))
     return Segment(
         kind=kind,
         duration=T + 0.02,
         explore=explore,
-        rolling=lambda t: keep,
-        hold_force=lambda t: float(hold(t)),
-        explore_force=lambda t: float(fexp(t)),
+        rolling=rolling,
+        hold_force=_ramp_function(hold),
+        explore_force=_ramp_function(fexp),
         theta0=theta0,
     )
 
 
-__all__ = ["explore_segment", "friction_lag", "phase1_segment"]
+#: columns of :func:`segment_references` (the ``sv`` layout of :mod:`.controller_kernel`
+#: from ``V_FDES`` to ``V_FNT``)
+REFERENCE_COLUMNS = 23
+
+
+def segment_references(seg: Segment, tl: np.ndarray) -> np.ndarray:
+    """The references of ``seg`` at the phase times ``tl`` (m,) [s] as rows (m, 23) in the
+    layout of the kernel's ``sv`` without its two times: hold force, ``has_pose, x, y,
+    theta, vx, vy, omega``, ``has_roll, u, s, phi (2), phid (2)``, ``has_explore, p (2), v
+    (2), phi``, ``has_force, f_n`` (what ``controller._references`` packs per call).
+
+    The segments built here evaluate them vectorized (each callable's ``many``), with the
+    arithmetic of the scalar callables (equal to them bit for bit on this machine: numpy's
+    and libm's cos/sin agree here); other callables are called row by row.
+    """
+    tl = np.asarray(tl, float)
+    m = tl.size
+    out = np.zeros((m, REFERENCE_COLUMNS))
+    out[:, 0] = _many(seg.hold_force, tl, lambda v: [v])
+    if seg.pose is not None:
+        out[:, 1] = 1.0
+        out[:, 2:8] = _many(seg.pose, tl, lambda v: [*v[0], *v[1]], pair=True)
+    if seg.rolling is not None:
+        out[:, 8] = 1.0
+        out[:, 9:15] = _many(seg.rolling, tl, lambda v: [v[0], v[1], *v[2], *v[3]])
+    if seg.explore is not None:
+        out[:, 15] = 1.0
+        out[:, 16:21] = _many(seg.explore, tl, lambda v: [*v[0], *v[1], v[2]])
+    if seg.explore_force is not None:
+        out[:, 21] = 1.0
+        out[:, 22] = _many(seg.explore_force, tl, lambda v: [v])
+    return out
+
+
+def _many(f, tl: np.ndarray, flat, pair: bool = False) -> np.ndarray:
+    """``f`` at every time of ``tl``: its ``many`` twin if it has one, else row by row
+    (``flat`` turns one scalar result into a list of floats)."""
+    many = getattr(f, "many", None)
+    if many is not None:
+        res = many(tl)
+        return np.column_stack(res) if pair else res
+    rows = np.asarray([flat(f(float(t))) for t in tl], float).reshape(tl.size, -1)
+    return rows[:, 0] if rows.shape[1] == 1 else rows
+
+
+def hold_tangential_force(
+    beta_hold: float, normal_hold: float, moment_other: float, radius: float
+) -> float:
+    """The tangential force [N] a holding fingertip must apply for a round object resting
+    on the palm to stay in equilibrium (phases 2/3, no rolling on the palm).
+
+    Args:
+        beta_hold: world polar angle of the holder's contact about the object centre [rad]
+            (the palm contact is at ``-pi/2``, straight below the centre).
+        normal_hold: the holder's normal force on the object [N] (pressing: > 0).
+        moment_other: moment about the palm contact [N m] (counter-clockwise positive) of
+            every other force on the object (the explorer's normal force and its friction;
+            gravity acts through the centre, straight above the palm contact: none).
+        radius: object radius [m].
+
+    Returns:
+        the holder's tangential force on the object along the counter-clockwise tangent
+        ``(-sin beta, cos beta)`` [N].
+
+    Moments about the palm contact ``P`` (the palm's force has none there): with ``L`` the
+    holder's contact, ``n = -(cos beta, sin beta)`` and ``t = (-sin beta, cos beta)``,
+    ``(L - P) x n = R cos beta`` and ``(L - P) x t = R (1 + sin beta)``, so::
+
+        T = -(N cos beta + M / R) / (1 + sin beta)
+
+    With ``M = 0`` this is ``T / N = tan((beta - pi/2) / 2)``: the force along the chord to
+    the palm contact (the inscribed angle), the squeeze that ``holding_force`` commands.
+    The commanded direction does not change ``T`` in equilibrium (the holder's stiffness
+    about its anchor supplies the rest): only the normal force does. ``T`` has the sign of
+    the squeeze's part while ``N |cos beta| > M / R`` (sign opposite to the explorer's
+    drag below it): the sign of Fig. 2.14's phase-2 trace is set by the hold force.
+    """
+    c, s = math.cos(beta_hold), math.sin(beta_hold)
+    if 1.0 + s <= 1e-9:
+        raise InvalidParameter(
+            f"beta_hold: the holder cannot sit on the palm contact, got {beta_hold!r}"
+        )
+    return -(normal_hold * c + moment_other / radius) / (1.0 + s)
+
+
+def palm_moment(point, force, centre, radius: float) -> float:
+    """Moment [N m] (counter-clockwise positive) of ``force`` (2,) [N] applied at ``point``
+    (2,) [m] about the palm contact of a round object of ``radius`` [m] centred at
+    ``centre`` (2,) [m] (the contact straight below the centre)."""
+    px, py = point[0] - centre[0], point[1] - centre[1] + radius
+    return float(px * force[1] - py * force[0])
+
+
+__all__ = [
+    "explore_segment",
+    "friction_lag",
+    "hold_tangential_force",
+    "palm_moment",
+    "phase1_segment",
+    "segment_references",
+]

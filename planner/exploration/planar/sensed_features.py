@@ -124,6 +124,25 @@ IMAGE_MERGE = math.radians(15.0)
 FUSE_ANGLE = math.radians(10.0)
 
 
+#: half the length of the default left pad (``PlanarHand``) [m]
+PAD_HALF_WIDTH = 0.01
+
+
+def pad_end_contact(trace: dict, columns: int, pad_half_width: float = PAD_HALF_WIDTH):
+    """The left pad's contact points (x (N,), y (N,)) [m] of ``trace``, moved to the pad's
+    end where the tactile centroid ``u`` lies in an outer taxel column of the ``columns``
+    across the pad: an edge touching the pad's end is imaged clipped at it, its centroid
+    the outer column's centre, half a pitch (1.25 mm on the 20 mm, 8-column pad) short of
+    the contact. On ``ball_with_ridge`` with the true rotation the ridge's near wall
+    (167.7 deg) was imaged at 166.4-166.6 deg; at the pad's end, at 167.8-168.0 deg.
+    The pad's axis is ``(-n_y, n_x)`` (``p = tip + u (cos phi, sin phi)``, ``n = (sin
+    phi, -cos phi)``, :mod:`.sensing`)."""
+    u = np.asarray(trace["u"], float)
+    pitch = 2.0 * pad_half_width / columns
+    shift = np.where(np.abs(u) > pad_half_width - pitch, np.sign(u) * pad_half_width - u, 0.0)
+    return (trace["pLx"] - shift * trace["nLy"], trace["pLy"] + shift * trace["nLx"])
+
+
 def image_shape(images) -> tuple[np.ndarray, np.ndarray]:
     """Elongation and peak sharpness of tactile images, from their pressure alone.
 
@@ -158,7 +177,7 @@ def image_shape(images) -> tuple[np.ndarray, np.ndarray]:
     return elong, peak
 
 
-def image_ridges(trace: dict, theta, band) -> list[float]:
+def image_ridges(trace: dict, theta, band, pad_half_width: float = PAD_HALF_WIDTH) -> list[float]:
     """Object-frame polar angles [rad] of the ridges the pad's tactile images show.
 
     A candidate is a run of :data:`IMAGE_MIN_RUN` consecutive images of the exploring,
@@ -173,6 +192,11 @@ def image_ridges(trace: dict, theta, band) -> list[float]:
             ``pLx``, ``pLy``, ``cx``, ``cy``, ``image_t`` (M,), ``images`` (M, 8, 8)).
         theta: (N,) sensed object rotation per row [rad].
         band: ``(low, high)`` normal force [N] of a touching explorer.
+        pad_half_width: half the pad's length [m] (:func:`pad_end_contact`).
+
+    Candidates are located at the pad's end when the tactile centroid lies in an outer
+    taxel column (:func:`pad_end_contact`), and a ridge seen in several runs at the median
+    of their angles weighted by :func:`sighting_weight`.
     """
     ti = np.asarray(trace.get("image_t", ()), float)
     t = np.asarray(trace["t"], float)
@@ -184,15 +208,54 @@ def image_ridges(trace: dict, theta, band) -> list[float]:
     ok &= (fn >= band[0]) & (fn <= band[1])
     elong, _ = image_shape(trace["images"])
     ok &= elong >= LINE_ELONGATION
-    ang = np.arctan2(trace["pLy"] - trace["cy"], trace["pLx"] - trace["cx"]) - theta
+    px, py = pad_end_contact(trace, trace["images"].shape[-1], pad_half_width)
+    ang = np.arctan2(py - trace["cy"], px - trace["cx"]) - theta
     idx = np.flatnonzero(ok)
     runs = np.split(idx, np.flatnonzero(np.diff(idx) > 1) + 1) if idx.size else []
+    theta = np.asarray(theta, float)
     found = sorted(
-        math.remainder(_circular_median(ang[rows[r]]), 2 * math.pi)
+        (
+            math.remainder(_circular_median(ang[rows[r]]), 2 * math.pi),
+            sighting_weight(float(np.median(theta[rows[r]]) - theta[0])),
+        )
         for r in runs
         if r.size >= IMAGE_MIN_RUN
     )
-    return [_circular_median(np.array(g)) for g in _groups(found, IMAGE_MERGE)]
+    groups = _groups([a for a, _ in found], IMAGE_MERGE)
+    weight = dict(found)
+    return [_weighted_circular_median(np.array(g), np.array([weight[a] for a in g]))
+            for g in groups]  # fmt: skip
+
+
+#: rotation [rad] over which the dead-reckoned rotation estimate's error grows to about
+#: its starting error (:func:`sighting_weight`)
+DRIFT_ROTATION = 0.5 * math.pi
+
+
+def sighting_weight(turned: float) -> float:
+    """Weight [-] of a feature sighting made after the object turned ``turned`` [rad] from
+    the start: ``1 / (1 + (turned / DRIFT_ROTATION)^2)``, the inverse of the variance of a
+    dead-reckoned rotation estimate whose error grows in proportion to the rotation
+    integrated. The pad re-meets the ridge after the full turn, on an estimate 3-5 deg off
+    (the phase-1 rolling estimate eq. 2.4 assumes a circle; with the pad on the ridge it
+    gained 4.5 deg in one phase): those late sightings weigh 1/17 of the first ones."""
+    return 1.0 / (1.0 + (turned / DRIFT_ROTATION) ** 2)
+
+
+def _weighted_circular_median(a: np.ndarray, w: np.ndarray) -> float:
+    """Weighted median of angles [rad] spanning less than pi (unwrapped about their
+    weighted circular mean): the smallest angle whose cumulative weight reaches half, or
+    halfway to the next one when it reaches exactly half (equal weights: ``np.median``)."""
+    m = math.atan2(float(np.sum(w * np.sin(a))), float(np.sum(w * np.cos(a))))
+    d = np.remainder(a - m + math.pi, 2 * math.pi) - math.pi
+    order = np.argsort(d)
+    cum = np.cumsum(w[order])
+    half = 0.5 * cum[-1]
+    k = int(np.searchsorted(cum, half))
+    mid = float(d[order][k])
+    if k + 1 < d.size and math.isclose(cum[k], half, rel_tol=1e-12):
+        mid = 0.5 * (mid + float(d[order][k + 1]))  # halfway between, as np.median
+    return math.remainder(m + mid, 2 * math.pi)
 
 
 def fuse_image_ridges(image: list[float], found: list, single: list[float]) -> list:
@@ -243,6 +306,8 @@ __all__ = [
     "fuse_image_ridges",
     "image_ridges",
     "image_shape",
+    "pad_end_contact",
     "rotation_cap",
     "sensed_bump",
+    "sighting_weight",
 ]

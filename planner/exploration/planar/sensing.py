@@ -136,6 +136,11 @@ class GraspSensing:
         self.buffer[B_TN] = (0.0, 1.0, 0.0, 1.0)
         self.est = GraspEstimate(self.buffer)
 
+    def set_radius(self, radius: float) -> None:
+        """Use ``radius`` [m] as the estimate's radius from the next update on."""
+        self.radius = float(radius)
+        self.geo[_G_R] = self.radius
+
     def _tip(self, k: int, q) -> np.ndarray:
         """Fingertip point of finger ``k`` (0 left, 1 right) [m]: the closed-form forward
         kinematics of ``PlanarHand.fingertip_pose`` (equal to it to rounding, tested)."""

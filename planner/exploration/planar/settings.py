@@ -22,18 +22,24 @@ class GaitSettings:
             phase 3) and a 3 mm ridge under the sliding right tip dragged it 30 deg; with
             2 N the tip slides over the ridge and phase 3 loses 0.6-1.3 deg.
         left_hold_force: force of the left pad pressing the object against the palm in
-            phase 2 [N]. The pad's contact line to the palm leaves less of the explorer's
-            drag to friction than the round right tip's: 0.5 N holds the ball too (0.0-0.5
-            deg per phase 2), and Fig. 2.14's tangential force is then "slightly positive",
-            against the right finger's drag, and changes sign at 19 of 23 2 -> 3 switches
-            of ball_with_ridge; with 2 N the contact line's component (2 N tan 20 deg)
-            points the other way (0/20). Default 2 N: with 0.5 N the ridge was not
-            detected at the end (a phantom feature 116 deg away).
+            phase 2 [N]. It sets the sign of Fig. 2.14's phase-2 tangential force: in
+            equilibrium the pad's tangential force is ``-(N cos beta + M / R) / (1 + sin
+            beta)`` (:func:`.segments.hold_tangential_force`; ``M`` the right finger's
+            moment about the palm contact), the squeeze's sign (that of phase 3's sliding
+            friction) above ``N = M / (R |cos beta|)`` and the right finger's drag's below
+            it. On ball_with_ridge the threshold was 0.9 N (beta 140 deg, M / R 0.7 N;
+            the statics predicted the sensed tangential force within 0.01 N): 2 N gave
+            0/20 sign changes at the 2 -> 3 switches, 1 N 1-2 of 20, 0.6 N 18-21 of 23,
+            0.4 N (the scenario's value; 0.5-0.6 N sensed, a tangential 0.18 N, a third of
+            the friction cone) 18-21 of 20-22, the ball still held (0.5-1 deg per phase 2,
+            as with 2 N). Default 2 N (the threshold depends on the object and the grasp).
         sensed_features: use the macro features the pad senses in phase 3 (see
             :mod:`.sensed_features`): a back-stroke onto a crossed ridge's far side and a
-            phase-1 rotation cap that keeps it off the palm. Measured on ball_with_ridge:
-            coverage 0.986 instead of 0.972, but the ridge was then not detected at the end
-            (a phantom groove from phases with the ridge on the palm), hence off by default.
+            phase-1 rotation cap that keeps it off the palm. Measured on ball_with_ridge
+            (2 N hold): coverage 0.981-0.986 instead of 0.972-0.975, a phantom groove
+            beside the true ridge, and seed 3 failed at 18 deg; with the 0.6 N hold the
+            pad never crossed the ridge far enough for a back-stroke (coverage 0.972-0.975).
+            Off by default.
         explore_force: normal force of the exploring finger (0.3 N, §2.3.2) [N].
         object_mass: the planner's guess of the object mass [kg].
         object_kp, object_kv: object impedance gains (eq. 2.7).

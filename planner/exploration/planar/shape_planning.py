@@ -1,0 +1,117 @@
+"""The phase machine's planning of a non-round object (its :class:`.shape_tracking.ShapeTracker`).
+
+Kept out of :mod:`.machine` (one concept: what changes when the planner's model is a posed
+outline instead of a circle):
+
+* phase 1: the circle NLP on the local circle between the two sensed contacts
+  (:meth:`.ShapeTracker.local_circle`), with the posed outline's palm clearance
+  (``RollingNLP(palm_points=K)``: the outline pivots on its lowest corner instead of sinking
+  into the palm), the estimate's radius set to the local circle's so that the controller's
+  per-step centre and the plan agree; or, with :data:`PLAN_ON_OUTLINE`, the polygon NLP
+  (:class:`planner.trajectory.OutlineNLP`);
+* phases 2/3: the explorer's contact along the posed outline
+  (:func:`.outline_segments.outline_explore_segment`) back to the start grasp's world angle.
+"""
+
+from __future__ import annotations
+
+import math
+
+from planner.exploration.planar.segments import phase1_segment
+
+#: largest travel of the planned centre in phase 1 on a posed outline [m] (a square pivoting
+#: on its corner lifts its centre up to 23 mm)
+SHAPE_TRAVEL = 0.03
+#: plan phase 1 of a posed polygon with ``planner.trajectory.OutlineNLP`` (its contacts'
+#: modes) instead of the local circle. Off: the controller (its object impedance and
+#: rolling PD) tracks a circle about the pad-based centre, and the polygon plans it executed
+#: turned the 11 cm and 8 cm squares the wrong way (+30 and +41 deg where -25 were planned;
+#: measured 2026-11-23, 10 s simulated, seed 0)
+PLAN_ON_OUTLINE = False
+
+
+def set_radius(ctrl, R: float) -> None:
+    """The estimate's radius [m] everywhere the controller ``ctrl`` uses it (per-step
+    sensing, rolling integration, object model)."""
+    from planner.exploration.planar import controller_kernel as ck
+
+    ctrl.sensing.set_radius(R)
+    ctrl._ks[ck.K_R] = R  # TODO(SP): GaitController.set_radius (notes/SH_SP.md)
+
+
+def posed_estimate(est, local):
+    """A copy of the ``GraspEstimate`` ``est`` with the centre, contact angles and pad
+    contact of ``local`` (``ShapeTracker.local_circle``'s ``(centre, R, beta, u)``)."""
+    from planner.exploration.planar.sensing import GraspEstimate
+
+    e = GraspEstimate(est.buffer.copy())
+    e.centre[:] = local[0]
+    e.beta[:] = local[2]
+    e.u = local[3]
+    return e
+
+
+def _nlp(runner, name: str):
+    """The runner's NLP ``name`` ("circle": palm clearance; "outline"), built at first use."""
+    if name not in runner.nlps:
+        from planner.exploration.planar.shape_tracking import PALM_POINTS
+        from planner.trajectory import OutlineNLP, RollingNLP
+
+        knots = runner.s.nlp_knots
+        runner.nlps[name] = (
+            RollingNLP(runner.hand, knots=knots, travel=SHAPE_TRAVEL, palm_points=PALM_POINTS)
+            if name == "circle"
+            else OutlineNLP(runner.hand, PALM_POINTS, knots=knots)
+        )
+    return runner.nlps[name]
+
+
+def plan_phase1(runner, q, mu: float):
+    """Phase 1 of the posed outline from joint angles ``q`` [rad] with the friction
+    coefficient ``mu`` [-] (module docstring): ``(segment or None, planned rotation [rad],
+    solve time [s], why no plan)``."""
+    s, shape, ctrl = runner.s, runner.shape, runner.ctrl
+    r = runner.hand.params.right.tip_radius
+    set_radius(ctrl, runner.R_nominal)
+    est = ctrl.sensing.update(runner.world.observe(), "auto")
+    common = {
+        "margin": s.nlp_margin,
+        "joint_margin": s.joint_margin + 0.02,
+        "home_x": runner.start["rest"][0],
+        "max_rotation": runner._rotation_cap(),
+    }
+    modes = shape.contact_modes(est) if PLAN_ON_OUTLINE else None
+    local = None if modes is not None else shape.local_circle(est, r, runner.R_nominal)
+    if modes is not None:
+        plan = _nlp(runner, "outline").solve(q, shape.pose, modes, shape.hull_points(), r, mu,
+                                             radius=runner.R_nominal, u_sensed=float(est.u),
+                                             **common)  # fmt: skip
+    elif local is not None:
+        set_radius(ctrl, local[1])
+        est = posed_estimate(est, local)
+        pts = shape.palm_points(local[0])
+        plan = _nlp(runner, "circle").solve(q, est.centre, local[1], r, mu, est.beta, est.u,
+                                            palm_points=pts, **common)  # fmt: skip
+    else:  # no pad or tip contact to pose the outline by: the circle fitted to both
+        R = runner._fit_radius(est, r)
+        ctrl.sensing.radius = R
+        plan = runner.nlp.solve(q, est.centre, R, r, mu, est.beta, est.u, **common)
+    runner._plan1 = plan
+    if not plan.success or abs(plan.rotation) < math.radians(1.0):
+        why = runner._blocking(est, q, mu)
+        return None, 0.0, plan.solve_time_s, f"phase-1 NLP: {plan.stop}; {why}"
+    seg = phase1_segment(plan, est, q, runner.theta, s, runner.hand, lift=0.0015)
+    return seg, plan.rotation, plan.solve_time_s, ""
+
+
+def plan_explore(runner, kind: int, est, q):
+    """The phase-2/3 segment on the posed outline: back to the start grasp's world angle
+    (a grasp that was stable and reachable with the object resting on the palm)."""
+    from planner.exploration.planar.outline_segments import outline_explore_segment
+
+    target = runner.start["beta"][1 if kind == 2 else 0]
+    return outline_explore_segment(kind, est, q, runner.shape, target, runner.theta, runner.s,
+                                   runner.hand)  # fmt: skip
+
+
+__all__ = ["PLAN_ON_OUTLINE", "SHAPE_TRAVEL", "plan_explore", "plan_phase1", "set_radius"]
