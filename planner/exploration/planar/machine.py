@@ -21,6 +21,7 @@ import numpy as np
 from planner.errors import InvalidParameter
 from planner.exploration.planar import shape_planning
 from planner.exploration.planar.controller import TRACE_NAMES, GaitController
+from planner.exploration.planar.gait_loop import PhaseStop
 from planner.exploration.planar.heuristics import regrasp_left_angle, stable_pair
 from planner.exploration.planar.logs import concat_logs
 from planner.exploration.planar.metrics import pad_rolling
@@ -351,25 +352,14 @@ class _Runner:
         n0 = len(c.trace)
         eps_min = [math.inf]
         horizon = min(seg.duration + 0.5, self.t_end - t0)
-        c0 = []  # the centre as this phase senses it (its own source), at its first step
-        moved = [False]
-        holder = 0 if kind == 2 else 1
-        tip0 = c.sensing.est.tips[holder].copy()
-
-        def stop(t, world):
-            if not c0:
-                c0.append(c.sensing.est.centre.copy())
-            if self.on_progress is not None and t - self._reported >= PROGRESS_STEP:
-                self._reported = t
-                self.on_progress(t)
+        if self.shape is None:
             # phases 2/3: the held object must stay where it is; a sensed centre that moved
             # HOLD_SLIP means the explorer drags it (a ridge caught the round right tip and
-            # rolled the ball 30 deg back along the palm before this check)
-            if kind != 1 and self._moved(c0[0], tip0, holder):
-                moved[0] = True
-                return "object moved"
-            return c.stop(t, world)
-
+            # rolled the ball 30 deg back along the palm before this check). A PhaseStop (not
+            # a closure): the planar world's compiled loop runs the phase with it compiled in
+            stop = PhaseStop(c, HOLD_SLIP if kind != 1 else None, self._progress)
+        else:
+            stop = _TipHoldStop(c, 0 if kind == 2 else 1, kind != 1, self._progress)
         log = w.run(max(horizon, w.dt), c, control_rate=self.s.control_rate, stop=stop)
         self.logs.append(log)
         self._rows = (n0, len(c.trace))
@@ -386,7 +376,7 @@ class _Runner:
                 self.theta += float(roll[-1] - roll[0])
             else:
                 self.theta -= (rows[-1, CX] - rows[0, CX]) / self.ctrl.sensing.radius
-        event = "object moved" if moved[0] else (c.event or "time limit")
+        event = "object moved" if stop.moved else (c.event or "time limit")
         if c.event_data:
             self.events.append({"t": w.time, "kind": "phase_end", "phase": kind,
                                 "message": f"{event}: {c.event_data}"})  # fmt: skip
@@ -421,14 +411,11 @@ class _Runner:
             self.events.append({"t": w.time, "kind": "deviation", "phase": 1, "message": msg})
         return event, rec
 
-    def _moved(self, centre0, tip0, holder: int) -> bool:
-        """The hold check of phases 2/3: the sensed centre (round objects) or, on a posed
-        outline, the holding fingertip (encoders) moved more than :data:`HOLD_SLIP` from
-        the phase start ``centre0`` / ``tip0`` [m]."""
-        e = self.ctrl.sensing.est
-        if self.shape is not None:
-            return math.hypot(*(e.tips[holder] - tip0)) > HOLD_SLIP
-        return math.hypot(*(e.centre - centre0)) > HOLD_SLIP
+    def _progress(self, t: float) -> None:
+        """``on_progress(t)`` every :data:`PROGRESS_STEP` simulated seconds [s]."""
+        if self.on_progress is not None and t - self._reported >= PROGRESS_STEP:
+            self._reported = t
+            self.on_progress(t)
 
     def _next(self, kind, event, est):
         if kind == 1:
@@ -470,6 +457,26 @@ class _Runner:
         last = self.records[-1].kind if self.records else 0
         self.events.append({"t": self.world.time, "kind": "end", "status": status,
                             "message": reason, "last_phase": last})  # fmt: skip
+
+
+class _TipHoldStop:
+    """The ``stop`` of a phase on a posed outline (run by the Python loop): the hold check
+    of phases 2/3 watches the HOLDING fingertip's encoder position (the circle centre
+    estimate jumps on a non-round object): ``"object moved"`` (``moved`` True) when it moved
+    more than :data:`HOLD_SLIP` [m] from the phase start; then the controller's event."""
+
+    def __init__(self, ctrl, holder: int, check: bool, progress) -> None:
+        self.ctrl, self.holder, self.check, self.progress = ctrl, holder, check, progress
+        self.tip0 = ctrl.sensing.est.tips[holder].copy()
+        self.moved = False
+
+    def __call__(self, t: float, world) -> str | None:
+        self.progress(t)
+        tip = self.ctrl.sensing.est.tips[self.holder]
+        if self.check and math.hypot(*(tip - self.tip0)) > HOLD_SLIP:
+            self.moved = True
+            return "object moved"
+        return self.ctrl.stop(t, world)
 
 
 def stall_outcome(rotation: float) -> tuple[str, str]:
