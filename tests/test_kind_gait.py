@@ -74,7 +74,7 @@ def test_quick_run_writes_the_figures_and_a_gif(cli, tmp_path):
                 "slip_distance_m", "explore_force_rms_error_N", "internal_force_rms_error_N",
                 "features_found", "true_features", "features_within_5deg", "ridge_error_deg",
                 "real_time_factor", "nlp_solve_median_ms", "controller_call_median_us",
-                "last_phase", "tangential_sign_changes_2to3",
+                "controller_call_includes_sim_step", "last_phase", "tangential_sign_changes_2to3",
                 "tactile_elongation_at_ridge"):  # fmt: skip
         assert key in m
     assert m["true_features"] >= 2  # the ridge's two edges are curvature features

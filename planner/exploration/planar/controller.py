@@ -91,7 +91,10 @@ class GaitController:
 
     Attributes:
         step_times: wall time of every call [s] (the whole call: sensing, references,
-            control laws, the compiled step with its QP, the trace and the event checks).
+            control laws, the compiled step with its QP, the trace and the event checks;
+            for the calls made in the compiled phase loop, ``compiled_calls`` of them, the
+            chunk's wall time per call: the call AND its simulator step).
+        compiled_calls: how many calls ran in the compiled phase loop.
     """
 
     def __init__(self, hand, settings: GaitSettings, radius: float, gravity) -> None:
@@ -134,6 +137,7 @@ class GaitController:
         self.event: str | None = None
         self.event_data: dict = {}
         self.step_times: list[float] = []
+        self.compiled_calls = 0
         self.fallbacks = 0  # control steps that used the safe fallback command
         self._last_tau = np.zeros(6)
         self.trace: list[tuple] = []

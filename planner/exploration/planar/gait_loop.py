@@ -247,6 +247,7 @@ class GaitLoop:
             c.fallbacks += int(cnt[C_FALLBACK])
             c._last_tau = self.last_tau.copy()
             c.step_times.extend([wall / made] * made)  # call + step, per call
+            c.compiled_calls += made
         if stop.c0 is None and cnt[C_C0]:
             stop.c0 = self.stop_s[:2].copy()
         if cnt[C_EVENT]:

@@ -132,6 +132,7 @@ def explore_object(
         "nlp_solve_cpu_ms": [1e3 * p.nlp_cpu_s for p in runner.records if p.kind == 1],
         "nlp_iterations": [p.nlp_iterations for p in runner.records if p.kind == 1],
         "control_step_us": list(1e6 * np.asarray(ctrl.step_times)),
+        "control_steps_compiled": ctrl.compiled_calls,
         "wall_s": time.perf_counter() - wall0,
     }
     eps = [p.epsilon for p in runner.records if p.kind == 1 and np.isfinite(p.epsilon)]

@@ -379,6 +379,10 @@ def summary_metrics(res, ridge_angle, explore_force: float, internal_force: floa
         "nlp_solve_cpu_median_ms": _median(res.timings.get("nlp_solve_cpu_ms", [])),
         "nlp_iterations_median": _median(res.timings.get("nlp_iterations", [])),
         "controller_call_median_us": float(np.median(steps)) if steps.size else float("nan"),
+        # in the compiled phase loop a call is timed with its simulator step (chunk / calls)
+        "controller_call_includes_sim_step": bool(
+            steps.size and res.timings.get("control_steps_compiled", 0) >= 0.5 * steps.size
+        ),
         "end_event": res.phases[-1].event if res.phases else "",
     }
     feats = [{"angle_deg": math.degrees(f.angle), "kind": f.kind,

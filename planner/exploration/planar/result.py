@@ -88,7 +88,9 @@ class ExplorationResult:
         trace: dict of the controller's sensed time series (see ``explore_object``).
         prior: the map-space gait of ``plan_gait`` on the nominal shape (or None).
         timings: wall times ``{"nlp_build_s", "nlp_solve_ms": [...], "control_step_us":
-            [...], "wall_s"}``.
+            [...], "wall_s"}`` and ``"control_steps_compiled"`` (how many of the control
+            steps ran in the compiled phase loop, where a step's time includes its
+            simulator step).
         events: the gait's own events (deviations from the prior, transitions, end).
     """
 
