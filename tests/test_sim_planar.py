@@ -209,20 +209,27 @@ def _set(world, state):
     world._x, world._v, world.q, world.qd = (a.copy() for a in state)
 
 
-@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(scene=st.sampled_from(["pinch", "roll", "slide", "incline"]), seed=st.integers(0, 10**6))
-def test_compiled_step_equals_the_python_reference(scene, seed):
-    """Same contacts, impulses and state after a step from random nearby states."""
+def _scene(name):
+    """``(world, controller or None)`` of a named scene of the step-equality tests."""
     from planner.sim.planar import scenes
-    from planner.sim.planar.stepper import step, step_fast
 
     build = {
         "pinch": lambda: scenes.pinch_scene(squeeze=1.96, friction=1.0),
         "roll": scenes.palm_roll_scene,
         "slide": scenes.palm_hold_slide_scene,
         "incline": lambda: incline_scene("box", 0.3, 0.5),
-    }[scene]
+    }[name]
     world, ctrl, _ = build()
+    return world, ctrl
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(scene=st.sampled_from(["pinch", "roll", "slide", "incline"]), seed=st.integers(0, 10**6))
+def test_compiled_step_equals_the_python_reference(scene, seed):
+    """Same contacts, impulses and state after a step from random nearby states."""
+    from planner.sim.planar.stepper import step, step_fast
+
+    world, ctrl = _scene(scene)
     rng = np.random.default_rng(seed)
     for _ in range(int(rng.integers(1, 30))):  # settle into contact first
         world.step(ctrl(world.time, world.observe()) if ctrl else None)
@@ -253,16 +260,9 @@ def test_compiled_projection_equals_the_python_reference(scene, seed, depth):
     """A step from a penetrating state (the object pushed ``depth`` [m] into what it
     touches): the compiled step projects the positions as the Python step does (same state,
     contacts and impulses) and leaves no gap below the projection tolerance."""
-    from planner.sim.planar import scenes
     from planner.sim.planar.stepper import find_contacts, step, step_fast
 
-    build = {
-        "pinch": lambda: scenes.pinch_scene(squeeze=1.96, friction=1.0),
-        "roll": scenes.palm_roll_scene,
-        "slide": scenes.palm_hold_slide_scene,
-        "incline": lambda: incline_scene("box", 0.3, 0.5),
-    }[scene]
-    world, ctrl, _ = build()
+    world, ctrl = _scene(scene)
     rng = np.random.default_rng(seed)
     for _ in range(int(rng.integers(1, 30))):
         world.step(ctrl(world.time, world.observe()) if ctrl else None)

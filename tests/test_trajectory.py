@@ -185,3 +185,37 @@ def test_a_start_inside_the_joint_margin_is_feasible(nlp, shrink):
     hi = np.maximum(lim[:, 1] - qm, q0)
     assert np.all(plan.q[1:] >= lo - 1e-6)
     assert np.all(plan.q[1:] <= hi + 1e-6)
+
+
+def test_constraint_rows_repeat_bounds_over_vector_rows():
+    """A vector expression's bounds apply to each of its rows, in the order added."""
+    import casadi as cs
+
+    from planner.trajectory.nlp_rows import ConstraintRows
+
+    x = cs.SX.sym("x", 3)
+    rows = ConstraintRows()
+    rows.add(x[0], -1.0, 2.0)
+    rows.add(x[1:3], 0.0, cs.inf)
+    rows.add(x[0] + x[2], 5.0, 5.0)
+    lo, hi = rows.bounds()
+    assert lo.tolist() == [-1.0, 0.0, 0.0, 5.0]
+    assert hi.tolist() == [2.0, float("inf"), float("inf"), 5.0]
+    assert int(cs.vertcat(*rows.g).shape[0]) == 4
+
+
+def test_tip_frames_match_the_hand_forward_kinematics():
+    """The CasADi fingertip frames equal the hand's own forward kinematics."""
+    import numpy as np
+
+    from planner.trajectory.nlp_rows import tip_frames
+    from robots.planar_hand import PlanarHand
+
+    hand = PlanarHand()
+    fk = tip_frames(hand)
+    q = np.array([0.3, 0.6, 0.4, -0.2, 0.7, 0.5])
+    pL, phiL, pR, phiR = (np.asarray(v, float).ravel() for v in fk(q))
+    for side, p, phi in (("left", pL, phiL), ("right", pR, phiR)):
+        ref = hand.fingertip_pose(q, side)
+        assert np.allclose(p, ref.position, rtol=0, atol=1e-12), side
+        assert abs(phi[0] - ref.angle) <= 1e-12, side

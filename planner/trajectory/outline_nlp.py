@@ -31,6 +31,7 @@ import time
 import numpy as np
 
 from planner import checks
+from planner.trajectory.nlp_rows import ConstraintRows, tip_frames
 from planner.trajectory.rolling_nlp import HOME_WEIGHT, SET_DOWN, RollingPlan
 
 #: hull points may lie this far beyond the pad's line (the pose estimate's error) [m]
@@ -65,8 +66,6 @@ class OutlineNLP:
     ) -> None:
         import casadi as cs
 
-        from planner.control.grasp_kinematics import finger_terms_sx
-
         t0 = time.perf_counter()
         self.hand = hand
         self.N = N = checks.integer("knots", knots, 2)
@@ -82,17 +81,9 @@ class OutlineNLP:
         qm, home, max_rot, face = P[12], P[13], P[14], P[15]
         Po, mo, h, a_lo, a_hi = P[16:18], P[18:20], P[20], P[21], P[22]
         V = [P[_NP + 2 * j : _NP + 2 * j + 2] for j in range(K)]
-        qk = cs.SX.sym("qk", 6)
-        T = finger_terms_sx(hand.model, qk, cs.SX.zeros(6), cs.SX.zeros(4), cs.SX.zeros(2))
-        fk = cs.Function(
-            "fk", [qk], [T["left"]["p"], T["left"]["phi"], T["right"]["p"], T["right"]["phi"]]
-        )
-        g, lbg, ubg = [], [], []
-
-        def add(expr, lo, hi):
-            g.append(expr)
-            lbg.append(lo)
-            ubg.append(hi)
+        fk = tip_frames(hand)
+        rows = ConstraintRows()
+        add, g = rows.add, rows.g
 
         def rot(a, v):
             return cs.vertcat(cs.cos(a) * v[0] - cs.sin(a) * v[1],
@@ -162,9 +153,7 @@ class OutlineNLP:
                 add((th - X[2]) + max_rot, 0, cs.inf)
         obj += X[nk * N + 2] + HOME_WEIGHT * (X[nk * N] - home) ** 2
         self._nk = nk
-        sizes = [int(e.shape[0]) for e in g]
-        self._lbg = np.concatenate([np.full(n, lo) for n, lo in zip(sizes, lbg, strict=True)])
-        self._ubg = np.concatenate([np.full(n, hi) for n, hi in zip(sizes, ubg, strict=True)])
+        self._lbg, self._ubg = rows.bounds()
         opts = {
             "ipopt.print_level": 0,
             "print_time": False,

@@ -45,6 +45,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from planner import checks
+from planner.trajectory.nlp_rows import ConstraintRows, tip_frames
 
 #: number of parameters: R, r, mu, margin, c0 (2), q0 (6), beta0 (2), u0, q_margin, home_x,
 #: max_rotation
@@ -112,8 +113,6 @@ class RollingNLP:
     ) -> None:
         import casadi as cs
 
-        from planner.control.grasp_kinematics import finger_terms_sx
-
         t0 = time.perf_counter()
         self.hand = hand
         self.N = checks.integer("knots", knots, 2)
@@ -130,17 +129,9 @@ class RollingNLP:
         R, r, mu, margin = P[0], P[1], P[2], P[3]
         c0, q0, beta0, u0, qm, home = P[4:6], P[6:12], P[12:14], P[14], P[15], P[16]
         max_rot = P[17]
-        qk = cs.SX.sym("qk", 6)
-        T = finger_terms_sx(hand.model, qk, cs.SX.zeros(6), cs.SX.zeros(4), cs.SX.zeros(2))
-        fk = cs.Function(
-            "fk", [qk], [T["left"]["p"], T["left"]["phi"], T["right"]["p"], T["right"]["phi"]]
-        )
-        g, lbg, ubg = [], [], []
-
-        def add(expr, lo, hi):
-            g.append(expr)
-            lbg.append(lo)
-            ubg.append(hi)
+        fk = tip_frames(hand)
+        rows = ConstraintRows()
+        add, g = rows.add, rows.g
 
         lim = hand.joint_limits
         cos_cone = cs.cos(cs.atan(mu) - margin)
@@ -228,9 +219,7 @@ class RollingNLP:
         self._nk = nk
         self._ng = [int(e.shape[0]) for e in g]
         G = cs.vertcat(*g)
-        sizes = [int(e.shape[0]) for e in g]
-        self._lbg = np.concatenate([np.full(n, lo) for n, lo in zip(sizes, lbg, strict=True)])
-        self._ubg = np.concatenate([np.full(n, hi) for n, hi in zip(sizes, ubg, strict=True)])
+        self._lbg, self._ubg = rows.bounds()
         opts = {
             "ipopt.print_level": 0,
             "print_time": False,
