@@ -303,4 +303,15 @@ def limit_triggers(q, lim, margin: float) -> tuple[np.ndarray, np.ndarray]:
     return lo, hi
 
 
-__all__ = ["TRACE_NAMES", "GaitController", "Segment"]
+def trace_arrays(ctrl) -> dict:
+    """The controller's sensed series as arrays (columns ``TRACE_NAMES``) and the tactile
+    images it kept (``image_t`` (M,), ``images`` (M, 8, 8))."""
+    n = len(TRACE_NAMES)
+    tr = np.array(ctrl.trace, dtype=float) if ctrl.trace else np.zeros((0, n))
+    out = {k: tr[:, i] for i, k in enumerate(TRACE_NAMES)}
+    out["image_t"] = np.array([t for t, _ in ctrl.images])
+    out["images"] = np.array([im for _, im in ctrl.images]) if ctrl.images else np.zeros((0, 8, 8))
+    return out
+
+
+__all__ = ["TRACE_NAMES", "GaitController", "Segment", "trace_arrays"]

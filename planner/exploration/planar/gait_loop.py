@@ -52,7 +52,7 @@ from planner.sim.lcp import COVERS
 from planner.sim.planar.run_kernel import BLOW_UP, CALL_DUE, NPAIRS, PYTHON_STEP
 from planner.sim.planar.sensing import _hand_geometry
 
-__all__ = ["CHUNK", "GaitLoop", "PhaseStop"]
+__all__ = ["CHUNK", "GaitLoop", "PhaseStop", "TipHoldStop"]
 
 #: steps of the first kernel call of a run and after a step run in Python: chunks double up
 #: to CHUNK while the kernel runs them through (references evaluated for calls the kernel
@@ -95,6 +95,26 @@ class PhaseStop:
         if self.progress is not None:
             self.progress(t)
         if self.hold_slip is not None and math.hypot(*(centre - self.c0)) > self.hold_slip:
+            self.moved = True
+            return "object moved"
+        return self.ctrl.stop(t, world)
+
+
+class TipHoldStop:
+    """The ``stop`` of a phase on a posed outline (run by the Python loop): the hold check
+    of phases 2/3 watches the HOLDING fingertip's encoder position (the circle centre
+    estimate jumps on a non-round object): ``"object moved"`` (``moved`` True) when it moved
+    more than ``hold_slip`` [m] from the phase start; then the controller's event."""
+
+    def __init__(self, ctrl, holder: int, hold_slip: float | None, progress) -> None:
+        self.ctrl, self.holder, self.hold_slip, self.progress = ctrl, holder, hold_slip, progress
+        self.tip0 = ctrl.sensing.est.tips[holder].copy()
+        self.moved = False
+
+    def __call__(self, t: float, world) -> str | None:
+        self.progress(t)
+        tip = self.ctrl.sensing.est.tips[self.holder]
+        if self.hold_slip is not None and math.hypot(*(tip - self.tip0)) > self.hold_slip:
             self.moved = True
             return "object moved"
         return self.ctrl.stop(t, world)

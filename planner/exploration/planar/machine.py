@@ -20,8 +20,8 @@ import numpy as np
 
 from planner.errors import InvalidParameter
 from planner.exploration.planar import shape_planning
-from planner.exploration.planar.controller import TRACE_NAMES, GaitController
-from planner.exploration.planar.gait_loop import PhaseStop
+from planner.exploration.planar.controller import TRACE_NAMES, GaitController, trace_arrays
+from planner.exploration.planar.gait_loop import PhaseStop, TipHoldStop
 from planner.exploration.planar.heuristics import regrasp_left_angle, stable_pair
 from planner.exploration.planar.logs import concat_logs
 from planner.exploration.planar.metrics import pad_rolling
@@ -246,16 +246,8 @@ class _Runner:
             R = self._fit_radius(est, r)
             self.ctrl.sensing.radius = R
             est = self.ctrl.sensing.update(self.world.observe(), "auto")
-            plan = self.nlp.solve(q, est.centre, R, r, mu, est.beta, est.u, margin=s.nlp_margin,
-                                  joint_margin=s.joint_margin + 0.02,
-                                  home_x=self.start["rest"][0],
-                                  max_rotation=self._rotation_cap())  # fmt: skip
-            self._plan1 = plan
-            if not plan.success or abs(plan.rotation) < math.radians(1.0):
-                why = self._blocking(est, q, mu)
-                return None, 0.0, plan.solve_time_s, f"phase-1 NLP: {plan.stop}; {why}"
-            seg = phase1_segment(plan, est, q, self.theta, s, self.hand, lift=0.0015)
-            return seg, plan.rotation, plan.solve_time_s, ""
+            plan = self.nlp.solve(q, est.centre, R, r, mu, est.beta, est.u, **self.nlp_options())
+            return self.phase1_outcome(plan, est, q, mu)
         if self.shape is not None:
             return shape_planning.plan_explore(self, kind, est, q), 0.0, 0.0, ""
         if kind == 2:
@@ -269,6 +261,26 @@ class _Runner:
             target = self._left_regrasp_angle(est)
         seg = explore_segment(kind, est, q, target, self.theta, s, self.hand, PHASE1_TRAVEL)
         return seg, 0.0, 0.0, ""
+
+    def nlp_options(self) -> dict:
+        """The phase-1 NLP's margins, home and rotation cap (keyword arguments of ``solve``)."""
+        s = self.s
+        return {
+            "margin": s.nlp_margin,
+            "joint_margin": s.joint_margin + 0.02,
+            "home_x": self.start["rest"][0],
+            "max_rotation": self._rotation_cap(),
+        }
+
+    def phase1_outcome(self, plan, est, q, mu: float):
+        """``(segment or None, planned rotation [rad], solve time [s], why no plan)`` of a
+        phase-1 plan from the estimate ``est`` at joint angles ``q`` [rad]."""
+        self._plan1 = plan
+        if not plan.success or abs(plan.rotation) < math.radians(1.0):
+            why = self._blocking(est, q, mu)
+            return None, 0.0, plan.solve_time_s, f"phase-1 NLP: {plan.stop}; {why}"
+        seg = phase1_segment(plan, est, q, self.theta, self.s, self.hand, lift=0.0015)
+        return seg, plan.rotation, plan.solve_time_s, ""
 
     def _rotation_cap(self) -> float:
         """The phase-1 rotation cap [rad] that keeps sensed features off the palm."""
@@ -360,7 +372,9 @@ class _Runner:
             # a closure): the planar world's compiled loop runs the phase with it compiled in
             stop = PhaseStop(c, HOLD_SLIP if kind != 1 else None, self._progress)
         else:
-            stop = _TipHoldStop(c, 0 if kind == 2 else 1, kind != 1, self._progress)
+            stop = TipHoldStop(
+                c, 0 if kind == 2 else 1, HOLD_SLIP if kind != 1 else None, self._progress
+            )
         log = w.run(max(horizon, w.dt), c, control_rate=self.s.control_rate, stop=stop)
         self.logs.append(log)
         self._rows = (n0, len(c.trace))
@@ -460,26 +474,6 @@ class _Runner:
                             "message": reason, "last_phase": last})  # fmt: skip
 
 
-class _TipHoldStop:
-    """The ``stop`` of a phase on a posed outline (run by the Python loop): the hold check
-    of phases 2/3 watches the HOLDING fingertip's encoder position (the circle centre
-    estimate jumps on a non-round object): ``"object moved"`` (``moved`` True) when it moved
-    more than :data:`HOLD_SLIP` [m] from the phase start; then the controller's event."""
-
-    def __init__(self, ctrl, holder: int, check: bool, progress) -> None:
-        self.ctrl, self.holder, self.check, self.progress = ctrl, holder, check, progress
-        self.tip0 = ctrl.sensing.est.tips[holder].copy()
-        self.moved = False
-
-    def __call__(self, t: float, world) -> str | None:
-        self.progress(t)
-        tip = self.ctrl.sensing.est.tips[self.holder]
-        if self.check and math.hypot(*(tip - self.tip0)) > HOLD_SLIP:
-            self.moved = True
-            return "object moved"
-        return self.ctrl.stop(t, world)
-
-
 def stall_outcome(rotation: float) -> tuple[str, str]:
     """``(status, reason)`` of a gait whose last :data:`STALL_CYCLES` cycles turned the
     object less than :data:`STALL_ROTATION`, after a total ``rotation`` [rad]: failed,
@@ -493,17 +487,4 @@ def stall_outcome(rotation: float) -> tuple[str, str]:
     return "failed", why
 
 
-def trace_arrays(ctrl) -> dict:
-    """The controller's sensed series as arrays (columns ``TRACE_NAMES``) and the tactile
-    images it kept (``image_t`` (M,), ``images`` (M, 8, 8))."""
-    from planner.exploration.planar.controller import TRACE_NAMES
-
-    n = len(TRACE_NAMES)
-    tr = np.array(ctrl.trace, dtype=float) if ctrl.trace else np.zeros((0, n))
-    out = {k: tr[:, i] for i, k in enumerate(TRACE_NAMES)}
-    out["image_t"] = np.array([t for t, _ in ctrl.images])
-    out["images"] = np.array([im for _, im in ctrl.images]) if ctrl.images else np.zeros((0, 8, 8))
-    return out
-
-
-__all__ = ["explore_object", "trace_arrays"]
+__all__ = ["explore_object"]

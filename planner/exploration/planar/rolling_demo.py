@@ -85,7 +85,7 @@ def explicit_rolling(
     )
     ctrl.start(seg, world.time)
     log = world.run(duration, ctrl, control_rate=s.control_rate, stop=ctrl.stop)
-    from planner.exploration.planar.machine import trace_arrays
+    from planner.exploration.planar.controller import trace_arrays
 
     trace = trace_arrays(ctrl)
     a = np.unwrap(log.poses["object"][:, 2])

@@ -15,10 +15,6 @@ outline instead of a circle):
 
 from __future__ import annotations
 
-import math
-
-from planner.exploration.planar.segments import phase1_segment
-
 #: largest travel of the planned centre in phase 1 on a posed outline [m] (a square pivoting
 #: on its corner lifts its centre up to 23 mm)
 SHAPE_TRAVEL = 0.03
@@ -70,16 +66,11 @@ def plan_phase1(runner, q, mu: float):
     """Phase 1 of the posed outline from joint angles ``q`` [rad] with the friction
     coefficient ``mu`` [-] (module docstring): ``(segment or None, planned rotation [rad],
     solve time [s], why no plan)``."""
-    s, shape, ctrl = runner.s, runner.shape, runner.ctrl
+    shape, ctrl = runner.shape, runner.ctrl
     r = runner.hand.params.right.tip_radius
     set_radius(ctrl, runner.R_nominal)
     est = ctrl.sensing.update(runner.world.observe(), "auto")
-    common = {
-        "margin": s.nlp_margin,
-        "joint_margin": s.joint_margin + 0.02,
-        "home_x": runner.start["rest"][0],
-        "max_rotation": runner._rotation_cap(),
-    }
+    common = runner.nlp_options()
     modes = shape.contact_modes(est) if PLAN_ON_OUTLINE else None
     local = None if modes is not None else shape.local_circle(est, r, runner.R_nominal)
     if modes is not None:
@@ -96,12 +87,7 @@ def plan_phase1(runner, q, mu: float):
         R = runner._fit_radius(est, r)
         ctrl.sensing.radius = R
         plan = runner.nlp.solve(q, est.centre, R, r, mu, est.beta, est.u, **common)
-    runner._plan1 = plan
-    if not plan.success or abs(plan.rotation) < math.radians(1.0):
-        why = runner._blocking(est, q, mu)
-        return None, 0.0, plan.solve_time_s, f"phase-1 NLP: {plan.stop}; {why}"
-    seg = phase1_segment(plan, est, q, runner.theta, s, runner.hand, lift=0.0015)
-    return seg, plan.rotation, plan.solve_time_s, ""
+    return runner.phase1_outcome(plan, est, q, mu)
 
 
 def plan_explore(runner, kind: int, est, q):
