@@ -82,6 +82,9 @@ def dask_client(
         threads_per_worker=1,
         processes=processes,
         dashboard_address=None,
+        # no dashboard, but the scheduler still serves HTTP (health, metrics), on :8787 by
+        # default: a free port instead, so two sweeps (or a user's own cluster) do not clash
+        scheduler_kwargs={"dashboard_address": ":0"},
         silence_logs=logging.ERROR,
     )
     client = distributed.Client(cluster)
