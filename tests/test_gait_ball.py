@@ -14,6 +14,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from planner.errors import InvalidParameter
+from planner.exploration.planar.angles import circular_median
 from planner.exploration.planar.metrics import (
     object_rotation,
     pad_rolling,
@@ -22,11 +23,7 @@ from planner.exploration.planar.metrics import (
 )
 from planner.exploration.planar.plots import fig214_measures
 from planner.exploration.planar.segments import hold_tangential_force, palm_moment
-from planner.exploration.planar.sensed_features import (
-    _weighted_circular_median,
-    pad_end_contact,
-    sighting_weight,
-)
+from planner.exploration.planar.sensed_features import pad_end_contact, sighting_weight
 
 R = 0.05
 
@@ -182,12 +179,12 @@ def test_early_sightings_outweigh_late_ones():
     assert sighting_weight(math.pi / 2) == pytest.approx(0.5)
     a = np.radians([167.9, 165.0, 165.2, 165.1, 164.9, 165.3])
     w = np.array([sighting_weight(0.5)] + [sighting_weight(6.4)] * 5)
-    assert math.degrees(_weighted_circular_median(a, w)) == pytest.approx(167.9)
+    assert math.degrees(circular_median(a, w)) == pytest.approx(167.9)
     b = np.radians([10.0, 12.0, 20.0])
-    assert math.degrees(_weighted_circular_median(b, np.ones(3))) == pytest.approx(12.0)
+    assert math.degrees(circular_median(b, np.ones(3))) == pytest.approx(12.0)
     # across +-pi
     c = np.radians([179.0, -179.0, -178.0])
-    assert math.degrees(_weighted_circular_median(c, np.ones(3))) == pytest.approx(-179.0)
+    assert math.degrees(circular_median(c, np.ones(3))) == pytest.approx(-179.0)
 
 
 # --------------------------------------------------------------------- shadows
@@ -379,3 +376,22 @@ def test_curvature_features_need_the_smoothing_window_inside_the_pass():
     # 1.1 deg (0.96 mm) and 2.0 deg (1.75 mm) from an end: dropped; 8.9 and 3 deg: kept
     assert [round(math.degrees(math.atan2(p[1], p[0])), 1) for p, _ in kept] == [28.9, 37.0]
     assert inside_pass([], pts) == []
+
+
+def test_circular_groups_split_at_gaps_and_join_across_pi():
+    """Sorted angles split where they differ by the gap or more; the first and last group
+    are one across +-pi; items are grouped by their angle key."""
+    from planner.exploration.planar.angles import circular_groups
+
+    a = np.radians([-179.0, -170.0, 10.0, 12.0, 175.0]).tolist()
+    groups = circular_groups(a, math.radians(8.0))
+    assert [np.degrees(g).round(6).tolist() for g in groups] == [
+        [175.0, -179.0],
+        [-170.0],
+        [10.0, 12.0],
+    ]
+    items = [(x, i) for i, x in enumerate(a)]
+    keyed = circular_groups(items, math.radians(8.0), angle=lambda it: it[0])
+    assert [[i for _, i in g] for g in keyed] == [[4, 0], [1], [2, 3]]
+    assert circular_groups([], 0.1) == []
+    assert circular_median(np.radians([175.0, -179.0])) == pytest.approx(math.radians(178.0))

@@ -26,6 +26,7 @@ import math
 
 import numpy as np
 
+from planner.exploration.planar.angles import circular_groups, circular_median
 from planner.exploration.planar.result import DetectedFeature
 from planner.exploration.planar.sensed_features import fuse_image_ridges, image_ridges
 
@@ -125,20 +126,9 @@ def macro_regions(angles: np.ndarray, heights: np.ndarray, passes=None) -> list:
     out = []
     for sign in (1, -1):
         pts = sorted((a, q) for a, sg, q in seen if sg == sign)
-        groups: list[list[tuple[float, int]]] = []
-        for a, q in pts:
-            if groups and abs(math.remainder(a - groups[-1][-1][0], 2 * math.pi)) < MACRO_MERGE:
-                groups[-1].append((a, q))
-            else:
-                groups.append([(a, q)])
-        if (
-            len(groups) > 1
-            and abs(math.remainder(groups[0][0][0] - groups[-1][-1][0], 2 * math.pi)) < MACRO_MERGE
-        ):
-            groups[0] = groups.pop() + groups[0]
-        for g in groups:
+        for g in circular_groups(pts, MACRO_MERGE, angle=lambda p: p[0]):
             if len({q for _, q in g}) >= MACRO_MIN_PASSES:
-                out.append((_circular_median(np.array([a for a, _ in g])), sign))
+                out.append((circular_median([a for a, _ in g]), sign))
     return out
 
 
@@ -205,14 +195,6 @@ def _pass_regions(angles: np.ndarray, heights: np.ndarray, local: bool = False) 
     return out
 
 
-def _circular_median(a: np.ndarray) -> float:
-    """Median of angles [rad] spanning less than pi (unwrapped about their mean)."""
-    m = math.atan2(float(np.mean(np.sin(a))), float(np.mean(np.cos(a))))
-    return math.remainder(
-        m + float(np.median(np.remainder(a - m + math.pi, 2 * math.pi) - math.pi)), 2 * math.pi
-    )
-
-
 def detect_macro_features(
     trace: dict, theta, profile, radius: float, tip_radius: float, band
 ) -> list[DetectedFeature]:
@@ -244,15 +226,12 @@ def _truth_clusters(profile) -> list[float]:
     angs = sorted(
         math.atan2(f.position[1], f.position[0]) for f in profile.curvature_features(VIRTUAL_RADIUS)
     )
-    clusters: list[list[float]] = []
-    for x in angs:
-        if clusters and x - clusters[-1][-1] < MACRO_MERGE:
-            clusters[-1].append(x)
-        else:
-            clusters.append([x])
-    if len(clusters) > 1 and angs[0] + 2 * math.pi - angs[-1] < MACRO_MERGE:
-        clusters[0] = [x - 2 * math.pi for x in clusters.pop()] + clusters[0]
-    return [math.remainder(float(np.mean(c)), 2 * math.pi) for c in clusters]
+    # each cluster's mean, unwrapped about its first angle (a cluster may span +-pi)
+    return [
+        math.remainder(c[0] + float(np.mean([math.remainder(x - c[0], 2 * math.pi) for x in c])),
+                       2 * math.pi)
+        for c in circular_groups(angs, MACRO_MERGE)
+    ]  # fmt: skip
 
 
 __all__ = [

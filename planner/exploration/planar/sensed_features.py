@@ -24,6 +24,7 @@ import math
 import numpy as np
 
 from planner.errors import InvalidParameter
+from planner.exploration.planar.angles import circular_groups, circular_median
 from planner.exploration.planar.controller import TRACE_NAMES
 
 #: a pass whose pad contact rose this far above its median distance from the centre
@@ -215,16 +216,14 @@ def image_ridges(trace: dict, theta, band, pad_half_width: float = PAD_HALF_WIDT
     theta = np.asarray(theta, float)
     found = sorted(
         (
-            math.remainder(_circular_median(ang[rows[r]]), 2 * math.pi),
+            circular_median(ang[rows[r]]),
             sighting_weight(float(np.median(theta[rows[r]]) - theta[0])),
         )
         for r in runs
         if r.size >= IMAGE_MIN_RUN
     )
-    groups = _groups([a for a, _ in found], IMAGE_MERGE)
-    weight = dict(found)
-    return [_weighted_circular_median(np.array(g), np.array([weight[a] for a in g]))
-            for g in groups]  # fmt: skip
+    groups = circular_groups(found, IMAGE_MERGE, angle=lambda f: f[0])
+    return [circular_median([a for a, _ in g], [w for _, w in g]) for g in groups]
 
 
 #: rotation [rad] over which the dead-reckoned rotation estimate's error grows to about
@@ -240,22 +239,6 @@ def sighting_weight(turned: float) -> float:
     (the phase-1 rolling estimate eq. 2.4 assumes a circle; with the pad on the ridge it
     gained 4.5 deg in one phase): those late sightings weigh 1/17 of the first ones."""
     return 1.0 / (1.0 + (turned / DRIFT_ROTATION) ** 2)
-
-
-def _weighted_circular_median(a: np.ndarray, w: np.ndarray) -> float:
-    """Weighted median of angles [rad] spanning less than pi (unwrapped about their
-    weighted circular mean): the smallest angle whose cumulative weight reaches half, or
-    halfway to the next one when it reaches exactly half (equal weights: ``np.median``)."""
-    m = math.atan2(float(np.sum(w * np.sin(a))), float(np.sum(w * np.cos(a))))
-    d = np.remainder(a - m + math.pi, 2 * math.pi) - math.pi
-    order = np.argsort(d)
-    cum = np.cumsum(w[order])
-    half = 0.5 * cum[-1]
-    k = int(np.searchsorted(cum, half))
-    mid = float(d[order][k])
-    if k + 1 < d.size and math.isclose(cum[k], half, rel_tol=1e-12):
-        mid = 0.5 * (mid + float(d[order][k + 1]))  # halfway between, as np.median
-    return math.remainder(m + mid, 2 * math.pi)
 
 
 def fuse_image_ridges(image: list[float], found: list, single: list[float]) -> list:
@@ -277,29 +260,6 @@ def fuse_image_ridges(image: list[float], found: list, single: list[float]) -> l
         if any(abs(math.remainder(a - b, 2 * math.pi)) < FUSE_ANGLE for b in single):
             out.append((a, 1))
     return out
-
-
-def _groups(angles: list[float], gap: float) -> list[list[float]]:
-    """Sorted angles [rad] split where consecutive ones differ by ``gap`` or more (the
-    first and last group joined across +-pi)."""
-    groups: list[list[float]] = []
-    for a in angles:
-        if groups and a - groups[-1][-1] < gap:
-            groups[-1].append(a)
-        else:
-            groups.append([a])
-    if len(groups) > 1 and groups[0][0] + 2 * math.pi - groups[-1][-1] < gap:
-        groups[0] = groups.pop() + groups[0]
-    return groups
-
-
-def _circular_median(a: np.ndarray) -> float:
-    """Median of angles [rad] spanning less than pi (unwrapped about their mean)."""
-    a = np.asarray(a, float)
-    m = math.atan2(float(np.mean(np.sin(a))), float(np.mean(np.cos(a))))
-    return math.remainder(
-        m + float(np.median(np.remainder(a - m + math.pi, 2 * math.pi) - math.pi)), 2 * math.pi
-    )
 
 
 __all__ = [
