@@ -31,6 +31,10 @@ def test_bad_inputs_raise():
         explore_object(shapes.circle(0.05), mu=0.0)
     with pytest.raises(InvalidParameter, match="closed"):
         explore_object(shapes.plane())
+    with pytest.raises(InvalidParameter, match="nominal: expected a closed"):
+        explore_object(shapes.circle(0.05), nominal=shapes.plane())
+    with pytest.raises(InvalidParameter, match="nominal"):
+        explore_object(shapes.circle(0.05), nominal="square")
     with pytest.raises(InvalidParameter, match="does not fit"):
         explore_object(shapes.circle(0.02), duration=0.1)
 

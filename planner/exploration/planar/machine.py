@@ -95,6 +95,10 @@ def explore_object(
     wall0 = time.perf_counter()
     if getattr(profile, "closed", False) is not True:
         raise InvalidParameter("profile: expected a closed planar Profile (the object outline)")
+    if nominal is not None and getattr(nominal, "closed", False) is not True:
+        raise InvalidParameter(
+            "nominal: expected a closed planar Profile (the planner's model) or None"
+        )
     if not (isinstance(mu, (int, float)) and math.isfinite(mu) and mu > 0):
         raise InvalidParameter(f"mu: expected a finite number > 0, got {mu!r}")
     s = settings or GaitSettings(mu=float(mu))
