@@ -153,11 +153,6 @@ def _touches(world, res) -> list[list[tuple]]:
     return per_tip
 
 
-def _tip_forces(world):
-    """True fingertip forces (2, 2) [N] and each tip's touches (point, f_n [N], curvature)."""
-    return _true_tip_forces(world), _touches(world, world._last)
-
-
 class TactileImages(Mapping):
     """``{finger: (8, 8) taxel pressures [Pa]}`` of the flat fingertips, computed on access.
 
