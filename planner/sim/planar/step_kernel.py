@@ -166,6 +166,126 @@ def _add_row(row, kind, idx, nfree, x, joints, px, py, dx, dy, sign):
 
 
 @njit(cache=True)
+def _inverse_mass(mass, inertia, has_hand, q, qd, gx, gy, P, nfree):
+    """The block-diagonal inverse mass ``Minv`` (nv, nv) of the free bodies and the hand,
+    and the hand's bias ``hb`` (6,) at ``(q, qd)`` (zeros without a hand)."""
+    nv = 3 * nfree + (6 if has_hand else 0)
+    Minv = np.zeros((nv, nv))
+    for b in range(nfree):
+        k = 3 * b
+        Minv[k, k] = 1.0 / mass[b]
+        Minv[k + 1, k + 1] = 1.0 / mass[b]
+        Minv[k + 2, k + 2] = 1.0 / inertia[b]
+    hb = np.zeros(6)
+    if has_hand:
+        M = np.zeros((6, 6))
+        hand_dynamics(q, qd, gx, gy, P, M, hb)
+        Mi = np.zeros((6, 6))
+        _inv3_into(M, 0, Mi)
+        _inv3_into(M, 3, Mi)
+        o = 3 * nfree
+        for i in range(6):
+            for j in range(6):
+                Minv[o + i, o + j] = Mi[i, j]
+    return Minv, hb
+
+
+@njit(cache=True)
+def _limit_rows(q, qd, h, limits):
+    """Joint-limit rows: the joints within ``max(0.01, 2 |qd| h)`` [rad] of a limit.
+
+    Returns ``(n, joint, gap, side)``: the first n entries of the (12,) arrays are the
+    joint, its gap to the limit [rad] and the row's sign (+1 lower, -1 upper)."""
+    n = 0
+    joint = np.zeros(12, np.int64)
+    gap = np.zeros(12)
+    side = np.zeros(12)
+    for k in range(6):
+        near = max(0.01, 2.0 * abs(qd[k]) * h)
+        g0, g1 = q[k] - limits[k, 0], limits[k, 1] - q[k]
+        if g0 < near:
+            joint[n], gap[n], side[n] = k, g0, 1.0
+            n += 1
+        if g1 < near:
+            joint[n], gap[n], side[n] = k, g1, -1.0
+            n += 1
+    return n, joint, gap, side
+
+
+@njit(cache=True)
+def _contact_rows(cand, kind, index, mu_body, nfree, x, joints, nlim, lim_joint, lim_side, nv):
+    """The LCP's velocity rows: ``R`` (nn + 2 nf, nv) = normal rows of the candidates, the
+    joint-limit rows, then +/- the tangent rows of the nf frictional candidates ``fr``;
+    ``T`` (nc, nv) the tangent rows; ``mu`` (nc,) each candidate's friction."""
+    nc = cand.shape[0]
+    mu = np.zeros(nc)
+    nf = 0
+    for r in range(nc):
+        mu[r] = max(mu_body[int(cand[r, 0])], mu_body[int(cand[r, 1])])
+        if mu[r] > 0.0:
+            nf += 1
+    nn = nc + nlim
+    R = np.zeros((nn + 2 * nf, nv))
+    T = np.zeros((nc, nv))
+    fr = np.zeros(nf, np.int64)
+    kf = 0
+    for r in range(nc):
+        i, j = int(cand[r, 0]), int(cand[r, 1])
+        pax, pay, pbx, pby = cand[r, 3], cand[r, 4], cand[r, 5], cand[r, 6]
+        nx, ny = cand[r, 7], cand[r, 8]
+        ia, ib = index[i], index[j]
+        _add_row(R[r], kind[i], ia, nfree, x, joints, pax, pay, nx, ny, 1.0)
+        _add_row(R[r], kind[j], ib, nfree, x, joints, pbx, pby, nx, ny, -1.0)
+        _add_row(T[r], kind[i], ia, nfree, x, joints, pax, pay, -ny, nx, 1.0)
+        _add_row(T[r], kind[j], ib, nfree, x, joints, pbx, pby, -ny, nx, -1.0)
+        if mu[r] > 0.0:
+            fr[kf] = r
+            kf += 1
+    for m in range(nlim):
+        R[nc + m, 3 * nfree + lim_joint[m]] = lim_side[m]
+    for k in range(nf):
+        for c in range(nv):
+            R[nn + k, c] = T[fr[k], c]
+            R[nn + nf + k, c] = -T[fr[k], c]
+    return R, T, fr, mu
+
+
+@njit(cache=True)
+def _impulse_lcp(R, Minv, v_free, phi, fr, mu, nn, h, covers):
+    """Solve the Stewart-Trinkle LCP of the step (normal, limit and friction-edge rows of
+    ``R``, the friction-cone slack rows): ``(status, z, MRt)``; a failed Lemke path on the
+    stabilized ``b + phi/h`` is retried closing gaps only (``b + max(phi, 0)/h``)."""
+    nf = fr.shape[0]
+    nr = R.shape[0]
+    MRt = Minv @ R.T
+    G = R @ MRt
+    m_all = nn + 3 * nf
+    A = np.zeros((m_all, m_all))
+    A[:nr, :nr] = G
+    for k in range(nf):
+        e = nr + k
+        A[nn + k, e] = 1.0
+        A[nn + nf + k, e] = 1.0
+        A[e, fr[k]] = mu[fr[k]]
+        A[e, nn + k] = -1.0
+        A[e, nn + nf + k] = -1.0
+    b = np.zeros(m_all)
+    Rv = R @ v_free
+    for r in range(nr):
+        b[r] = Rv[r]
+    bq = b.copy()
+    for r in range(nn):
+        bq[r] += phi[r] / h
+    it = 50 * m_all + 10
+    z, status, _ = lemke_verified(A, bq, covers, it, 1e-9)
+    if status != 0:  # a jam with sub-tolerance penetration: close gaps only
+        for r in range(nn):
+            b[r] += max(phi[r], 0.0) / h
+        z, status, _ = lemke_verified(A, b, covers, it, 1e-9)
+    return status, z, MRt
+
+
+@njit(cache=True)
 def contact_step(
     h, gx, gy, cand, kind, index, mu_body, x, v, mass, inertia, has_hand, q, qd, tau, P,
     limits, covers,
@@ -188,121 +308,48 @@ def contact_step(
     """
     nc = cand.shape[0]
     nfree = x.shape[0]
-    nh = 6 if has_hand else 0
-    nv = 3 * nfree + nh
-    Minv = np.zeros((nv, nv))
+    Minv, hb = _inverse_mass(mass, inertia, has_hand, q, qd, gx, gy, P, nfree)
+    nv = Minv.shape[0]
     f = np.zeros(nv)
     nu = np.zeros(nv)
     for b in range(nfree):
         k = 3 * b
-        Minv[k, k] = 1.0 / mass[b]
-        Minv[k + 1, k + 1] = 1.0 / mass[b]
-        Minv[k + 2, k + 2] = 1.0 / inertia[b]
         f[k], f[k + 1] = mass[b] * gx, mass[b] * gy
         nu[k], nu[k + 1], nu[k + 2] = v[b, 0], v[b, 1], v[b, 2]
     joints = np.zeros((2, 3, 2))
-    nlim = 0
-    lim_joint = np.zeros(12, np.int64)
-    lim_phi = np.zeros(12)
-    lim_side = np.zeros(12)
+    nlim, lim_joint, lim_phi, lim_side = 0, np.zeros(12, np.int64), np.zeros(12), np.zeros(12)
     if has_hand:
         o = 3 * nfree
-        M = np.zeros((6, 6))
-        hb = np.zeros(6)
-        hand_dynamics(q, qd, gx, gy, P, M, hb)
-        Mi = np.zeros((6, 6))
-        _inv3_into(M, 0, Mi)
-        _inv3_into(M, 3, Mi)
         for i in range(6):
             f[o + i] = tau[i] - hb[i]
             nu[o + i] = qd[i]
-            for j in range(6):
-                Minv[o + i, o + j] = Mi[i, j]
         tips = np.zeros((2, 3))
         hand_kinematics(q, P, joints, tips)
-        for k in range(6):
-            near = max(0.01, 2.0 * abs(qd[k]) * h)
-            g0, g1 = q[k] - limits[k, 0], limits[k, 1] - q[k]
-            if g0 < near:
-                lim_joint[nlim], lim_phi[nlim], lim_side[nlim] = k, g0, 1.0
-                nlim += 1
-            if g1 < near:
-                lim_joint[nlim], lim_phi[nlim], lim_side[nlim] = k, g1, -1.0
-                nlim += 1
+        nlim, lim_joint, lim_phi, lim_side = _limit_rows(q, qd, h, limits)
     v_free = nu + h * (Minv @ f)
-    mu = np.zeros(nc)
-    nf = 0
-    for r in range(nc):
-        mu[r] = max(mu_body[int(cand[r, 0])], mu_body[int(cand[r, 1])])
-        if mu[r] > 0.0:
-            nf += 1
-    nn = nc + nlim
-    nr = nn + 2 * nf
-    R = np.zeros((nr, nv))
-    T = np.zeros((nc, nv))
-    fr = np.zeros(nf, np.int64)
-    kf = 0
-    for r in range(nc):
-        i, j = int(cand[r, 0]), int(cand[r, 1])
-        pax, pay, pbx, pby = cand[r, 3], cand[r, 4], cand[r, 5], cand[r, 6]
-        nx, ny = cand[r, 7], cand[r, 8]
-        ia, ib = index[i], index[j]
-        _add_row(R[r], kind[i], ia, nfree, x, joints, pax, pay, nx, ny, 1.0)
-        _add_row(R[r], kind[j], ib, nfree, x, joints, pbx, pby, nx, ny, -1.0)
-        _add_row(T[r], kind[i], ia, nfree, x, joints, pax, pay, -ny, nx, 1.0)
-        _add_row(T[r], kind[j], ib, nfree, x, joints, pbx, pby, -ny, nx, -1.0)
-        if mu[r] > 0.0:
-            fr[kf] = r
-            kf += 1
-    for m in range(nlim):
-        R[nc + m, 3 * nfree + lim_joint[m]] = lim_side[m]
-    for k in range(nf):
-        for c in range(nv):
-            R[nn + k, c] = T[fr[k], c]
-            R[nn + nf + k, c] = -T[fr[k], c]
+    R, T, fr, mu = _contact_rows(
+        cand, kind, index, mu_body, nfree, x, joints, nlim, lim_joint, lim_side, nv
+    )
+    nf, nn = fr.shape[0], nc + nlim
     pn = np.zeros(nc)
     pt = np.zeros(nc)
     pl = np.zeros(nlim)
-    if nr > 0:
-        MRt = Minv @ R.T
-        G = R @ MRt
-        m_all = nn + 3 * nf
-        A = np.zeros((m_all, m_all))
-        A[:nr, :nr] = G
-        for k in range(nf):
-            e = nr + k
-            A[nn + k, e] = 1.0
-            A[nn + nf + k, e] = 1.0
-            A[e, fr[k]] = mu[fr[k]]
-            A[e, nn + k] = -1.0
-            A[e, nn + nf + k] = -1.0
-        b = np.zeros(m_all)
-        Rv = R @ v_free
-        for r in range(nr):
-            b[r] = Rv[r]
+    if nn + 2 * nf > 0:
         phi = np.zeros(nn)
         for r in range(nc):
             phi[r] = cand[r, 2]
         for m in range(nlim):
             phi[nc + m] = lim_phi[m]
-        bq = b.copy()
-        for r in range(nn):
-            bq[r] += phi[r] / h
-        it = 50 * m_all + 10
-        z, status, _ = lemke_verified(A, bq, covers, it, 1e-9)
-        if status != 0:  # a jam with sub-tolerance penetration: close gaps only
-            for r in range(nn):
-                b[r] += max(phi[r], 0.0) / h
-            z, status, _ = lemke_verified(A, b, covers, it, 1e-9)
-            if status != 0:
-                return status, pn, pt, pt, mu, lim_joint[:nlim], pl
+        status, z, MRt = _impulse_lcp(R, Minv, v_free, phi, fr, mu, nn, h, covers)
+        if status != 0:
+            return status, pn, pt, pt, mu, lim_joint[:nlim], pl
         for r in range(nc):
             pn[r] = z[r]
         for m in range(nlim):
             pl[m] = z[nc + m]
         for k in range(nf):
             pt[fr[k]] = z[nn + k] - z[nn + nf + k]
-        nu_new = v_free + MRt @ z[:nr]
+        nu_new = v_free + MRt @ z[: nn + 2 * nf]
     else:
         nu_new = v_free
     slip = T @ nu_new
@@ -330,40 +377,15 @@ def project_positions(
     when no verified answer exists (the Python step then raises)."""
     nc = cand.shape[0]
     nfree = x.shape[0]
-    nh = 6 if has_hand else 0
-    nv = 3 * nfree + nh
-    Minv = np.zeros((nv, nv))
-    for b in range(nfree):
-        k = 3 * b
-        Minv[k, k] = 1.0 / mass[b]
-        Minv[k + 1, k + 1] = 1.0 / mass[b]
-        Minv[k + 2, k + 2] = 1.0 / inertia[b]
+    zero = np.zeros(6)
+    Minv, _ = _inverse_mass(mass, inertia, has_hand, q, zero, 0.0, 0.0, P, nfree)
+    nv = Minv.shape[0]
     joints = np.zeros((2, 3, 2))
-    lim_rows = np.zeros(12, np.int64)
-    lim_phi = np.zeros(12)
-    lim_side = np.zeros(12)
-    nlim = 0
+    nlim, lim_rows, lim_phi, lim_side = 0, np.zeros(12, np.int64), np.zeros(12), np.zeros(12)
     if has_hand:
-        M = np.zeros((6, 6))
-        hb = np.zeros(6)
-        hand_dynamics(q, np.zeros(6), 0.0, 0.0, P, M, hb)
-        Mi = np.zeros((6, 6))
-        _inv3_into(M, 0, Mi)
-        _inv3_into(M, 3, Mi)
-        o = 3 * nfree
-        for i in range(6):
-            for j in range(6):
-                Minv[o + i, o + j] = Mi[i, j]
         tips = np.zeros((2, 3))
         hand_kinematics(q, P, joints, tips)
-        for k in range(6):
-            g0, g1 = q[k] - limits[k, 0], limits[k, 1] - q[k]
-            if g0 < 0.01:
-                lim_rows[nlim], lim_phi[nlim], lim_side[nlim] = k, g0, 1.0
-                nlim += 1
-            if g1 < 0.01:
-                lim_rows[nlim], lim_phi[nlim], lim_side[nlim] = k, g1, -1.0
-                nlim += 1
+        nlim, lim_rows, lim_phi, lim_side = _limit_rows(q, zero, 0.0, limits)
     nn = nc + nlim
     N = np.zeros((nn, nv))
     phi = np.zeros(nn)
