@@ -113,11 +113,9 @@ def hybrid_step_closed_loop(theta, thd, volts, force, state, fstate, target, par
 
 
 @njit(cache=True, fastmath=False)
-def _law(theta, thd, volts, state, target, par, out, fn):  # noqa: C901, PLR0915
-    """The law of eqs. 4.1-4.13 pressing with the normal force ``fn`` [N]."""
-    l1, l2, l3, l4, l5 = par[P_L1], par[P_L2], par[P_L3], par[P_L4], par[P_L5]
-    t1, t2, t3 = theta[0], theta[1], theta[2]
-    # ---- OWTS, eqs. C.1-C.3 ------------------------------------------------------------
+def _owts_normal(volts, par):
+    """OWTS, eqs. C.1-C.3: ``(contact, S, nT)`` - the intensity sum [V] and the contact
+    normal in the TCS (zeros without contact)."""
     S = volts[0] + volts[1] + volts[2] + volts[3]
     contact = S > par[P_OWTS_THR]
     nT0 = 0.0
@@ -131,7 +129,16 @@ def _law(theta, thd, volts, state, target, par, out, fn):  # noqa: C901, PLR0915
         th = par[P_OWTS_K] * rho
         k = par[P_OWTS_K] if rho < 1e-15 else math.sin(th) / rho
         nT0, nT1, nT2 = xd * k, yd * k, math.cos(th)
-    # ---- 3GM closed form, eqs. C.4-C.9 ------------------------------------------------------
+    return contact, S, nT0, nT1, nT2
+
+
+@njit(cache=True, fastmath=False)
+def _five_bar(theta, par):
+    """3GM closed form, eqs. C.4-C.9 (C.8 corrected): the fingertip centre ``xf`` [m], the
+    Jacobian ``J`` (3, 3) [m/rad], the passive angles γ1, γ2 [rad], dγ1/dθ1, dγ1/dθ2 [-] and
+    the singular flag."""
+    l1, l2, l3, l4, l5 = par[P_L1], par[P_L2], par[P_L3], par[P_L4], par[P_L5]
+    t1, t2, t3 = theta[0], theta[1], theta[2]
     c1, s1 = math.cos(t1), math.sin(t1)
     a1 = l1 * c1 - l2 * math.cos(t2)
     a2 = l1 * s1 - l2 * math.sin(t2) + par[P_H1]
@@ -173,7 +180,15 @@ def _law(theta, thd, volts, state, target, par, out, fn):  # noqa: C901, PLR0915
     J[2, 0] = l1 * c1 + l5 * dg1_1 * cg1
     J[2, 1] = l5 * dg1_2 * cg1
     J[2, 2] = 0.0
-    # ---- TCS (eq. 4.1 corrected) and filtered normal (eq. 4.2) ------------------------------
+    return xf0, xf1, xf2, J, g1, g2, dg1_1, dg1_2, singular
+
+
+@njit(cache=True, fastmath=False)
+def _filtered_normal(g1, t3, contact, nT0, nT1, nT2, state, par):
+    """TCS (eq. 4.1 corrected) and the low-pass filtered WCS normal (eq. 4.2), stored in
+    ``state[0:3]`` and returned; the tip's axis when the OWTS sees no contact."""
+    sg1, cg1 = math.sin(g1), math.cos(g1)
+    c3, s3 = math.cos(t3), math.sin(t3)
     R = np.empty((3, 3))
     R[0, 0], R[0, 1], R[0, 2] = sg1 * c3, -s3, cg1 * c3
     R[1, 0], R[1, 1], R[1, 2] = sg1 * s3, c3, cg1 * s3
@@ -193,7 +208,13 @@ def _law(theta, thd, volts, state, target, par, out, fn):  # noqa: C901, PLR0915
         n0, n1, n2, nn = m0, m1, m2, math.sqrt(m0 * m0 + m1 * m1 + m2 * m2)
     n0, n1, n2 = n0 / nn, n1 / nn, n2 / nn
     state[0], state[1], state[2] = n0, n1, n2
-    # ---- SCS (eq. 4.3 corrected, switch near z_Sx = z_Sz = 0) --------------------------------
+    return n0, n1, n2
+
+
+@njit(cache=True, fastmath=False)
+def _surface_frame(n0, n1, n2, par):
+    """SCS, eq. 4.3 corrected, switching near ``z_Sx = z_Sz = 0``: the axes x_S, y_S (z_S =
+    -n) and the alternative-frame flag."""
     zx, zy, zz = -n0, -n1, -n2
     if zx * zx + zz * zz >= par[P_SWITCH]:
         h = math.hypot(zx, zz)
@@ -205,12 +226,13 @@ def _law(theta, thd, volts, state, target, par, out, fn):  # noqa: C901, PLR0915
         y0, y1, y2 = 0.0, zz / h, -zy / h
         x0, x1, x2 = y1 * zz - y2 * zy, y2 * zx - y0 * zz, y0 * zy - y1 * zx
         alt = 1.0
-    # ---- contact point (4.7), velocity (C.10), ramp and desired position (4.9) --------------
-    rt = par[P_RTIP]
-    p0, p1, p2 = xf0 + rt * n0, xf1 + rt * n1, xf2 + rt * n2
-    v0 = J[0, 0] * thd[0] + J[0, 1] * thd[1] + J[0, 2] * thd[2]
-    v1 = J[1, 0] * thd[0] + J[1, 1] * thd[1] + J[1, 2] * thd[2]
-    v2 = J[2, 0] * thd[0] + J[2, 1] * thd[1] + J[2, 2] * thd[2]
+    return x0, x1, x2, y0, y1, y2, alt
+
+
+@njit(cache=True, fastmath=False)
+def _ramp(target, n0, n1, n2, state, par):
+    """The ramped desired velocity, its tangential part and the desired position (eq. 4.9),
+    all in ``state``; returns the tangential desired velocity [m/s]."""
     w = par[P_RATE]
     d0, d1, d2 = target[0] - state[6], target[1] - state[7], target[2] - state[8]
     dn = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
@@ -226,6 +248,56 @@ def _law(theta, thd, volts, state, target, par, out, fn):  # noqa: C901, PLR0915
     state[3] += vt0 / w
     state[4] += vt1 / w
     state[5] += vt2 / w
+    return vt0, vt1, vt2
+
+
+@njit(cache=True, fastmath=False)
+def _gravity_torques(theta, g1, g2, dg1_1, dg1_2, par):
+    """Gravity compensation τ_g of θ1, θ2 [N m]: the gradient of the bodies' potential
+    energy through the closed chain (eq. C.11)."""
+    l1, l2, l3, l5 = par[P_L1], par[P_L2], par[P_L3], par[P_L5]
+    t1, t2 = theta[0], theta[1]
+    sgm = math.sin(g1 - g2)
+    if abs(sgm) < 1e-9:
+        sgm = 1e-9
+    dg2_1 = l1 * math.sin(g1 - t1) / (l3 * sgm)
+    dg2_2 = -l2 * math.sin(g1 - t2) / (l3 * sgm)
+    c1, s1 = math.cos(t1), math.sin(t1)
+    c2, s2 = math.cos(t2), math.sin(t2)
+    sg1, cg1 = math.sin(g1), math.cos(g1)
+    cg2, sg2 = math.cos(g2), math.sin(g2)
+    G1, G5, G2, G3, GT = par[P_G1], par[P_G5], par[P_G2], par[P_G3], par[P_GT]
+    # dz/d(angle) of each body's centre of mass: cx cos a - cy sin a
+    m1 = par[P_C1X] * c1 - par[P_C1Y] * s1
+    m5 = par[P_C5X] * cg1 - par[P_C5Y] * sg1
+    m2 = par[P_C2X] * c2 - par[P_C2Y] * s2
+    m3 = par[P_C3X] * cg2 - par[P_C3Y] * sg2
+    tg0 = (
+        G1 * m1
+        + G5 * (l1 * c1 + m5 * dg1_1)
+        + G3 * m3 * dg2_1
+        + GT * (l1 * c1 + l5 * cg1 * dg1_1)
+        + par[P_GC11] * l5 * c1
+    )
+    tg1 = G5 * m5 * dg1_2 + G2 * m2 + G3 * (l2 * c2 + m3 * dg2_2) + GT * l5 * cg1 * dg1_2
+    return tg0, tg1
+
+
+@njit(cache=True, fastmath=False)
+def _law(theta, thd, volts, state, target, par, out, fn):
+    """The law of eqs. 4.1-4.13 pressing with the normal force ``fn`` [N]."""
+    contact, S, nT0, nT1, nT2 = _owts_normal(volts, par)
+    xf0, xf1, xf2, J, g1, g2, dg1_1, dg1_2, singular = _five_bar(theta, par)
+    n0, n1, n2 = _filtered_normal(g1, theta[2], contact, nT0, nT1, nT2, state, par)
+    x0, x1, x2, y0, y1, y2, alt = _surface_frame(n0, n1, n2, par)
+    zx, zy, zz = -n0, -n1, -n2
+    # ---- contact point (4.7), velocity (C.10), ramp and desired position (4.9) --------------
+    rt = par[P_RTIP]
+    p0, p1, p2 = xf0 + rt * n0, xf1 + rt * n1, xf2 + rt * n2
+    v0 = J[0, 0] * thd[0] + J[0, 1] * thd[1] + J[0, 2] * thd[2]
+    v1 = J[1, 0] * thd[0] + J[1, 1] * thd[1] + J[1, 2] * thd[2]
+    v2 = J[2, 0] * thd[0] + J[2, 1] * thd[1] + J[2, 2] * thd[2]
+    vt0, vt1, vt2 = _ramp(target, n0, n1, n2, state, par)
     # ---- PD in the SCS, eqs. 4.8, 4.10-4.11: K_W = R diag(k, k, 0) R^T ------------------------
     e0, e1, e2 = state[3] - p0, state[4] - p1, state[5] - p2
     ex = e0 * x0 + e1 * x1 + e2 * x2
@@ -247,28 +319,7 @@ def _law(theta, thd, volts, state, target, par, out, fn):  # noqa: C901, PLR0915
     f0 = fx * x0 + fy * y0 + fn * n0
     f1 = fx * x1 + fy * y1 + fn * n1
     f2 = fx * x2 + fy * y2 + fn * n2
-    # ---- gravity compensation: ∇V of the bodies' weights (or eq. C.11) ----------------------
-    sgm = math.sin(g1 - g2)
-    if abs(sgm) < 1e-9:
-        sgm = 1e-9
-    dg2_1 = l1 * math.sin(g1 - t1) / (l3 * sgm)
-    dg2_2 = -l2 * math.sin(g1 - t2) / (l3 * sgm)
-    c2, s2 = math.cos(t2), math.sin(t2)
-    cg2, sg2 = math.cos(g2), math.sin(g2)
-    G1, G5, G2, G3, GT = par[P_G1], par[P_G5], par[P_G2], par[P_G3], par[P_GT]
-    # dz/d(angle) of each body's centre of mass: cx cos a - cy sin a
-    m1 = par[P_C1X] * c1 - par[P_C1Y] * s1
-    m5 = par[P_C5X] * cg1 - par[P_C5Y] * sg1
-    m2 = par[P_C2X] * c2 - par[P_C2Y] * s2
-    m3 = par[P_C3X] * cg2 - par[P_C3Y] * sg2
-    tg0 = (
-        G1 * m1
-        + G5 * (l1 * c1 + m5 * dg1_1)
-        + G3 * m3 * dg2_1
-        + GT * (l1 * c1 + l5 * cg1 * dg1_1)
-        + par[P_GC11] * l5 * c1
-    )
-    tg1 = G5 * m5 * dg1_2 + G2 * m2 + G3 * (l2 * c2 + m3 * dg2_2) + GT * l5 * cg1 * dg1_2
+    tg0, tg1 = _gravity_torques(theta, g1, g2, dg1_1, dg1_2, par)
     # ---- τ = Jᵀ f + τ_g within the limits (C.10) ----------------------------------------------
     j0 = J[0, 0] * f0 + J[1, 0] * f1 + J[2, 0] * f2
     j1 = J[0, 1] * f0 + J[1, 1] * f1 + J[2, 1] * f2
