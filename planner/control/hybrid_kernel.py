@@ -112,7 +112,7 @@ def hybrid_step_closed_loop(theta, thd, volts, force, state, fstate, target, par
     _law(theta, thd, volts, state, target, par, out, fn)
 
 
-@njit(cache=True, fastmath=False)
+@njit(cache=True, fastmath=False, inline="always")
 def _owts_normal(volts, par):
     """OWTS, eqs. C.1-C.3: ``(contact, S, nT)`` - the intensity sum [V] and the contact
     normal in the TCS (zeros without contact)."""
@@ -132,7 +132,7 @@ def _owts_normal(volts, par):
     return contact, S, nT0, nT1, nT2
 
 
-@njit(cache=True, fastmath=False)
+@njit(cache=True, fastmath=False, inline="always")
 def _five_bar(theta, par):
     """3GM closed form, eqs. C.4-C.9 (C.8 corrected): the fingertip centre ``xf`` [m], the
     Jacobian ``J`` (3, 3) [m/rad], the passive angles γ1, γ2 [rad], dγ1/dθ1, dγ1/dθ2 [-] and
@@ -183,7 +183,7 @@ def _five_bar(theta, par):
     return xf0, xf1, xf2, J, g1, g2, dg1_1, dg1_2, singular
 
 
-@njit(cache=True, fastmath=False)
+@njit(cache=True, fastmath=False, inline="always")
 def _filtered_normal(g1, t3, contact, nT0, nT1, nT2, state, par):
     """TCS (eq. 4.1 corrected) and the low-pass filtered WCS normal (eq. 4.2), stored in
     ``state[0:3]`` and returned; the tip's axis when the OWTS sees no contact."""
@@ -211,7 +211,7 @@ def _filtered_normal(g1, t3, contact, nT0, nT1, nT2, state, par):
     return n0, n1, n2
 
 
-@njit(cache=True, fastmath=False)
+@njit(cache=True, fastmath=False, inline="always")
 def _surface_frame(n0, n1, n2, par):
     """SCS, eq. 4.3 corrected, switching near ``z_Sx = z_Sz = 0``: the axes x_S, y_S (z_S =
     -n) and the alternative-frame flag."""
@@ -229,7 +229,7 @@ def _surface_frame(n0, n1, n2, par):
     return x0, x1, x2, y0, y1, y2, alt
 
 
-@njit(cache=True, fastmath=False)
+@njit(cache=True, fastmath=False, inline="always")
 def _ramp(target, n0, n1, n2, state, par):
     """The ramped desired velocity, its tangential part and the desired position (eq. 4.9),
     all in ``state``; returns the tangential desired velocity [m/s]."""
@@ -251,7 +251,7 @@ def _ramp(target, n0, n1, n2, state, par):
     return vt0, vt1, vt2
 
 
-@njit(cache=True, fastmath=False)
+@njit(cache=True, fastmath=False, inline="always")
 def _gravity_torques(theta, g1, g2, dg1_1, dg1_2, par):
     """Gravity compensation τ_g of θ1, θ2 [N m]: the gradient of the bodies' potential
     energy through the closed chain (eq. C.11)."""
