@@ -50,6 +50,8 @@ from planner.control.object_impedance import (
     object_wrench,
 )
 
+SIDES = ("left", "right")
+
 
 def _unit(cs, vx, vy):
     d = cs.sqrt(vx * vx + vy * vy) + 1e-12
@@ -63,28 +65,11 @@ def _finger_qdd(cs, term, sl, acc, alpha, qd):
     return J.T @ cs.solve(J @ J.T + DAMPING * cs.DM.eye(3), rhs)
 
 
-def grasp_qp_function(model, name: str = "hapex_grasp_qp"):
-    """Build the CasADi Function of the per-step QP data (see the module docstring).
-
-    Args:
-        model: the planar hand's ``pin.Model``.
-        name: the Function's name (also the C symbol after code generation).
-
-    Returns:
-        ``casadi.Function`` ``(q, qd, geo, ref, par) -> (H, c, AT, bu, bl, tau0, JT, diag)``.
-    """
-    import casadi as cs
-
-    q, qd = cs.SX.sym("q", 6), cs.SX.sym("qd", 6)
-    geo = cs.SX.sym("geo", 8)
-    ref, par = cs.SX.sym("ref", N_REF), cs.SX.sym("par", N_PAR)
-    r = {k: ref[s] for k, s in REF.items()}
-    p = {k: par[s] for k, s in PAR.items()}
-    terms = finger_terms_sx(model, q, qd, geo[0:4], p["gravity"])
-    grasp, explore = r["flags"][0], (r["flags"][1], r["flags"][2])
-    sides = ("left", "right")
+def _contacts(cs, terms, geo, qd):
+    """Sensed contact points, WCS normals (the tip-frame normals ``geo[4:8]`` rotated by the
+    tip angle) and contact-point velocities ``J qd`` of the left and right fingers."""
     pts, nrm, vel = [], [], []
-    for k, side in enumerate(sides):
+    for k, side in enumerate(SIDES):
         t = terms[side]
         phi = t["phi"]
         ntx, nty = geo[4 + 2 * k], geo[5 + 2 * k]
@@ -92,7 +77,13 @@ def grasp_qp_function(model, name: str = "hapex_grasp_qp"):
         pts.append((t["p"][0], t["p"][1]))
         v = t["J"] @ qd
         vel.append((v[0], v[1]))
-    # object estimate: centre from the holding/grasping contacts and the nominal radii
+    return pts, nrm, vel
+
+
+def _object_estimate(cs, r, p, pts, nrm, vel, explore):
+    """The object's estimated centre (mean of ``contact + rho * normal`` over the holding and
+    grasping contacts), pose, twist, the eq. (2.7) impedance wrench ``W`` (3,) and the grasp
+    matrix ``G`` (3, 4) of eq. (2.6) about that centre."""
     wsum, cx, cy = 0, 0, 0
     for k in range(2):
         a = 1 - explore[k]
@@ -120,6 +111,13 @@ def grasp_qp_function(model, name: str = "hapex_grasp_qp"):
         G[0, 2 * k], G[1, 2 * k + 1] = 1, 1
         G[2, 2 * k] = -(pts[k][1] - c[1])
         G[2, 2 * k + 1] = pts[k][0] - c[0]
+    return c, x_est, xd_est, W, G
+
+
+def _force_targets(cs, r, p, pts, nrm, vel, grasp, explore):
+    """Per-finger tracking weights ``S`` (4, 4) and targets ``d`` (4,): the internal force
+    along the contact line when grasping; else the holding force towards the palm or the
+    exploring fingertip's impedance force (§2.2.3, §2.3.2)."""
     u = _unit(cs, pts[1][0] - pts[0][0], pts[1][1] - pts[0][1])
     f_int = r["f_int"][0]
     S = cs.SX.zeros(4, 4)
@@ -147,19 +145,17 @@ def grasp_qp_function(model, name: str = "hapex_grasp_qp"):
         )  # fmt: skip
         target_other = explore[k] * cs.vertcat(*ftip) + (1 - explore[k]) * cs.vertcat(*fhold)
         d[sl] = grasp * f_int * uk + (1 - grasp) * target_other
-    wW = grasp * p["w_wrench"][0]
-    # torque row in force units: divided by the object's radius (errors compare as forces)
-    rho = 0.5 * (r["rho"][0] + r["rho"][1])
-    Gs = cs.vertcat(G[0:2, :], G[2, :] / rho)
-    Ws = cs.vertcat(W[0:2], W[2] / rho)
-    Hh = S + wW * (Gs.T @ Gs) + p["w_reg"][0] * cs.DM.eye(4)
-    H = 2 * Hh
-    cvec = -2 * (S @ d + wW * (Gs.T @ Ws))
-    # feed-forward torques: gravity, finger mass x desired acceleration, distal moments
+    return S, d
+
+
+def _feed_forward(cs, terms, r, p, qd, c, xd_est, pts, grasp, explore):
+    """Feed-forward torques ``tau0`` (6,) [N m] (gravity, finger mass x desired joint
+    acceleration, distal moments: rolling PD eq. 2.8 or the explorer's orientation
+    impedance) and the hand Jacobian transpose ``J_h^T`` (6, 4) of eq. (2.5)."""
     tau0 = cs.SX.zeros(6, 1)
     acc = contact_accelerations(c, r["xdd_des"], xd_est[2], pts)
     JT = cs.SX.zeros(6, 4)
-    for k, side in enumerate(sides):
+    for k, side in enumerate(SIDES):
         t = terms[side]
         sl = slice(3 * k, 3 * k + 3)
         a_k = [grasp * acc[k][0], grasp * acc[k][1]]
@@ -169,7 +165,12 @@ def grasp_qp_function(model, name: str = "hapex_grasp_qp"):
         moment = (1 - explore[k]) * r["m_roll"][k] + explore[k] * m_orient
         tau0[sl] = t["g"][sl] + t["M"][sl, sl] @ qdd + moment
         JT[sl, 2 * k : 2 * k + 2] = t["J"][:, sl].T
-    # constraints: cones (4), min normal force (2), torque limits (6)
+    return tau0, JT
+
+
+def _constraints(cs, p, nrm, explore, tau0, JT):
+    """Rows ``bl <= A f <= bu``: friction cones of the holding/grasping fingers (4; eq. 2.1,
+    free for the explorer), minimum normal forces (2), joint torque limits (6)."""
     A = cs.SX.zeros(N_CON, 4)
     bu = cs.SX.zeros(N_CON, 1)
     bl = cs.SX.zeros(N_CON, 1)
@@ -190,6 +191,41 @@ def grasp_qp_function(model, name: str = "hapex_grasp_qp"):
     A[6:12, :] = JT
     bu[6:12] = p["tau_max"][0] - tau0
     bl[6:12] = -p["tau_max"][0] - tau0
+    return A, bu, bl
+
+
+def grasp_qp_function(model, name: str = "hapex_grasp_qp"):
+    """Build the CasADi Function of the per-step QP data (see the module docstring).
+
+    Args:
+        model: the planar hand's ``pin.Model``.
+        name: the Function's name (also the C symbol after code generation).
+
+    Returns:
+        ``casadi.Function`` ``(q, qd, geo, ref, par) -> (H, c, AT, bu, bl, tau0, JT, diag)``.
+    """
+    import casadi as cs
+
+    q, qd = cs.SX.sym("q", 6), cs.SX.sym("qd", 6)
+    geo = cs.SX.sym("geo", 8)
+    ref, par = cs.SX.sym("ref", N_REF), cs.SX.sym("par", N_PAR)
+    r = {k: ref[s] for k, s in REF.items()}
+    p = {k: par[s] for k, s in PAR.items()}
+    terms = finger_terms_sx(model, q, qd, geo[0:4], p["gravity"])
+    grasp, explore = r["flags"][0], (r["flags"][1], r["flags"][2])
+    pts, nrm, vel = _contacts(cs, terms, geo, qd)
+    c, x_est, xd_est, W, G = _object_estimate(cs, r, p, pts, nrm, vel, explore)
+    S, d = _force_targets(cs, r, p, pts, nrm, vel, grasp, explore)
+    wW = grasp * p["w_wrench"][0]
+    # torque row in force units: divided by the object's radius (errors compare as forces)
+    rho = 0.5 * (r["rho"][0] + r["rho"][1])
+    Gs = cs.vertcat(G[0:2, :], G[2, :] / rho)
+    Ws = cs.vertcat(W[0:2], W[2] / rho)
+    Hh = S + wW * (Gs.T @ Gs) + p["w_reg"][0] * cs.DM.eye(4)
+    H = 2 * Hh
+    cvec = -2 * (S @ d + wW * (Gs.T @ Ws))
+    tau0, JT = _feed_forward(cs, terms, r, p, qd, c, xd_est, pts, grasp, explore)
+    A, bu, bl = _constraints(cs, p, nrm, explore, tau0, JT)
     diag = cs.vertcat(
         pts[0][0],
         pts[0][1],
