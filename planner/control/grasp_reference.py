@@ -39,6 +39,25 @@ def reference_step(model, data, q, qd, geo, ref, par, solver: str = "daqp") -> d
     p = {k: par[s] for k, s in PAR.items()}
     T = numeric_finger_terms(model, data, q, qd, geo[:4], p["gravity"])
     grasp, explore = r["flags"][0], r["flags"][1:3]
+    pts, nrm, vel = _contacts(T, geo, qd)
+    centre, xd_est, W, G = _object_terms(r, p, pts, nrm, vel, explore)
+    S, d = _targets(r, p, pts, nrm, vel, grasp, explore)
+    wW = grasp * p["w_wrench"][0]
+    scale = np.array([1.0, 1.0, 2.0 / (r["rho"][0] + r["rho"][1])])
+    Gs, Ws = G * scale[:, None], W * scale
+    H = 2 * (S + wW * Gs.T @ Gs + p["w_reg"][0] * np.eye(4))
+    c = -2 * (S @ d + wW * Gs.T @ Ws)
+    tau0, JT = _feed_forward(T, r, p, qd, centre, xd_est, pts, grasp, explore)
+    Gin, hin = _inequalities(p, nrm, explore, tau0, JT)
+    f = qpsolvers.solve_qp(H, c, Gin, hin, solver=solver)
+    ok = f is not None
+    f = f if ok else np.zeros(4)
+    assert Gin.shape[0] <= 2 * N_CON
+    return {"tau": tau0 + JT @ f, "forces": f, "H": H, "c": c, "ok": ok, "wrench": W}
+
+
+def _contacts(T, geo, qd):
+    """Contact points, WCS normals and contact velocities of the left and right fingers."""
     pts, nrm, vel = [], [], []
     for k, side in enumerate(("left", "right")):
         phi = T[side]["phi"]
@@ -47,6 +66,11 @@ def reference_step(model, data, q, qd, geo, ref, par, solver: str = "daqp") -> d
         nrm.append(np.array([c * nt[0] - s * nt[1], s * nt[0] + c * nt[1]]))
         pts.append(T[side]["p"])
         vel.append(T[side]["J"] @ qd)
+    return pts, nrm, vel
+
+
+def _object_terms(r, p, pts, nrm, vel, explore):
+    """Estimated object centre [m] and twist, the eq. (2.7) wrench and the grasp matrix."""
     a = 1.0 - explore
     centre = sum(a[k] * (pts[k] + r["rho"][k] * nrm[k]) for k in range(2)) / a.sum()
     x_est = np.array([centre[0], centre[1], r["theta_est"][0]])
@@ -59,6 +83,11 @@ def reference_step(model, data, q, qd, geo, ref, par, solver: str = "daqp") -> d
     )  # fmt: skip
     rel = [pt - centre for pt in pts]
     G = np.array([[1, 0, 1, 0], [0, 1, 0, 1], [-rel[0][1], rel[0][0], -rel[1][1], rel[1][0]]])
+    return centre, xd_est, W, G
+
+
+def _targets(r, p, pts, nrm, vel, grasp, explore):
+    """Tracking weights ``S`` (4, 4) and force targets ``d`` (4,) [N] of the two fingers."""
     u = _unit(pts[1] - pts[0])
     S, d = np.zeros((4, 4)), np.zeros(4)
     f_int = r["f_int"][0]
@@ -80,11 +109,11 @@ def reference_step(model, data, q, qd, geo, ref, par, solver: str = "daqp") -> d
                     pts[k], vel[k], r["p_hold"], _unit(r["palm"] - pts[k]), f_int,
                     p["kp_hold"][0], p["kv_hold"][0], p["mu"][0],
                 )  # fmt: skip
-    wW = grasp * p["w_wrench"][0]
-    scale = np.array([1.0, 1.0, 2.0 / (r["rho"][0] + r["rho"][1])])
-    Gs, Ws = G * scale[:, None], W * scale
-    H = 2 * (S + wW * Gs.T @ Gs + p["w_reg"][0] * np.eye(4))
-    c = -2 * (S @ d + wW * Gs.T @ Ws)
+    return S, d
+
+
+def _feed_forward(T, r, p, qd, centre, xd_est, pts, grasp, explore):
+    """Feed-forward torques ``tau0`` (6,) [N m] and the hand Jacobian transpose (6, 4)."""
     acc = contact_accelerations(centre, r["xdd_des"], xd_est[2], pts)
     M, gq = T["hand"]["M"], T["hand"]["g"]
     tau0, JT = np.zeros(6), np.zeros((6, 4))
@@ -104,6 +133,12 @@ def reference_step(model, data, q, qd, geo, ref, par, solver: str = "daqp") -> d
         moment = r["m_roll"][k] if not explore[k] else m_or
         tau0[sl] = gq[sl] + M[sl, sl] @ qdd + moment
         JT[sl, 2 * k : 2 * k + 2] = J.T
+    return tau0, JT
+
+
+def _inequalities(p, nrm, explore, tau0, JT):
+    """``Gin f <= hin``: friction cones of the non-exploring fingers, minimum normal
+    forces, joint torque limits."""
     rows, ub = [], []
     mu = p["mu"][0]
     for k in range(2):
@@ -123,11 +158,7 @@ def reference_step(model, data, q, qd, geo, ref, par, solver: str = "daqp") -> d
     tmax = p["tau_max"][0]
     Gin = np.vstack([np.array(rows), JT, -JT])
     hin = np.concatenate([ub, tmax - tau0, tmax + tau0])
-    f = qpsolvers.solve_qp(H, c, Gin, hin, solver=solver)
-    ok = f is not None
-    f = f if ok else np.zeros(4)
-    assert Gin.shape[0] <= 2 * N_CON
-    return {"tau": tau0 + JT @ f, "forces": f, "H": H, "c": c, "ok": ok, "wrench": W}
+    return Gin, hin
 
 
 __all__ = ["reference_step"]
