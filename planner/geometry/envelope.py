@@ -173,50 +173,72 @@ def offset_envelope(
     window = max(4, int(np.ceil(0.5 * r / h)))
     crossings, normals_x, after = [], [], []
     # walk the gaps; trimming may merge or shift them, so recompute as we go
-    kept = np.flatnonzero(kq)
-    jumps = np.flatnonzero(np.diff(kept) > 1)
-    gaps = [(int(kept[j]), int(kept[j + 1])) for j in jumps]
-    if closed and len(kept) < n and (kept[-1] != n - 1 or kept[0] != 0):
-        gaps.append((int(kept[-1]), int(kept[0]) + n))
+    gaps = _gaps(kq, closed)
     for g, (a, b) in enumerate(gaps):
         if not kq[a % n]:
             continue  # merged into the previous gap by its trimming
         # search windows stop at the neighbouring gaps: each branch belongs to one gap
         lo = a - window if g == 0 else max(a - window, gaps[g - 1][1])
         hi = b + window if g == len(gaps) - 1 else min(b + window, gaps[g + 1][0])
-        if not closed:
-            lo = max(lo, 0)
-        idx_t = np.arange(lo, a + 2) % n
-        idx_h = np.arange(b - 1, hi + 1)
-        if not closed:
-            idx_t = idx_t[(idx_t >= 0) & (idx_t < n)]
-            idx_h = idx_h[idx_h < n]
-        idx_h = idx_h % n
-        res = _branch_crossing(Qo[idx_t], Qo[idx_h])
-        if res is None:
-            bb = b % n
-            a1, b0 = (a + 1) % n, (b - 1) % n
-            x = _segment_crossing(Qo[a], Qo[a1], Qo[b0], Qo[bb])
-            if x is None or np.linalg.norm(x - Qo[a]) > 4 * r or np.linalg.norm(x - Qo[bb]) > 4 * r:
-                x = 0.5 * (Qo[a] + Qo[bb])
-            ta, hb = a, bb
-        else:
-            x, it, ih = res
-            ta, hb = int(idx_t[it]), int(idx_h[ih + 1])
-            # trim the overshoot of both branches past the crossing
-            kq[idx_t[it + 1 :]] = False
-            kq[idx_h[: ih + 1]] = False
-            kq[ta] = True
-            kq[hb] = True
-            t0, t1 = Qo[(ta - 1) % n], Qo[(ta + 1) % n]
-            h0, h1 = Qo[(hb - 1) % n], Qo[(hb + 1) % n]
-            if closed or (ta >= 1 and hb + 1 < n):
-                x = _refine_crossing(np.asarray(x), [t0, Qo[ta], t1], [h0, Qo[hb], h1])
+        x, ta, hb = _gap_crossing(Qo, kq, a, b, lo, hi, closed, r)
         nn = No[ta] + No[hb]
         nrm = np.linalg.norm(nn)
         crossings.append(np.asarray(x, float))
         normals_x.append(nn / nrm if nrm > 1e-12 else No[ta])
         after.append(ta)
+    return _assemble(Qo, No, order, kq, crossings, normals_x, after)
+
+
+def _gaps(kq: np.ndarray, closed: bool) -> list[tuple[int, int]]:
+    """The runs of removed samples as (last kept before, first kept after) index pairs (the
+    wrap-around gap of a closed curve ends past ``n``)."""
+    n = len(kq)
+    kept = np.flatnonzero(kq)
+    jumps = np.flatnonzero(np.diff(kept) > 1)
+    gaps = [(int(kept[j]), int(kept[j + 1])) for j in jumps]
+    if closed and len(kept) < n and (kept[-1] != n - 1 or kept[0] != 0):
+        gaps.append((int(kept[-1]), int(kept[0]) + n))
+    return gaps
+
+
+def _gap_crossing(Qo, kq, a, b, lo, hi, closed, r):
+    """The crossing [m] of the two offset branches around the gap ``(a, b)`` searched in
+    ``[lo, hi]``, and the tail/head samples it joins. The branches' overshoot past the
+    crossing is trimmed from ``kq`` (in place); without a branch crossing, the crossing of
+    the gap's end segments (or their midpoint when that is farther than 4 r)."""
+    n = len(Qo)
+    if not closed:
+        lo = max(lo, 0)
+    idx_t = np.arange(lo, a + 2) % n
+    idx_h = np.arange(b - 1, hi + 1)
+    if not closed:
+        idx_t = idx_t[(idx_t >= 0) & (idx_t < n)]
+        idx_h = idx_h[idx_h < n]
+    idx_h = idx_h % n
+    res = _branch_crossing(Qo[idx_t], Qo[idx_h])
+    if res is None:
+        bb = b % n
+        a1, b0 = (a + 1) % n, (b - 1) % n
+        x = _segment_crossing(Qo[a], Qo[a1], Qo[b0], Qo[bb])
+        if x is None or np.linalg.norm(x - Qo[a]) > 4 * r or np.linalg.norm(x - Qo[bb]) > 4 * r:
+            x = 0.5 * (Qo[a] + Qo[bb])
+        return x, a, bb
+    x, it, ih = res
+    ta, hb = int(idx_t[it]), int(idx_h[ih + 1])
+    kq[idx_t[it + 1 :]] = False
+    kq[idx_h[: ih + 1]] = False
+    kq[ta] = True
+    kq[hb] = True
+    t0, t1 = Qo[(ta - 1) % n], Qo[(ta + 1) % n]
+    h0, h1 = Qo[(hb - 1) % n], Qo[(hb + 1) % n]
+    if closed or (ta >= 1 and hb + 1 < n):
+        x = _refine_crossing(np.asarray(x), [t0, Qo[ta], t1], [h0, Qo[hb], h1])
+    return x, ta, hb
+
+
+def _assemble(Qo, No, order, kq, crossings, normals_x, after) -> Envelope:
+    """The kept offset samples with the crossings inserted after their tail samples."""
+    n = len(Qo)
     kept = np.flatnonzero(kq)
     out_p, out_n, out_src = Qo[kept], No[kept], order[kept]
     cross_idx = np.empty(0, int)
