@@ -12,6 +12,7 @@ from planner.errors import InvalidParameter
 from planner.exploration.planar.heuristics import stable_pair
 from planner.exploration.planar.hold_geometry import (
     contact_line_angles,
+    grasp_window,
     palm_press_angle,
     resting_contact,
 )
@@ -119,3 +120,41 @@ def test_degenerate_input_is_one_clear_error():
         palm_press_angle((0.0, 0.1), (0.0, 0.0), (0.0, 0.0))
     with pytest.raises(InvalidParameter, match="p_right - p_left"):
         contact_line_angles((0.0, 0.0), (1.0, 0.0), (0.0, 0.0), (-1.0, 0.0))
+
+
+def _window_hand():
+    from planner.kinds.gait import HandConfig
+
+    return HandConfig(joint_lower_deg=(-40, 0, -10), joint_upper_deg=(90, 150, 130)).hand(1.0)
+
+
+WINDOW = {
+    "press_limit": math.radians(34.0),
+    "line_limit": math.atan(0.8) - 0.15,
+    "joint_reserve": math.radians(2.9),
+}
+
+
+def test_grasp_window_shrinks_when_the_ellipse_stands_on_its_end():
+    """The ellipse_gait description's numbers: 13 of the 195 pairs lying flat, 2-6 between
+    -60 and -120 deg, every one with the right contact >= 35 deg (the executor holds at 24)."""
+    hand, e = _window_hand(), shapes.ellipse(0.06, 0.05)
+    flat = grasp_window(e, hand, 0.0, 1.0, **WINDOW)
+    assert len(flat) == 13
+    for deg in (-60.0, -90.0, -120.0):
+        pairs = grasp_window(e, hand, math.radians(deg), 1.0, **WINDOW)
+        assert 1 <= len(pairs) <= 6
+        assert min(br for br, _ in pairs) >= math.radians(35.0) - 1e-9
+        for br, bl in pairs:  # each pair meets the limits it was selected by
+            pr, nr, palm = resting_contact(e, math.radians(deg), br)
+            pl, nl, _ = resting_contact(e, math.radians(deg), bl)
+            assert palm_press_angle(pr, nr, palm) <= WINDOW["press_limit"]
+            assert max(contact_line_angles(pl, nl, pr, nr)) <= WINDOW["line_limit"]
+    circle = grasp_window(shapes.circle(0.0548), hand, 0.0, 1.0, **WINDOW)
+    assert len(circle) > len(flat)
+
+
+def test_grasp_window_limits_beyond_the_cone_are_refused():
+    with pytest.raises(InvalidParameter, match="press_limit"):
+        grasp_window(shapes.circle(0.05), _window_hand(), 0.0, 0.5, press_limit=0.5,
+                     line_limit=0.3, joint_reserve=0.05)  # fmt: skip

@@ -14,10 +14,15 @@ contact normals are not radial, and these angles are what the friction cones see
   (a two-contact force closure) need that line inside both cones; on a circle both angles
   are ``pi/2 - |beta_L - beta_R| / 2`` (:func:`.heuristics.stable_pair`).
 * :func:`resting_contact`: a contact on the true profile resting on the palm, for the two.
+* :func:`grasp_window`: the (right, left) contact-angle pairs of a resting pose where the
+  right finger can hold the object on the palm, the two fingers can squeeze it, and the
+  flat left pad reaches its contact.
 
 Measured with these on ``ellipse_gait`` (12 x 10 cm, see the scenario's description): with
-the ellipse standing on its end the right holder's chord makes 36 deg with its normal at
-``beta`` = 40 deg where the circle model says 25 deg.
+the ellipse standing on its end the right holder's chord makes 44 deg with its normal at
+``beta`` = 20 deg where the circle model says 35 deg, and :func:`grasp_window` (press <= 34
+deg, contact line <= 30 deg, 2.9 deg of pad reserve) keeps 2-6 of 195 pairs between -60 and
+-120 deg (13 lying flat), all with the right contact at >= 35 deg.
 """
 
 from __future__ import annotations
@@ -96,4 +101,59 @@ def resting_contact(profile, angle: float, beta: float):
     return point, -(rot @ nrm[0]), np.array([float(palm[0]), 0.0])
 
 
-__all__ = ["contact_line_angles", "palm_press_angle", "resting_contact"]
+def grasp_window(
+    profile,
+    hand,
+    angle: float,
+    mu: float,
+    *,
+    press_limit: float,
+    line_limit: float,
+    joint_reserve: float,
+    step: float = math.radians(5.0),
+) -> list[tuple[float, float]]:
+    """World contact angles ``(beta_right, beta_left)`` [rad] (right 10-70 deg, left
+    120-190 deg, every ``step``) of ``profile`` turned by ``angle`` [rad] and resting on the
+    palm, at which the right finger's palm press is within ``press_limit`` of its normal,
+    the contact line within ``line_limit`` of both normals (both [rad], at most
+    ``atan(mu)``) and the flat left pad, lying on its contact, keeps ``joint_reserve``
+    [rad] from every joint limit (the right tip's reach is not checked: it is not the
+    binding one on ``ellipse_gait``).
+
+    Raises:
+        InvalidParameter: a limit beyond the friction cone ``atan(mu)``.
+    """
+    from planner.errors import HapexError
+    from planner.exploration.planar.heuristics import pad_angle
+
+    cone = math.atan(checks.positive("mu", mu))
+    for name, v in (("press_limit", press_limit), ("line_limit", line_limit)):
+        if not 0.0 < v <= cone:
+            raise checks.InvalidParameter(
+                f"{name}: expected in (0, atan(mu) = {cone:.4f}] [rad], got {v!r}"
+            )
+    lim = hand.finger_limits("left")
+    mid = float(lim.sum(axis=0).mean())
+    rights = np.arange(math.radians(10.0), math.radians(70.0) + 1e-9, step)
+    lefts = np.arange(math.radians(120.0), math.radians(190.0) + 1e-9, step)
+    out = []
+    for br in rights:
+        pr, nr, palm = resting_contact(profile, angle, float(br))
+        if palm_press_angle(pr, nr, palm) > press_limit:
+            continue
+        for bl in lefts:
+            pl, nl, _ = resting_contact(profile, angle, float(bl))
+            if max(contact_line_angles(pl, nl, pr, nr)) > line_limit:
+                continue
+            try:
+                q = hand.inverse_kinematics(
+                    "left", pl, angle=pad_angle(math.atan2(-nl[1], -nl[0]), mid)
+                )
+            except HapexError:
+                continue
+            if float(np.min(np.minimum(q - lim[:, 0], lim[:, 1] - q))) >= joint_reserve:
+                out.append((float(br), float(bl)))
+    return out
+
+
+__all__ = ["contact_line_angles", "grasp_window", "palm_press_angle", "resting_contact"]
