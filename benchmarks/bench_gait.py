@@ -24,10 +24,13 @@ the compiled kernels are shared; a worker over its wall cap is killed and report
 The executor's model of each object (``--nominal``): ``true`` (default; the object's outline,
 posed from the sensed contacts at every phase start, as the §2.3.1 simulation modelled the
 shape) or ``circle`` (a feature-less circle of the object's area). ``--only square,gon``
-runs the objects whose name or family contains one of the substrings.
+runs the objects whose name or family contains one of the substrings. ``--phase-log``
+prints every object's phases measured against the truth after the table
+(:func:`planner.exploration.planar.phase_log.phase_rows`: true vs sensed rotation, the
+centre estimate's error, each contact's ``|T| / N``).
 
 Run: ``python benchmarks/bench_gait.py [--quick] [--duration S] [--jobs N] [--ball S]
-[--nominal true|circle] [--only SUBSTRINGS]``.
+[--nominal true|circle] [--only SUBSTRINGS] [--phase-log]``.
 """
 
 from __future__ import annotations
@@ -122,11 +125,17 @@ def map_verdict(profile, hand, mu: float) -> tuple[bool, str]:
 
 
 def run_object(
-    obj: BatchObject, duration: float, min_rotation_deg: float, mu: float, nominal: str = "circle"
+    obj: BatchObject,
+    duration: float,
+    min_rotation_deg: float,
+    mu: float,
+    nominal: str = "circle",
+    phase_log: bool = False,
 ) -> dict:
     """Execute one object (in a worker process); the batch row. ``nominal``: the planner's
     model, ``"circle"`` (a feature-less circle of the object's area) or ``"true"`` (the
-    object's outline, posed from the sensed contacts: the §2.3.1 simulation modelled it)."""
+    object's outline, posed from the sensed contacts: the §2.3.1 simulation modelled it).
+    ``phase_log``: the row's ``phase_log`` holds one line per phase (:func:`phase_rows`)."""
     from planner.exploration import explore_object
     from planner.exploration.planar.setup import check_fits
 
@@ -163,6 +172,10 @@ def run_object(
         rtf=round(sim / wall, 3) if wall > 0 else "",
         cpu_rtf=round(sim / cpu, 3) if cpu > 0 else "",
     )  # fmt: skip
+    if phase_log:
+        from planner.exploration.planar.phase_log import phase_rows
+
+        row["phase_log"] = [r.line() for r in phase_rows(res)]
     return row
 
 
@@ -277,7 +290,8 @@ def bench_batch(args) -> list[dict]:
             if not args.only or any(k in o.name or k in o.family for k in args.only.split(","))
         ]
     )
-    tasks = [(o, args.duration, args.min_rotation, 1.0, args.nominal) for o in objs]
+    tasks = [(o, args.duration, args.min_rotation, 1.0, args.nominal, args.phase_log)
+             for o in objs]  # fmt: skip
     rows = run_parallel(tasks, run_object, args.jobs, args.wall_cap, args.budget)
     for o, r in zip(objs, rows, strict=True):
         r.setdefault("benchmark", "batch")
@@ -445,6 +459,7 @@ def main() -> None:
         help="the planner's model: the object's outline (posed) or a circle",
     )
     p.add_argument("--only", default="", help="comma-separated name/family substrings")
+    p.add_argument("--phase-log", action="store_true", help="print every object's phases")
     args = p.parse_args()
     if args.quick:
         args.duration = min(args.duration, 2.0)
@@ -482,6 +497,11 @@ def main() -> None:
             "ridge_error_deg", "agree", "plan_gait_reason"]  # fmt: skip
     write_report("bench_gait", rows, title="hapex executed grasp gait (ch. 2, §2.3.1 batch)",
                  out=args.out, notes=notes, columns=cols)  # fmt: skip
+    for r in rows:
+        if r.get("phase_log"):
+            print(f"\n{r['object']}: phases (true vs sensed rotation [deg], centre estimate "
+                  "error, median/max |T|/N per contact)")  # fmt: skip
+            print("\n".join(r["phase_log"]))
 
 
 if __name__ == "__main__":
