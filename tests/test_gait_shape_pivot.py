@@ -171,3 +171,109 @@ def test_pivot_grasps_stability_is_the_friction_cone_test():
     assert g[0].stable  # pad and tip at the same height on parallel faces
     with pytest.raises(InvalidParameter):
         pr.pivot_grasps(HAND, SQUARE, [0.0], 0.0)
+
+
+# ---------------------------------------------------------------- the executor's use
+def _start_on_square(d0: float = 0.04, phi0: float = math.radians(200.0), pad_y: float = 0.08):
+    """Joint angles and a sensed estimate of the square at rest: the pad flat on the left
+    face with its centre at height ``pad_y``, the round tip on the right face at ``d0``
+    with the orientation ``phi0``; the estimate's centre half a width inside the pad."""
+    from types import SimpleNamespace
+
+    qL = HAND.inverse_kinematics("left", [-A, pad_y], angle=-0.5 * math.pi)
+    face = pr.Face.between(SQUARE[1], SQUARE[2], SQUARE.mean(axis=0))
+    T = face.tip_centre(SQUARE[1], 0.0, d0, R_TIP)
+    qR = HAND.inverse_kinematics("right", T, angle=phi0)
+    centre = np.array([0.0, pad_y])
+    est = SimpleNamespace(
+        tips=np.array([[-A, pad_y], T]),
+        centre=centre,
+        beta=np.array([math.pi, math.atan2(T[1] - pad_y, T[0])]),
+        u=0.0,
+    )
+    return np.r_[qL, qR], est, face
+
+
+def test_plan_pivot_turns_every_point_about_the_palm_corner():
+    from planner.exploration.planar.pivot_planning import PIVOT_SLACK, plan_pivot
+
+    q, est, face = _start_on_square()
+    plan = plan_pivot(HAND, SQUARE, face, 0.04, est, q, math.radians(40.0), 12)
+    assert plan.success and plan.rotation < -math.radians(5.0)
+    k = pr.palm_corner(SQUARE)
+    path = pr.tip_rolling_path(HAND, SQUARE, face, 0.04, q[3:].sum(), max_turn=0.7,
+                               margin=0.045)  # fmt: skip
+    reach_l, _ = pr.pad_reach(HAND, SQUARE, est.tips[0], q[:3].sum(), margin=0.045)
+    assert -plan.rotation == pytest.approx(min(path.reach, reach_l) - PIVOT_SLACK, abs=1e-9)
+    assert plan.theta[0] == 0.0 and np.all(np.diff(plan.theta) < 0)
+    rho = np.linalg.norm(est.centre - k)
+    assert np.allclose(np.linalg.norm(plan.centre - k, axis=1), rho, atol=1e-12)
+    assert np.allclose(plan.beta[:, 0], math.pi + plan.theta, atol=1e-12)
+    assert np.allclose(plan.u, 0.0)
+    for th, qk in zip(plan.theta, plan.q, strict=True):
+        pad = HAND.fingertip_pose(qk, "left")
+        # knots between the 1 deg grid interpolate the joints: sub-millimetre
+        assert np.linalg.norm(pad.position - pr.pivoted(est.tips[0], k, th)) < 2e-4
+        assert math.remainder(pad.angle - (-0.5 * math.pi + th), 2 * math.pi) == pytest.approx(
+            0.0, abs=2e-3
+        )
+        tip = HAND.fingertip_pose(qk, "right").position
+        m = pr.rotation(th) @ face.normal
+        assert float((tip - k) @ m) == pytest.approx(R_TIP, abs=2e-4)  # on the face's offset
+        assert HAND.within_limits(qk)
+
+
+def test_plan_pivot_fails_with_its_reason_at_the_workspace_end():
+    from planner.exploration.planar.pivot_planning import plan_pivot
+
+    q, est, face = _start_on_square()
+    turned = pr.pivoted(SQUARE, SQUARE[1], -math.radians(33.0))
+    fturned = pr.Face.between(turned[1], turned[2], turned.mean(axis=0))
+    T = fturned.tip_centre(turned[1], 0.0, 0.05, R_TIP)
+    qR = HAND.inverse_kinematics("right", T)  # within the limits, but its links cut the square
+    plan = plan_pivot(HAND, turned, fturned, 0.05, est, np.r_[q[:3], qR], 0.5, 8)
+    assert not plan.success and plan.rotation == 0.0
+    assert "right tip reaches" in plan.stop and "left pad" in plan.stop
+
+
+def test_best_tip_regrasp_beats_the_start_grasp_and_is_its_paths_reach():
+    """The regrasp chosen on the square_gait hand's right face pivots further than the start
+    grasp's contact (69.7 mm up the face, tip at 147 deg), and its reach is its rolling
+    path's."""
+    from planner.exploration.planar.pivot_planning import PIVOT_MARGIN, best_tip_regrasp
+
+    face = pr.Face.between(SQUARE[1], SQUARE[2], SQUARE.mean(axis=0))
+    d0, phi0, reach = best_tip_regrasp(HAND, SQUARE, face, theta_cap=math.radians(40.0))
+    start = pr.tip_rolling_path(HAND, SQUARE, face, 0.0697, math.radians(147.2),
+                                max_turn=math.radians(40.0), margin=PIVOT_MARGIN)  # fmt: skip
+    assert reach > start.reach + math.radians(10.0)
+    again = pr.tip_rolling_path(HAND, SQUARE, face, d0, phi0, max_turn=math.radians(40.0),
+                                margin=PIVOT_MARGIN)  # fmt: skip
+    assert again.reach == pytest.approx(reach)
+
+
+def test_outline_explore_segment_goes_to_a_point_and_turns_the_tip():
+
+    from planner.exploration.planar.outline_pose import Outline
+    from planner.exploration.planar.outline_segments import outline_explore_segment
+    from planner.exploration.planar.settings import GaitSettings
+    from planner.exploration.planar.shape_tracking import ShapeTracker
+
+    outline = Outline(np.array([[A, -A], [A, A], [-A, A], [-A, -A]]))
+    tracker = ShapeTracker(outline, (0.0, A, 0.0), HAND)
+    q, est, _ = _start_on_square(d0=0.07)
+    est.p = np.array([[-A, 0.08], [A, 0.07]])
+    est.normal_force = np.array([0.4, 0.3])
+    s = GaitSettings()
+    target = np.array([A, 0.04])
+    phi_end = float(q[3:].sum()) + 0.5
+    seg = outline_explore_segment(2, est, q, tracker, 0.0, 0.0, s, HAND,
+                                  target_point=target, phi_end=phi_end)  # fmt: skip
+    p0, _, phi_a = seg.explore(0.0)
+    p1, v1, phi_b = seg.explore(seg.duration)
+    assert np.allclose(p0, [A, 0.07], atol=1e-9) and phi_a == pytest.approx(q[3:].sum())
+    assert np.allclose(p1, target, atol=1e-9) and phi_b == pytest.approx(phi_end)
+    assert np.allclose(v1, 0.0, atol=1e-9)
+    # the turn is spread over the move (monotone with the contact's progress)
+    phis = [seg.explore(t)[2] for t in np.linspace(0.0, seg.duration, 50)]
+    assert np.all(np.diff(phis) >= -1e-12)

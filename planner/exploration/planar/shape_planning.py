@@ -15,6 +15,8 @@ outline instead of a circle):
 
 from __future__ import annotations
 
+from planner.exploration.planar import pivot_planning
+
 #: largest travel of the planned centre in phase 1 on a posed outline [m] (a square pivoting
 #: on its corner lifts its centre up to 23 mm)
 SHAPE_TRAVEL = 0.03
@@ -24,6 +26,9 @@ SHAPE_TRAVEL = 0.03
 #: turned the 11 cm and 8 cm squares the wrong way (+30 and +41 deg where -25 were planned;
 #: measured 2026-11-23, 10 s simulated, seed 0)
 PLAN_ON_OUTLINE = False
+#: plan phase 1 of a posed polygon as its pivot about the palm corner and end phase 2 where
+#: the next pivot reaches furthest (:mod:`.pivot_planning`)
+PLAN_PIVOT = True
 
 
 def set_radius(ctrl, R: float) -> None:
@@ -77,6 +82,8 @@ def plan_phase1(runner, q, mu: float):
         plan = _nlp(runner, "outline").solve(q, shape.pose, modes, shape.hull_points(), r, mu,
                                              radius=runner.R_nominal, u_sensed=float(est.u),
                                              **common)  # fmt: skip
+    elif local is not None and PLAN_PIVOT and pivot_planning.tip_face(shape, est) is not None:
+        return _pivot_phase1(runner, q, est, local)
     elif local is not None:
         set_radius(ctrl, local[1])
         est = posed_estimate(est, local)
@@ -90,14 +97,42 @@ def plan_phase1(runner, q, mu: float):
     return runner.phase1_outcome(plan, est, q, mu)
 
 
+def _pivot_phase1(runner, q, est, local):
+    """Phase 1 planned as the pivot about the palm corner (:func:`.pivot_planning.plan_pivot`)
+    from the local circle's estimate (the controller's centre is a point of the object)."""
+    from planner.exploration.planar.segments import phase1_segment
+
+    shape, s = runner.shape, runner.s
+    face, d0 = pivot_planning.tip_face(shape, est)
+    set_radius(runner.ctrl, local[1])
+    est = posed_estimate(est, local)
+    W = shape.outline.posed(shape.pose)
+    cap = min(pivot_planning.MAX_PIVOT, runner._rotation_cap())
+    plan = pivot_planning.plan_pivot(runner.hand, W, face, d0, est, q, cap, s.nlp_knots)
+    runner._plan1 = plan
+    if not plan.success:
+        return None, 0.0, plan.solve_time_s, f"{plan.stop} (blocking: workspace)"
+    seg = phase1_segment(plan, est, q, runner.theta, s, runner.hand, lift=0.0)
+    return seg, plan.rotation, plan.solve_time_s, ""
+
+
 def plan_explore(runner, kind: int, est, q):
     """The phase-2/3 segment on the posed outline: back to the start grasp's world angle
-    (a grasp that was stable and reachable with the object resting on the palm)."""
+    (a grasp that was stable and reachable with the object resting on the palm); with
+    :data:`PLAN_PIVOT` the right tip goes where the next pivot reaches furthest."""
     from planner.exploration.planar.outline_segments import outline_explore_segment
 
     target = runner.start["beta"][1 if kind == 2 else 0]
+    point = phi = None
+    tf = pivot_planning.tip_face(runner.shape, est) if kind == 2 and PLAN_PIVOT else None
+    if tf is not None:
+        W = runner.shape.outline.posed(runner.shape.pose)
+        best = pivot_planning.best_tip_regrasp(runner.hand, W, tf[0])
+        if best is not None and best[2] > 0.0:
+            point = tf[0].start + best[0] * tf[0].tangent
+            phi = best[1]
     return outline_explore_segment(kind, est, q, runner.shape, target, runner.theta, runner.s,
-                                   runner.hand)  # fmt: skip
+                                   runner.hand, target_point=point, phi_end=phi)  # fmt: skip
 
 
 __all__ = ["PLAN_ON_OUTLINE", "SHAPE_TRAVEL", "plan_explore", "plan_phase1", "set_radius"]
