@@ -40,8 +40,28 @@ def test_palm_corner_is_the_lowest_rightmost_vertex():
     assert np.allclose(pr.palm_corner(SQUARE), [A, 0.0])
     tilted = pr.pivoted(SQUARE, [A, 0.0], -0.3)  # standing on its corner
     assert np.allclose(pr.palm_corner(tilted), [A, 0.0])
+    # a posed face tilted 1.4 deg either way still pivots about its right end
+    for a in (-0.025, 0.025):
+        assert np.allclose(pr.palm_corner(pr.pivoted(SQUARE, [0.0, 0.0], a)),
+                           pr.pivoted(SQUARE[1], [0.0, 0.0], a))  # fmt: skip
     with pytest.raises(InvalidParameter):
         pr.palm_corner(np.zeros((2, 2)))
+
+
+def test_palm_corner_and_sharpness_of_sampled_outlines():
+    """The executor's outlines are sampled every millimetre: the corner is still the
+    vertex, and only a sharp one is a pivot (a rounded corner rolls)."""
+    from planner.exploration.planar.outline_pose import Outline
+    from planner.geometry import shapes
+
+    sharp = Outline.from_profile(shapes.rounded_rectangle(0.11, 0.11, 0.0)).posed((0, A, 0))
+    k = pr.palm_corner(sharp)
+    assert np.allclose(k, [A, 0.0], atol=1e-12) and pr.is_sharp(sharp, k)
+    standing = pr.pivoted(sharp, k, -0.3)
+    assert np.allclose(pr.palm_corner(standing), k) and pr.is_sharp(standing, k)
+    for rho in (0.01, 0.022):
+        W = Outline.from_profile(shapes.rounded_rectangle(0.11, 0.11, rho)).posed((0, A, 0))
+        assert not pr.is_sharp(W, pr.palm_corner(W))
 
 
 @settings(max_examples=40, deadline=None)
@@ -277,3 +297,17 @@ def test_outline_explore_segment_goes_to_a_point_and_turns_the_tip():
     # the turn is spread over the move (monotone with the contact's progress)
     phis = [seg.explore(t)[2] for t in np.linspace(0.0, seg.duration, 50)]
     assert np.all(np.diff(phis) >= -1e-12)
+
+
+def test_move_check_of_a_regrasp():
+    """The phase-2 move to a regrasp: staying put is fine; a target beyond the base joint's
+    lower limit on the way (the tip far down the right face turned the wrong way) is not."""
+    from planner.exploration.planar.pivot_planning import _move_ok
+
+    q, _, face = _start_on_square(d0=0.06, phi0=math.radians(180.0))
+    here = (0.06, float(q[3:].sum()))
+    assert _move_ok(HAND, SQUARE, face, q[3:], here)
+    lim = HAND.finger_limits("right")
+    far = (0.006, float(q[3:].sum()) - 2.5)
+    assert not _move_ok(HAND, SQUARE, face, q[3:], far)
+    assert np.all(q[3:] > lim[:, 0])

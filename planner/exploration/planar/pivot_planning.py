@@ -66,13 +66,21 @@ class PivotPlan:
     iterations: int = 0
 
 
+def _deg(x: float) -> float:
+    return math.degrees(x) + 0.0  # no "-0.0"
+
+
 def tip_face(shape, est):
     """``(Face, d0)``: the straight face of the posed outline under the round tip (world
-    frame) and the contact's distance along it [m], or None (no tip contact or no face)."""
+    frame) and the contact's distance along it [m], or None (no tip contact, no face, or
+    the outline rests on a rounded corner: it rolls there, it does not pivot)."""
     from planner.exploration.planar.outline_pose import contacts
 
     rd = shape.readings(est, True)
     if rd.tip_centre is None:
+        return None
+    W = shape.outline.posed(shape.pose)
+    if not pr.is_sharp(W, pr.palm_corner(W)):  # a rounded corner rolls: no pivot
         return None
     con = contacts(shape.outline, shape.pose, rd)
     x, y, a = shape.pose
@@ -82,7 +90,6 @@ def tip_face(shape, est):
     if face is None:
         return None
     A, B = (Rt.T @ p + (x, y) for p in face)
-    W = shape.outline.posed(shape.pose)
     f = pr.Face.between(A, B, W.mean(axis=0))
     return f, float((con["tip"] - f.start) @ f.tangent)
 
@@ -95,12 +102,12 @@ def plan_pivot(hand, W, face, d0: float, est, q, theta_cap: float, knots: int) -
     t0, c0 = time.perf_counter(), time.process_time()
     q = np.asarray(q, float)
     path = pr.tip_rolling_path(hand, W, face, d0, float(q[3:].sum()), max_turn=theta_cap,
-                               margin=PIVOT_MARGIN)  # fmt: skip
-    reach_l, qL = pr.pad_reach(hand, W, est.tips[0], float(q[:3].sum()),
-                               max_turn=max(path.reach, 0.0), margin=PIVOT_MARGIN)  # fmt: skip
+                               margin=PIVOT_MARGIN, start_margin=0.0)  # fmt: skip
+    reach_l, qL = pr.pad_reach(hand, W, est.tips[0], float(q[:3].sum()), max_turn=theta_cap,
+                               margin=PIVOT_MARGIN, start_margin=0.0)  # fmt: skip
     rot = min(path.reach, reach_l) - PIVOT_SLACK
-    stop = (f"pivot about the palm corner: the right tip reaches {math.degrees(path.reach):.1f} "
-            f"deg, the left pad {math.degrees(reach_l):.1f} deg")  # fmt: skip
+    stop = (f"pivot about the palm corner: the right tip reaches {_deg(path.reach):.1f} deg, "
+            f"the left pad {_deg(reach_l):.1f} deg")  # fmt: skip
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     if rot < math.radians(1.0) or len(qL) == 0:
         K = np.zeros(1)
@@ -125,12 +132,23 @@ def plan_pivot(hand, W, face, d0: float, est, q, theta_cap: float, knots: int) -
                      float(th[-1]), True, wall, stop, cpu)  # fmt: skip
 
 
-def best_tip_regrasp(hand, W, face, theta_cap: float = MAX_PIVOT):
+def pad_reach_now(hand, W, est, q) -> float:
+    """How far [rad] the left pad, stuck where it is (``est.tips[0]``, orientation the sum
+    of ``q[:3]``), can follow a pivot of the posed outline ``W`` from here."""
+    reach, _ = pr.pad_reach(hand, W, est.tips[0], float(np.sum(q[:3])), max_turn=MAX_PIVOT,
+                            margin=PIVOT_MARGIN, start_margin=0.0)  # fmt: skip
+    return reach
+
+
+def best_tip_regrasp(hand, W, face, theta_cap: float = MAX_PIVOT, q_right=None):
     """Where on ``face`` the round tip should regrasp: ``(d0 [m], phi0 [rad], reach [rad])``
     of the candidate (every :data:`REGRASP_STEP` along the face, every
     :data:`REGRASP_PHI_STEP` of orientation) whose rolling path pivots the object (world
     polygon ``W``) furthest, ties broken by the path's smallest joint margin; None when no
-    candidate is reachable."""
+    candidate is reachable. With the right finger's joints ``q_right`` (3,) [rad], only
+    candidates the phase-2 move reaches from there are kept (:func:`_move_ok`; a regrasp
+    chosen without it hit the base joint's limit on the way and the held square fell back
+    10 deg)."""
     lim = hand.finger_limits("right")
     best, key = None, (-1.0, -math.inf)
     lo = float(lim[:, 0].sum())  # orientations a turn apart are one (the IK wraps)
@@ -141,10 +159,48 @@ def best_tip_regrasp(hand, W, face, theta_cap: float = MAX_PIVOT):
                                     max_turn=theta_cap, margin=PIVOT_MARGIN)  # fmt: skip
             if not np.isfinite(p.margin[0]):
                 continue
+            phi = float(p.q[0].sum())  # the orientation as the joints' sum (the IK wrapped it)
+            if q_right is not None and not _move_ok(hand, W, face, q_right, (float(d0), phi)):
+                continue
             kk = (round(p.reach, 6), float(p.margin.min()))
-            if kk > key:  # the orientation as the joints' sum (the IK wrapped it)
-                best, key = (float(d0), float(p.q[0].sum()), p.reach), kk
+            if kk > key:
+                best, key = (float(d0), phi, p.reach), kk
     return best
 
 
-__all__ = ["MAX_PIVOT", "PivotPlan", "best_tip_regrasp", "plan_pivot", "tip_face"]
+#: joint-limit margin of the phase-2 move to a regrasp [rad]
+MOVE_MARGIN = 0.035
+
+
+def _move_ok(hand, W, face, q_right, end, n: int = 12) -> bool:
+    """Whether the round tip's move from the right finger's joints ``q_right`` (3,) [rad]
+    to the contact ``end = (d, phi)`` [m, rad] on ``face`` (its centre on the straight
+    line between, the orientation interpolated) keeps the finger's joints
+    :data:`MOVE_MARGIN` inside their limits (or, from a start nearer than twice that, no
+    nearer than the start less :data:`MOVE_MARGIN`; the object held where ``W`` is)."""
+    from robots.planar_hand import kinematics as kin
+
+    f = hand.params.right
+    q0 = np.asarray(q_right, float)
+    T0, _ = kin.fingertip(np.array(f.base), np.array(f.lengths), q0[None])
+    T1 = face.tip_centre(pr.palm_corner(W), 0.0, end[0], float(f.tip_radius))
+    t = np.linspace(0.0, 1.0, n)[1:, None]
+    T = T0[0] + t * (T1 - T0[0])
+    phi = float(q0.sum()) + t[:, 0] * (end[1] - float(q0.sum()))
+    lim = hand.finger_limits("right")
+    sols, ok = hand.ik_candidates("right", T, phi)
+    m = np.where(ok, np.minimum(sols - lim[:, 0], lim[:, 1] - sols).min(axis=-1), -np.inf)
+    m0 = float(np.minimum(q0 - lim[:, 0], lim[:, 1] - q0).min())
+    # a finger that starts nearer to a limit (a phase 1 ended there) may stay as near: the
+    # workspace event fires a further ``MOVE_MARGIN`` toward it (controller.limit_triggers)
+    return bool(np.all(m.max(axis=1) >= min(MOVE_MARGIN, m0 - MOVE_MARGIN)))
+
+
+__all__ = [
+    "MAX_PIVOT",
+    "PivotPlan",
+    "best_tip_regrasp",
+    "pad_reach_now",
+    "plan_pivot",
+    "tip_face",
+]

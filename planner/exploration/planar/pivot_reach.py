@@ -42,8 +42,9 @@ JOINT_MARGIN = 0.05
 LINK_CLEARANCE = 0.004
 #: the round contact keeps this far from a face's ends [m]
 FACE_END = 0.003
-#: vertices within this of the lowest one rest on the palm [m]
-PALM_TOL = 2e-3
+#: the palm corner is the lowest vertex with the object tipped clockwise by atan of this
+#: [-] (5 deg: more than a posed face's tilt error, 1.4 deg)
+PIVOT_SLOPE = math.tan(math.radians(5.0))
 
 
 def rotation(theta: float) -> np.ndarray:
@@ -53,11 +54,38 @@ def rotation(theta: float) -> np.ndarray:
 
 
 def palm_corner(W) -> np.ndarray:
-    """(2,) the corner a clockwise turn pivots about: the rightmost vertex of the world
-    polygon ``W`` (M, 2) [m] within :data:`PALM_TOL` of its lowest point."""
+    """(2,) the corner a clockwise turn pivots about: the vertex of the world polygon ``W``
+    (M, 2) [m] lowest after the object is tipped clockwise by ``atan(PIVOT_SLOPE)``
+    (minimum of ``y - PIVOT_SLOPE x``): of a face resting on the palm its right end, even
+    when the posed face is tilted a little or sampled every millimetre; of an object
+    standing on a corner that corner."""
     W = checks.points("W", W, dims=(2,), min_count=3)
-    low = W[W[:, 1] <= W[:, 1].min() + PALM_TOL]
-    return low[int(np.argmax(low[:, 0]))].copy()
+    return W[int(np.argmin(W[:, 1] - PIVOT_SLOPE * W[:, 0]))].copy()
+
+
+#: a palm corner whose outline turns by more than this over :data:`SHARP_SPAN` is sharp [rad]
+SHARP_TURN = math.radians(45.0)
+#: arclength on each side of the corner over which its turn is measured [m]
+SHARP_SPAN = 2e-3
+
+
+def is_sharp(W, corner) -> bool:
+    """Whether the polygon ``W`` (M, 2) [m] turns by more than :data:`SHARP_TURN` within
+    :data:`SHARP_SPAN` of its vertex ``corner`` (2,): a pivot there, not a rolling corner
+    (a rounded corner of radius rho turns by ``2 SHARP_SPAN / rho`` there)."""
+    W = np.asarray(W, float)
+    i = int(np.argmin(np.linalg.norm(W - np.asarray(corner, float), axis=1)))
+    P = W[i]
+    d = np.linalg.norm(W - P, axis=1)
+    n = len(W)
+    j, k = (i - 1) % n, (i + 1) % n
+    while d[j] < SHARP_SPAN and j != i:
+        j = (j - 1) % n
+    while d[k] < SHARP_SPAN and k != i:
+        k = (k + 1) % n
+    a, b = P - W[j], W[k] - P
+    cos = float(a @ b) / max(float(np.linalg.norm(a) * np.linalg.norm(b)), 1e-15)
+    return math.acos(max(-1.0, min(1.0, cos))) > SHARP_TURN
 
 
 def pivoted(points, corner, theta: float) -> np.ndarray:
@@ -136,7 +164,7 @@ class RollingPath:
     @property
     def reach(self) -> float:
         """How far the object turns along the path [rad] (>= 0)."""
-        return float(-self.theta[-1])
+        return float(-self.theta[-1]) + 0.0  # never -0.0
 
 
 class _Clearance:
@@ -189,6 +217,7 @@ def tip_rolling_path(
     max_rate: float = 3.0,
     margin: float = JOINT_MARGIN,
     clearance: float = LINK_CLEARANCE,
+    start_margin: float | None = None,
 ) -> RollingPath:
     """The right tip's rolling path that pivots the object (world polygon ``W`` (M, 2) [m]
     at the phase start) furthest about its palm corner (module docstring).
@@ -200,6 +229,10 @@ def tip_rolling_path(
         psi_span, psi_step: grid of the relative orientation ``psi`` about its start [rad].
         max_rate: largest change of ``psi`` per unit of rotation [-] (rolling speed).
         margin: joint-limit margin [rad]; clearance: link clearance [m].
+        start_margin: the start's joint-limit margin [rad] (default ``margin``; the
+            executor passes 0: the start is where the finger is, the path must only not
+            go nearer to a limit than ``margin``) - its link clearance is then not
+            checked either.
 
     Returns:
         the :class:`RollingPath` (just the start when even it is infeasible: reach 0).
@@ -217,10 +250,11 @@ def tip_rolling_path(
     thetas = -np.arange(0.0, max_turn + 1e-12, step)
     value = np.full(dpsi.size, -np.inf)
     rows, back = [], []
+    first = (margin, clearance) if start_margin is None else (start_margin, -math.inf)
     for i, th in enumerate(thetas):
         T = face.tip_centre(k, th, d, r)
-        q, m, ok = _finger_ok(hand, "right", T, phi0 + dpsi + th, clear, k, th, margin,
-                              clearance)  # fmt: skip
+        mg, cl = first if i == 0 else (margin, clearance)
+        q, m, ok = _finger_ok(hand, "right", T, phi0 + dpsi + th, clear, k, th, mg, cl)
         ok &= on_face & (T[:, 1] >= r)
         m = np.where(ok, m, -np.inf)
         if i == 0:
@@ -272,21 +306,24 @@ def pad_reach(
     step: float = math.radians(1.0),
     margin: float = JOINT_MARGIN,
     clearance: float = LINK_CLEARANCE,
+    start_margin: float | None = None,
 ) -> tuple[float, np.ndarray]:
     """How far [rad] the left pad, stuck to its face at ``pad_centre`` (2,) [m] with the
     orientation ``pad_phi`` [rad], follows a pivot of the object (world polygon ``W``)
-    about its palm corner within its joint limits (``margin``) and with its links clear;
-    and its joint angles (K+1, 3) [rad] at the knots ``0, -step, ...``."""
+    about its palm corner within its joint limits (``margin``; ``start_margin`` at the
+    start, as in :func:`tip_rolling_path`) and with its links clear; and its joint angles
+    (K+1, 3) [rad] at the knots ``0, -step, ...``."""
     W = checks.points("W", W, dims=(2,), min_count=3)
     k = palm_corner(W)
     clear = _Clearance(W)
     thetas = -np.arange(0.0, max_turn + 1e-12, step)
     P = pivoted(np.asarray(pad_centre, float)[None], k, 0.0)
     qs = []
-    for th in thetas:
+    first = (margin, clearance) if start_margin is None else (start_margin, -math.inf)
+    for i, th in enumerate(thetas):
         T = pivoted(P, k, th)
-        q, _, ok = _finger_ok(hand, "left", T, np.array([pad_phi + th]), clear, k, th, margin,
-                              clearance)  # fmt: skip
+        mg, cl = first if i == 0 else (margin, clearance)
+        q, _, ok = _finger_ok(hand, "left", T, np.array([pad_phi + th]), clear, k, th, mg, cl)
         if not ok[0]:
             break
         qs.append(q[0])
@@ -401,6 +438,7 @@ __all__ = [
     "Face",
     "RollingPath",
     "PivotGrasps",
+    "is_sharp",
     "pad_reach",
     "pivot_grasps",
     "palm_corner",

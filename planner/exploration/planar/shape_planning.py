@@ -15,6 +15,8 @@ outline instead of a circle):
 
 from __future__ import annotations
 
+import math
+
 from planner.exploration.planar import pivot_planning
 
 #: largest travel of the planned centre in phase 1 on a posed outline [m] (a square pivoting
@@ -119,7 +121,11 @@ def _pivot_phase1(runner, q, est, local):
 def plan_explore(runner, kind: int, est, q):
     """The phase-2/3 segment on the posed outline: back to the start grasp's world angle
     (a grasp that was stable and reachable with the object resting on the palm); with
-    :data:`PLAN_PIVOT` the right tip goes where the next pivot reaches furthest."""
+    :data:`PLAN_PIVOT` the right tip goes where the next pivot reaches furthest, and there
+    is no phase 2 (None and why) when that pivot could not turn the object (the stuck left
+    pad or every regrasp of the right tip at the end of the workspace: a phase 2 there only
+    let the held square fall back, +10 deg). Returns ``(segment or None, 0.0, 0.0, why)``
+    (the planner's outcome as for phase 1)."""
     from planner.exploration.planar.outline_segments import outline_explore_segment
 
     target = runner.start["beta"][1 if kind == 2 else 0]
@@ -127,12 +133,21 @@ def plan_explore(runner, kind: int, est, q):
     tf = pivot_planning.tip_face(runner.shape, est) if kind == 2 and PLAN_PIVOT else None
     if tf is not None:
         W = runner.shape.outline.posed(runner.shape.pose)
-        best = pivot_planning.best_tip_regrasp(runner.hand, W, tf[0])
-        if best is not None and best[2] > 0.0:
-            point = tf[0].start + best[0] * tf[0].tangent
-            phi = best[1]
-    return outline_explore_segment(kind, est, q, runner.shape, target, runner.theta, runner.s,
-                                   runner.hand, target_point=point, phi_end=phi)  # fmt: skip
+        pad = pivot_planning.pad_reach_now(runner.hand, W, est, q)
+        best = pivot_planning.best_tip_regrasp(runner.hand, W, tf[0], q_right=q[3:])
+        tip = 0.0 if best is None else best[2]
+        if min(pad, tip) < pivot_planning.PIVOT_SLACK + math.radians(1.0):
+            why = (
+                f"pivot about the palm corner: from a regrasp the right tip reaches "
+                f"{math.degrees(tip):.1f} deg, the left pad {math.degrees(pad):.1f} deg "
+                "(blocking: workspace)"
+            )
+            return None, 0.0, 0.0, why
+        point = tf[0].start + best[0] * tf[0].tangent
+        phi = best[1]
+    seg = outline_explore_segment(kind, est, q, runner.shape, target, runner.theta, runner.s,
+                                  runner.hand, target_point=point, phi_end=phi)  # fmt: skip
+    return seg, 0.0, 0.0, ""
 
 
 __all__ = ["PLAN_ON_OUTLINE", "SHAPE_TRAVEL", "plan_explore", "plan_phase1", "set_radius"]
