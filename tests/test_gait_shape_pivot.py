@@ -12,6 +12,7 @@ from hypothesis import strategies as st
 
 from planner.errors import InvalidParameter
 from planner.exploration.planar import pivot_reach as pr
+from planner.exploration.planar.pivot_grasps import pivot_grasps
 from robots.planar_hand import PlanarHand
 from robots.planar_hand.params import HandParams, default_finger
 
@@ -176,7 +177,7 @@ def test_pivot_grasps_of_the_square_gait_hand():
     """Which faces the fingers reach as the square pivots: the right face (edge 1) only up
     to 30 deg, nothing at all for the round tip beyond 55 deg."""
     thetas = -np.radians([0.0, 30.0, 40.0, 60.0])
-    g = pr.pivot_grasps(HAND, SQUARE, thetas, 1.0)
+    g = pivot_grasps(HAND, SQUARE, thetas, 1.0)
     assert 1 in g[0].tip and 3 in g[0].pad and g[0].stable
     assert 1 in g[1].tip
     assert 1 not in g[2].tip and 2 in g[2].tip  # only the top face (and a corner)
@@ -187,10 +188,10 @@ def test_pivot_grasps_stability_is_the_friction_cone_test():
     """A constructed case: with a hand that reaches everything, the flat square's left and
     right faces are a stable pair for any mu > 0; with mu -> 0 only exactly opposite points
     are, which the sampling still finds (same heights on both faces)."""
-    g = pr.pivot_grasps(HAND, SQUARE, [0.0], 1e-3)
+    g = pivot_grasps(HAND, SQUARE, [0.0], 1e-3)
     assert g[0].stable  # pad and tip at the same height on parallel faces
     with pytest.raises(InvalidParameter):
-        pr.pivot_grasps(HAND, SQUARE, [0.0], 0.0)
+        pivot_grasps(HAND, SQUARE, [0.0], 0.0)
 
 
 # ---------------------------------------------------------------- the executor's use

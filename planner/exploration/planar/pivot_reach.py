@@ -23,7 +23,7 @@ path that turns the object furthest while every configuration keeps its joints a
 inside their limits, the tip disc above the palm and the finger's links clear of the object
 (the simulator does not collide links, a real hand does). :func:`pad_reach` does the same
 for the sticking pad. These are the kinematic bounds of one phase 1; the executor uses them
-to choose where the right finger regrasps (:func:`best_tip_regrasp`).
+(:mod:`.pivot_planning`), :mod:`.pivot_grasps` asks which stable grasps remain along a pivot.
 """
 
 from __future__ import annotations
@@ -167,7 +167,7 @@ class RollingPath:
         return float(-self.theta[-1]) + 0.0  # never -0.0
 
 
-class _Clearance:
+class HullClearance:
     """Signed distance [m] of points from the object's convex hull (> 0 outside: the
     largest of the hull's half-plane distances, exact inside and a lower bound outside)."""
 
@@ -183,9 +183,15 @@ class _Clearance:
         return (back @ self.n.T + self.c).max(axis=-1)
 
 
-def _finger_ok(hand, finger: str, T, phi, clear: _Clearance, corner, theta, margin, clr):
-    """Joint angles (M, 3), smallest margins (M,) and feasibility (M,) of ``finger`` with
-    its fingertip point at ``T`` (M, 2) and orientation ``phi`` (M,)."""
+def finger_configurations(
+    hand, finger: str, T, phi, clear: HullClearance, corner, theta, margin, clr
+):
+    """The configurations of ``finger`` with its fingertip point at ``T`` (M, 2) [m] and
+    orientation ``phi`` (M,) [rad], the object turned by ``theta`` [rad] about ``corner``
+    (2,) [m]: joint angles (M, 3) [rad] of the elbow branch with the largest margin, that
+    smallest joint-limit margin (M,) [rad], and whether it is feasible (M,): inside the
+    limits by ``margin`` [rad], joints and link midpoints ``clr`` [m] outside the object
+    (``clear``)."""
     from robots.planar_hand import kinematics as kin
 
     lim = hand.finger_limits(finger)
@@ -241,7 +247,7 @@ def tip_rolling_path(
     checks.positive("step", step, "rad")
     r = float(hand.params.right.tip_radius)
     k = palm_corner(W)
-    clear = _Clearance(W)
+    clear = HullClearance(W)
     n = int(round(psi_span / psi_step))
     dpsi = np.arange(-n, n + 1) * psi_step  # psi - psi0
     jump = max(1, int(math.floor(max_rate * step / psi_step)))
@@ -254,7 +260,7 @@ def tip_rolling_path(
     for i, th in enumerate(thetas):
         T = face.tip_centre(k, th, d, r)
         mg, cl = first if i == 0 else (margin, clearance)
-        q, m, ok = _finger_ok(hand, "right", T, phi0 + dpsi + th, clear, k, th, mg, cl)
+        q, m, ok = finger_configurations(hand, "right", T, phi0 + dpsi + th, clear, k, th, mg, cl)
         ok &= on_face & (T[:, 1] >= r)
         m = np.where(ok, m, -np.inf)
         if i == 0:
@@ -315,7 +321,7 @@ def pad_reach(
     (K+1, 3) [rad] at the knots ``0, -step, ...``."""
     W = checks.points("W", W, dims=(2,), min_count=3)
     k = palm_corner(W)
-    clear = _Clearance(W)
+    clear = HullClearance(W)
     thetas = -np.arange(0.0, max_turn + 1e-12, step)
     P = pivoted(np.asarray(pad_centre, float)[None], k, 0.0)
     qs = []
@@ -323,7 +329,9 @@ def pad_reach(
     for i, th in enumerate(thetas):
         T = pivoted(P, k, th)
         mg, cl = first if i == 0 else (margin, clearance)
-        q, _, ok = _finger_ok(hand, "left", T, np.array([pad_phi + th]), clear, k, th, mg, cl)
+        q, _, ok = finger_configurations(
+            hand, "left", T, np.array([pad_phi + th]), clear, k, th, mg, cl
+        )
         if not ok[0]:
             break
         qs.append(q[0])
@@ -332,115 +340,16 @@ def pad_reach(
     return float(-thetas[len(qs) - 1]), np.array(qs)
 
 
-@dataclass(frozen=True)
-class PivotGrasps:
-    """What the fingers can touch at one rotation of a pivot (:func:`pivot_grasps`).
-
-    Attributes:
-        theta: the object's rotation from the phase start [rad].
-        pad: indices of the polygon's edges (``W[i] -> W[i+1]``) and vertices (``M + i``)
-            the left pad can touch within its joint limits, links clear.
-        tip: the same for the round right tip.
-        stable: whether some reachable pad contact and some reachable tip contact make a
-            stable two-finger grasp (their line inside both friction cones, Yoshikawa-Nagai).
-    """
-
-    theta: float
-    pad: tuple[int, ...]
-    tip: tuple[int, ...]
-    stable: bool
-
-
-def _contact_samples(W: np.ndarray, spacing: float, cone_step: float):
-    """Points (N, 2), outward normals (N, 2) and feature labels (N,) of the polygon ``W``:
-    its edges every ``spacing`` [m] (away from the ends by :data:`FACE_END`) and its
-    vertices with normals across their normal cones every ``cone_step`` [rad]."""
-    M = len(W)
-    inside = W.mean(axis=0)
-    pts, nrm, lab = [], [], []
-    for i in range(M):
-        f = Face.between(W[i], W[(i + 1) % M], inside)
-        n = max(2, int(f.length / spacing))
-        for d in np.linspace(FACE_END, f.length - FACE_END, n):
-            pts.append(f.start + d * f.tangent)
-            nrm.append(f.normal)
-            lab.append(i)
-    for i in range(M):
-        a = Face.between(W[i - 1], W[i], inside).normal
-        b = Face.between(W[i], W[(i + 1) % M], inside).normal
-        a0, a1 = math.atan2(a[1], a[0]), math.atan2(b[1], b[0])
-        span = math.remainder(a1 - a0, 2 * math.pi)
-        for t in np.linspace(0.0, 1.0, max(2, int(abs(span) / cone_step) + 1)):
-            ang = a0 + t * span
-            pts.append(W[i].copy())
-            nrm.append(np.array([math.cos(ang), math.sin(ang)]))
-            lab.append(M + i)
-    return np.array(pts), np.array(nrm), np.array(lab)
-
-
-def pivot_grasps(
-    hand,
-    W,
-    thetas,
-    mu: float,
-    *,
-    spacing: float = 0.005,
-    cone_step: float = math.radians(10.0),
-    phi_step: float = math.radians(3.0),
-    margin: float = JOINT_MARGIN,
-    clearance: float = LINK_CLEARANCE,
-) -> list[PivotGrasps]:
-    """For each rotation in ``thetas`` [rad] of the object (world polygon ``W`` (M, 2) at
-    rotation 0, resting on the palm) about its palm corner: which edges and vertices each
-    finger can touch and whether a reachable pair is a stable two-finger grasp with
-    friction coefficient ``mu`` [-]. The pad lies flat on the contact's tangent; the round
-    tip may touch with any point of its disc (its orientation is searched every
-    ``phi_step``) as long as the links stay clear."""
-    W = checks.points("W", W, dims=(2,), min_count=3)
-    checks.positive("mu", mu, "-")
-    r = float(hand.params.right.tip_radius)
-    k = palm_corner(W)
-    clear = _Clearance(W)
-    P0, N0, lab = _contact_samples(W, spacing, cone_step)
-    lim = hand.finger_limits("right")
-    phis = np.arange(lim[:, 0].sum(), lim[:, 1].sum(), phi_step)
-    cone = math.atan(mu)
-    out = []
-    for th in np.asarray(thetas, float):
-        P = pivoted(P0, k, th)
-        N = N0 @ rotation(th).T
-        phi_pad = np.arctan2(N[:, 1], N[:, 0]) + 0.5 * math.pi
-        _, _, pad_ok = _finger_ok(hand, "left", P, phi_pad, clear, k, th, margin, clearance)
-        T = P + r * N
-        tip_ok = np.zeros(len(P), bool)
-        for i in np.flatnonzero(T[:, 1] >= r):
-            Ti = np.broadcast_to(T[i], (len(phis), 2))
-            ok = _finger_ok(hand, "right", Ti, phis, clear, k, th, margin, clearance)[2]
-            tip_ok[i] = ok.any()
-        stable = False
-        if pad_ok.any() and tip_ok.any():
-            a, b = P[pad_ok], P[tip_ok]
-            line = b[None, :, :] - a[:, None, :]
-            line /= np.maximum(np.linalg.norm(line, axis=-1, keepdims=True), 1e-12)
-            # the pad pushes along its inward normal -n_a, the tip along -n_b
-            ca = -(line * N[pad_ok][:, None, :]).sum(-1)
-            cb = (line * N[tip_ok][None, :, :]).sum(-1)
-            stable = bool(((ca >= math.cos(cone)) & (cb >= math.cos(cone))).any())
-        out.append(PivotGrasps(float(th), tuple(sorted(set(lab[pad_ok].tolist()))),
-                               tuple(sorted(set(lab[tip_ok].tolist()))), stable))  # fmt: skip
-    return out
-
-
 __all__ = [
     "FACE_END",
     "JOINT_MARGIN",
     "LINK_CLEARANCE",
     "Face",
+    "HullClearance",
     "RollingPath",
-    "PivotGrasps",
+    "finger_configurations",
     "is_sharp",
     "pad_reach",
-    "pivot_grasps",
     "palm_corner",
     "pivoted",
     "rotation",
