@@ -130,7 +130,10 @@ def plan_explore(runner, kind: int, est, q):
 
     target = runner.start["beta"][1 if kind == 2 else 0]
     point = phi = None
-    tf = pivot_planning.tip_face(runner.shape, est) if kind == 2 and PLAN_PIVOT else None
+    # the next phase 1 pivots only from a pad contact the tactile array senses (the posed
+    # outline's local circle needs it)
+    pivot = kind == 2 and PLAN_PIVOT and est.pad_touch
+    tf = pivot_planning.tip_face(runner.shape, est) if pivot else None
     if tf is not None:
         W = runner.shape.outline.posed(runner.shape.pose)
         pad = pivot_planning.pad_reach_now(runner.hand, W, est, q)
