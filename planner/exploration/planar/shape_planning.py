@@ -3,14 +3,18 @@
 Kept out of :mod:`.machine` (one concept: what changes when the planner's model is a posed
 outline instead of a circle):
 
-* phase 1: the circle NLP on the local circle between the two sensed contacts
+* phase 1: with :data:`PLAN_PIVOT`, on an outline resting on a sharp corner with the round
+  tip on a straight face, the pivot about that corner (:mod:`.pivot_planning`); else the
+  circle NLP on the local circle between the two sensed contacts
   (:meth:`.ShapeTracker.local_circle`), with the posed outline's palm clearance
   (``RollingNLP(palm_points=K)``: the outline pivots on its lowest corner instead of sinking
-  into the palm), the estimate's radius set to the local circle's so that the controller's
-  per-step centre and the plan agree; or, with :data:`PLAN_ON_OUTLINE`, the polygon NLP
-  (:class:`planner.trajectory.OutlineNLP`);
+  into the palm); either way the estimate's radius is set to the local circle's so that the
+  controller's per-step centre and the plan agree; or, with :data:`PLAN_ON_OUTLINE`, the
+  polygon NLP (:class:`planner.trajectory.OutlineNLP`);
 * phases 2/3: the explorer's contact along the posed outline
-  (:func:`.outline_segments.outline_explore_segment`) back to the start grasp's world angle.
+  (:func:`.outline_segments.outline_explore_segment`) back to the start grasp's world angle;
+  with :data:`PLAN_PIVOT` the right tip's phase 2 ends where the next pivot reaches furthest
+  (or does not run when no pivot can follow it).
 """
 
 from __future__ import annotations
@@ -36,10 +40,7 @@ PLAN_PIVOT = True
 def set_radius(ctrl, R: float) -> None:
     """The estimate's radius [m] everywhere the controller ``ctrl`` uses it (per-step
     sensing, rolling integration, object model)."""
-    from planner.exploration.planar import controller_kernel as ck
-
-    ctrl.sensing.set_radius(R)
-    ctrl._ks[ck.K_R] = R  # TODO(SP): GaitController.set_radius (notes/SH_SP.md)
+    ctrl.set_radius(R)
 
 
 def posed_estimate(est, local):
@@ -153,4 +154,11 @@ def plan_explore(runner, kind: int, est, q):
     return seg, 0.0, 0.0, ""
 
 
-__all__ = ["PLAN_ON_OUTLINE", "SHAPE_TRAVEL", "plan_explore", "plan_phase1", "set_radius"]
+__all__ = [
+    "PLAN_ON_OUTLINE",
+    "PLAN_PIVOT",
+    "SHAPE_TRAVEL",
+    "plan_explore",
+    "plan_phase1",
+    "set_radius",
+]
