@@ -312,3 +312,19 @@ def test_move_check_of_a_regrasp():
     far = (0.006, float(q[3:].sum()) - 2.5)
     assert not _move_ok(HAND, SQUARE, face, q[3:], far)
     assert np.all(q[3:] > lim[:, 0])
+
+
+def test_a_start_inside_the_margin_band_may_start_a_path():
+    """``start_margin``: the executor starts where the finger is (the start grasp's base
+    joint 4.8 deg = 0.084 rad from its limit); every later knot keeps the full margin."""
+    face = pr.Face.between(SQUARE[1], SQUARE[2], SQUARE.mean(axis=0))
+    args = (HAND, SQUARE, face, 0.0697, math.radians(147.2))
+    strict = pr.tip_rolling_path(*args, margin=0.1)
+    assert strict.reach == 0.0 and not np.isfinite(strict.margin[0])
+    loose = pr.tip_rolling_path(*args, margin=0.1, start_margin=0.0)
+    assert loose.margin[0] == pytest.approx(math.radians(4.8), abs=2e-3)
+    # the pivot drives that joint toward its limit: no knot after the start keeps 0.1 rad
+    assert loose.reach == 0.0
+    wide = pr.tip_rolling_path(*args, margin=0.06, start_margin=0.0)
+    assert wide.reach > math.radians(3.0) and np.all(wide.margin[1:] >= 0.06)
+    assert np.all(np.diff(wide.margin) < 0)  # the base joint nears its limit knot by knot
