@@ -253,7 +253,7 @@ class _Runner:
             plan = self.nlp.solve(q, est.centre, R, r, mu, est.beta, est.u, **self.nlp_options())
             return self.phase1_outcome(plan, est, q, mu)
         if self.shape is not None:
-            return shape_planning.plan_explore(self, kind, est, q), 0.0, 0.0, ""
+            return shape_planning.plan_explore(self, kind, est, q)
         if kind == 2:
             target = max(self.start["beta"][1], self._right_hold_angle())
         elif self._via is not None:  # the back-stroke: onto the feature's far side and back

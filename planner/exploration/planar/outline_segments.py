@@ -76,29 +76,45 @@ class PolylinePath:
 
 
 def outline_explore_segment(
-    kind: int, est, q, tracker, target_beta: float, theta0: float, settings, hand
+    kind: int,
+    est,
+    q,
+    tracker,
+    target_beta: float,
+    theta0: float,
+    settings,
+    hand,
+    target_point=None,
+    phi_end: float | None = None,
 ) -> Segment:
     """The phase-2 (``kind`` 2: the right tip explores) or phase-3 (the left pad) segment on
     the posed outline of ``tracker``: the explorer's contact from where it is to the outline
-    point at world polar angle ``target_beta`` [rad] about the posed outline's centre."""
+    point at world polar angle ``target_beta`` [rad] about the posed outline's centre, or to
+    the outline point nearest ``target_point`` (2,) [m] when given; the round tip turns to
+    ``phi_end`` [rad] on the way when given (else it keeps its orientation)."""
     s = settings
     k = 1 if kind == 2 else 0
     path = PolylinePath(tracker.outline.posed(tracker.pose))
     s0 = path.arclength_of(est.p[k])
-    s1 = path.point_at_angle(tracker.pose[:2], target_beta)
+    if target_point is not None:
+        s1 = path.arclength_of(target_point)
+    else:
+        s1 = path.point_at_angle(tracker.pose[:2], target_beta)
     ds = math.remainder(s1 - s0, path.length)
-    T_move = max(abs(ds) / s.explore_speed, 0.05)
+    phi0 = float(q[3 * k : 3 * k + 3].sum())
+    turn = 0.0 if phi_end is None or k == 0 else float(phi_end) - phi0
+    r = hand.params.right.tip_radius
+    T_move = max(abs(ds) / s.explore_speed, abs(turn) * r / s.explore_speed, 0.05)
     prof = QuinticSpline.between([0.0], [ds], T_move).scalar()
     T = s.startup_time + T_move
     w = hand.params.left.pad_half_width
-    phi0 = float(q[3 * k : 3 * k + 3].sum())
 
     def explore(t: float):
         tm = min(max(t - s.startup_time, 0.0), T_move)
         a, v, _ = prof(tm)
         (px, py), (tx, ty) = path.at(s0 + a)
         if k == 1:
-            phi = phi0
+            phi = phi0 + turn * (a / ds if abs(ds) > 1e-9 else min(tm / T_move, 1.0))
         else:  # the pad flat on the outline's (smoothed) normal
             phi = pad_angle(path.normal_angle(s0 + a, w), phi0)
         return (px, py), (v * tx, v * ty), phi
@@ -108,7 +124,6 @@ def outline_explore_segment(
     f_hold = s.left_hold_force if holder == 0 else s.hold_force
     hold = ForceRamp(f_hold0, f_hold, s.startup_time)
     fexp = ForceRamp(float(max(est.normal_force[k], 0.0)), s.explore_force, s.startup_time)
-    r = hand.params.right.tip_radius
     phiR = float(q[3:6].sum())
     keep = (float(est.u), round_contact_arclength(est.beta[1], phiR, r),
             [float(q[0:3].sum()), phiR], [0.0, 0.0])  # fmt: skip

@@ -3,17 +3,25 @@
 Kept out of :mod:`.machine` (one concept: what changes when the planner's model is a posed
 outline instead of a circle):
 
-* phase 1: the circle NLP on the local circle between the two sensed contacts
+* phase 1: with :data:`PLAN_PIVOT`, on an outline resting on a sharp corner with the round
+  tip on a straight face, the pivot about that corner (:mod:`.pivot_planning`); else the
+  circle NLP on the local circle between the two sensed contacts
   (:meth:`.ShapeTracker.local_circle`), with the posed outline's palm clearance
   (``RollingNLP(palm_points=K)``: the outline pivots on its lowest corner instead of sinking
-  into the palm), the estimate's radius set to the local circle's so that the controller's
-  per-step centre and the plan agree; or, with :data:`PLAN_ON_OUTLINE`, the polygon NLP
-  (:class:`planner.trajectory.OutlineNLP`);
+  into the palm); either way the estimate's radius is set to the local circle's so that the
+  controller's per-step centre and the plan agree; or, with :data:`PLAN_ON_OUTLINE`, the
+  polygon NLP (:class:`planner.trajectory.OutlineNLP`);
 * phases 2/3: the explorer's contact along the posed outline
-  (:func:`.outline_segments.outline_explore_segment`) back to the start grasp's world angle.
+  (:func:`.outline_segments.outline_explore_segment`) back to the start grasp's world angle;
+  with :data:`PLAN_PIVOT` the right tip's phase 2 ends where the next pivot reaches furthest
+  (or does not run when no pivot can follow it).
 """
 
 from __future__ import annotations
+
+import math
+
+from planner.exploration.planar import pivot_planning
 
 #: largest travel of the planned centre in phase 1 on a posed outline [m] (a square pivoting
 #: on its corner lifts its centre up to 23 mm)
@@ -24,15 +32,15 @@ SHAPE_TRAVEL = 0.03
 #: turned the 11 cm and 8 cm squares the wrong way (+30 and +41 deg where -25 were planned;
 #: measured 2026-11-23, 10 s simulated, seed 0)
 PLAN_ON_OUTLINE = False
+#: plan phase 1 of a posed polygon as its pivot about the palm corner and end phase 2 where
+#: the next pivot reaches furthest (:mod:`.pivot_planning`)
+PLAN_PIVOT = True
 
 
 def set_radius(ctrl, R: float) -> None:
     """The estimate's radius [m] everywhere the controller ``ctrl`` uses it (per-step
     sensing, rolling integration, object model)."""
-    from planner.exploration.planar import controller_kernel as ck
-
-    ctrl.sensing.set_radius(R)
-    ctrl._ks[ck.K_R] = R  # TODO(SP): GaitController.set_radius (notes/SH_SP.md)
+    ctrl.set_radius(R)
 
 
 def posed_estimate(est, local):
@@ -77,6 +85,8 @@ def plan_phase1(runner, q, mu: float):
         plan = _nlp(runner, "outline").solve(q, shape.pose, modes, shape.hull_points(), r, mu,
                                              radius=runner.R_nominal, u_sensed=float(est.u),
                                              **common)  # fmt: skip
+    elif local is not None and PLAN_PIVOT and pivot_planning.tip_face(shape, est) is not None:
+        return _pivot_phase1(runner, q, est, local)
     elif local is not None:
         set_radius(ctrl, local[1])
         est = posed_estimate(est, local)
@@ -90,14 +100,65 @@ def plan_phase1(runner, q, mu: float):
     return runner.phase1_outcome(plan, est, q, mu)
 
 
+def _pivot_phase1(runner, q, est, local):
+    """Phase 1 planned as the pivot about the palm corner (:func:`.pivot_planning.plan_pivot`)
+    from the local circle's estimate (the controller's centre is a point of the object)."""
+    from planner.exploration.planar.segments import phase1_segment
+
+    shape, s = runner.shape, runner.s
+    face, d0 = pivot_planning.tip_face(shape, est)
+    set_radius(runner.ctrl, local[1])
+    est = posed_estimate(est, local)
+    W = shape.outline.posed(shape.pose)
+    cap = min(pivot_planning.MAX_PIVOT, runner._rotation_cap())
+    plan = pivot_planning.plan_pivot(runner.hand, W, face, d0, est, q, cap, s.nlp_knots)
+    runner._plan1 = plan
+    if not plan.success:
+        return None, 0.0, plan.solve_time_s, f"{plan.stop} (blocking: workspace)"
+    seg = phase1_segment(plan, est, q, runner.theta, s, runner.hand, lift=0.0)
+    return seg, plan.rotation, plan.solve_time_s, ""
+
+
 def plan_explore(runner, kind: int, est, q):
     """The phase-2/3 segment on the posed outline: back to the start grasp's world angle
-    (a grasp that was stable and reachable with the object resting on the palm)."""
+    (a grasp that was stable and reachable with the object resting on the palm); with
+    :data:`PLAN_PIVOT` the right tip goes where the next pivot reaches furthest, and there
+    is no phase 2 (None and why) when that pivot could not turn the object (the stuck left
+    pad or every regrasp of the right tip at the end of the workspace: a phase 2 there only
+    let the held square fall back, +10 deg). Returns ``(segment or None, 0.0, 0.0, why)``
+    (the planner's outcome as for phase 1)."""
     from planner.exploration.planar.outline_segments import outline_explore_segment
 
     target = runner.start["beta"][1 if kind == 2 else 0]
-    return outline_explore_segment(kind, est, q, runner.shape, target, runner.theta, runner.s,
-                                   runner.hand)  # fmt: skip
+    point = phi = None
+    # the next phase 1 pivots only from a pad contact the tactile array senses (the posed
+    # outline's local circle needs it)
+    pivot = kind == 2 and PLAN_PIVOT and est.pad_touch
+    tf = pivot_planning.tip_face(runner.shape, est) if pivot else None
+    if tf is not None:
+        W = runner.shape.outline.posed(runner.shape.pose)
+        pad = pivot_planning.pad_reach_now(runner.hand, W, est, q)
+        best = pivot_planning.best_tip_regrasp(runner.hand, W, tf[0], q_right=q[3:])
+        tip = 0.0 if best is None else best[2]
+        if min(pad, tip) < pivot_planning.PIVOT_SLACK + math.radians(1.0):
+            why = (
+                f"pivot about the palm corner: from a regrasp the right tip reaches "
+                f"{math.degrees(tip):.1f} deg, the left pad {math.degrees(pad):.1f} deg "
+                "(blocking: workspace)"
+            )
+            return None, 0.0, 0.0, why
+        point = tf[0].start + best[0] * tf[0].tangent
+        phi = best[1]
+    seg = outline_explore_segment(kind, est, q, runner.shape, target, runner.theta, runner.s,
+                                  runner.hand, target_point=point, phi_end=phi)  # fmt: skip
+    return seg, 0.0, 0.0, ""
 
 
-__all__ = ["PLAN_ON_OUTLINE", "SHAPE_TRAVEL", "plan_explore", "plan_phase1", "set_radius"]
+__all__ = [
+    "PLAN_ON_OUTLINE",
+    "PLAN_PIVOT",
+    "SHAPE_TRAVEL",
+    "plan_explore",
+    "plan_phase1",
+    "set_radius",
+]
