@@ -105,22 +105,27 @@ def test_the_wall_is_where_the_pad_end_stalled():
     wall = math.radians(167.7)
     end = wall - 1.25e-3 / R  # the clipped image's centroid: 1.25 mm short of the end
     slide = np.linspace(wall - 0.25, wall - 0.2, 60)
-    rows = _rows(np.r_[slide, np.full(100, end), wall + 0.45], np.r_[np.zeros(60),
-                 np.full(100, 8.75e-3), 0.0])  # fmt: skip
+    angles = np.r_[slide, np.full(100, end), np.linspace(wall, wall + 0.4, 20), wall + 0.45]
+    u = np.r_[np.zeros(60), np.full(100, 8.75e-3), np.full(20, 8.75e-3), 0.0]
+    flying = np.r_[np.ones(160), np.zeros(20), 1.0]  # the pad jumps the ridge, lands
+    rows = _rows(angles, u, touch=flying)
     found = wall_stall(rows, R, W_PAD)
     assert found is not None
     assert found[0] == pytest.approx(wall, abs=math.radians(0.05))
     assert found[1] == 1.0
 
 
-def test_no_stall_without_the_end_held():
-    """A pad sliding on its end (the centroid outer, the angle moving on) or an end held
-    for less than STALL_ROWS rows is no wall."""
+def test_no_stall_without_the_end_held_and_a_jump():
+    """A pad sliding on its end (the centroid outer, the angle moving on), an end held for
+    less than STALL_ROWS rows, or held and then sliding on (no jump) is no wall."""
     moving = _rows(np.linspace(2.6, 2.9, 200), np.full(200, 8.75e-3))
     assert wall_stall(moving, R, W_PAD) is None
     short = _rows(np.r_[np.linspace(2.6, 2.7, 50), np.full(STALL_ROWS - 1, 2.75), 3.0],
                   np.r_[np.zeros(50), np.full(STALL_ROWS - 1, 8.75e-3), 0.0])  # fmt: skip
     assert wall_stall(short, R, W_PAD) is None
+    held = _rows(np.r_[np.full(100, 2.75), np.linspace(2.75, 2.9, 50)],
+                 np.r_[np.full(100, 8.75e-3), np.zeros(50)])  # fmt: skip
+    assert wall_stall(held, R, W_PAD) is None
 
 
 def test_the_probe_aims_once_at_a_wall_the_pad_got_past():

@@ -57,6 +57,10 @@ MIN_BEYOND = math.radians(8.0)
 #: ... and at most this far (the left finger's reach back: the phase-3 strokes span 25-30
 #: deg of world angle)
 MAX_BEYOND = math.radians(45.0)
+#: ... and the pad then jumped: at least this many untouched rows right after the stall
+#: (the pad flew over the ridge for 0.06-0.08 s; a pad stalling without jumping did not
+#: get past anything, and on smooth objects nothing is probed)
+JUMP_ROWS = 5
 #: walls closer than this are one (object frame) [rad]
 SAME_WALL = math.radians(10.0)
 
@@ -94,7 +98,7 @@ def wall_stall(rows: np.ndarray, radius: float, pad_half_width: float, columns: 
     A stall is :data:`STALL_ROWS` consecutive touching rows with the tactile centroid in
     the outer column on the leading side (:func:`.sensed_features.pad_end_contact` moves
     it to the pad's end) whose end angles stay within :data:`STALL_SPREAD` (10-90
-    percentiles).
+    percentiles), followed by :data:`JUMP_ROWS` rows without touch (the pad jumped).
     """
     tr = np.asarray(rows, dtype=float)
     if tr.ndim != 2 or len(tr) < STALL_ROWS:
@@ -112,7 +116,9 @@ def wall_stall(rows: np.ndarray, radius: float, pad_half_width: float, columns: 
         if run.size < STALL_ROWS:
             continue
         lo, hi = np.percentile(e[run], (10.0, 90.0))
-        if hi - lo <= STALL_SPREAD and (best is None or run.size > best.size):
+        after = tr[run[-1] + 1 : run[-1] + 1 + JUMP_ROWS, _COL["pad_touch"]]
+        jumped = after.size == JUMP_ROWS and not np.any(after > 0)
+        if jumped and hi - lo <= STALL_SPREAD and (best is None or run.size > best.size):
             best = run
     if best is None:
         return None
