@@ -48,7 +48,11 @@ def _ridge_coverage(config, res, profile, hand) -> dict:
     """The untouched cells beside the ridge and the coverage outside its shadows
     (:func:`planner.exploration.planar.metrics.ridge_coverage`): the part of each side that
     neither the round right tip nor the pad touching with its middle can reach (the
-    smaller of the two shadows; the pad's end reaches nearer, only in a back-stroke)."""
+    smaller of the two shadows), and ``ridge_probe_shadow_deg``: what the corner probe
+    leaves beside the far wall (:mod:`planner.exploration.planar.corner_probe`, its
+    contact :data:`~planner.exploration.planar.corner_probe.PROBE_EDGE` behind the pad's
+    end: 2.9 deg on the 10 cm ball)."""
+    from planner.exploration.planar.corner_probe import PROBE_EDGE
     from planner.exploration.planar.metrics import (
         coverage_mask,
         pad_shadow,
@@ -62,7 +66,9 @@ def _ridge_coverage(config, res, profile, hand) -> dict:
                  pad_shadow(R, o.ridge_height, hand.params.left.pad_half_width))  # fmt: skip
     mask = coverage_mask(res.log, "object", profile)
     out = ridge_coverage(mask, math.radians(o.ridge_angle_deg), o.ridge_width / (2 * R), shadow)
-    return {f"ridge_{k}" if not k.startswith("coverage") else k: v for k, v in out.items()}
+    found = {f"ridge_{k}" if not k.startswith("coverage") else k: v for k, v in out.items()}
+    found["ridge_probe_shadow_deg"] = math.degrees(pad_shadow(R, o.ridge_height, PROBE_EDGE))
+    return found
 
 
 def _failure(res) -> str:

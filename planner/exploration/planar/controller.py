@@ -56,6 +56,9 @@ class Segment:
         hold_force: ``t -> internal / holding force [N]``.
         explore_force: ``t -> exploring normal force [N]``.
         theta0: object rotation estimate at the phase start [rad].
+        contact_target: where on the exploring pad its contact is held [m] (tactile
+            centroid ``u``; a PI on the pad's orientation, ``controller_kernel``'s contact
+            servo), or None: the pad's orientation follows ``explore`` alone.
     """
 
     kind: int
@@ -66,6 +69,7 @@ class Segment:
     hold_force: Callable | None = None
     explore_force: Callable | None = None
     theta0: float = 0.0
+    contact_target: float | None = None
 
 
 #: columns of :attr:`GaitController.trace` (sensed and commanded series, one row per call)
@@ -178,6 +182,10 @@ class GaitController:
         ks[ck.S_WEAK] = 0.0
         ks[ck.S_TRIG] = 0.0  # limit triggers, set from the phase's first joint reading
         ks[ck.S_DONE] = 0.0
+        servo = segment.contact_target is not None and kind == 3
+        ks[ck.K_USERVO] = 1.0 if servo else 0.0
+        ks[ck.K_UTARGET] = float(segment.contact_target) if servo else 0.0
+        ks[ck.S_UINT] = 0.0
 
     # ------------------------------------------------------------------ the step
     def __call__(self, t: float, obs) -> np.ndarray:

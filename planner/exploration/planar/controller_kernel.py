@@ -55,7 +55,14 @@ S_THETA, S_U0, S_BETA0, S_INT, S_WEAK, S_HOLD = 38, 39, 40, 41, 42, 43  # S_HOLD
 S_TRIG, S_LO, S_HI, S_DONE, S_EPS, S_HIT = 45, 46, 52, 58, 59, 60  # S_LO, S_HI: 6 each
 S_FLAG = 61  # DAQP exit flag of the step
 K_STEP_FN, K_STEP_ARG, K_TAU_BOUND = 62, 63, 64  # the compiled step (0: run by Python)
-N_KS = 65
+# --- ks: the exploring pad's contact servo (phase constants and state; K_USERVO 0: off)
+K_USERVO, K_UTARGET, S_UINT = 65, 66, 67
+N_KS = 68
+#: contact servo of the exploring pad: proportional gain [-], integral gain [1/s] and the
+#: largest orientation correction [rad] (:func:`_contact_servo`)
+USERVO_KP, USERVO_KI, USERVO_MAX = 0.5, 10.0, 0.2
+#: largest lead of the servoed pad's centre reference over the pad along it [m]
+USERVO_PUSH = 2.5e-3
 #: bit of the kernel's return value: the step ran and its command is rejected (fallback)
 REJECTED = 8
 
@@ -228,6 +235,14 @@ def _write_inputs(q, qd, b, sv, ks, inputs, kind, h, theta, f_cmd, m0, m1):  # p
         inputs[35 + i] = sv[V_PDES + i] if has_exp else 0.0
     phi_des = sv[V_PHIDES] if has_exp else 0.0
     ex0, ex1 = ks[K_EX0], ks[K_EX1]
+    if ex0 != 0.0 and ks[K_USERVO] != 0.0:
+        # the pad lies where it is, not where its reference ran on to (a wall holds it):
+        # its orientation follows its centre's polar angle, and the servo sets the contact
+        ref = math.atan2(sv[V_PDES + 1] - b[11], sv[V_PDES] - b[10])
+        act = math.atan2(b[29] - b[11], b[28] - b[10])
+        lag = act - ref
+        phi_des += math.atan2(math.sin(lag), math.cos(lag)) + _contact_servo(b, ks, R)
+        _bound_push(b, inputs)
     inputs[39] = phi_des if ex0 != 0.0 else 0.0
     inputs[40] = phi_des if ex1 != 0.0 else 0.0
     inputs[41], inputs[42] = b[10], 0.0
@@ -236,6 +251,43 @@ def _write_inputs(q, qd, b, sv, ks, inputs, kind, h, theta, f_cmd, m0, m1):  # p
     inputs[47] = ks[S_HOLD + 1] + (b[3 + h] - b[29 + h])
     if sv[V_HAS_FNT] != 0.0:
         inputs[int(ks[K_F_NT])] = sv[V_FNT]
+
+
+@njit(cache=True, nogil=True)
+def _bound_push(b, inputs):  # pragma: no cover
+    """Keeps the exploring pad's centre reference (``inputs[35:39]``: position, velocity)
+    within :data:`USERVO_PUSH` of the pad's centre along the pad (``b[28:30]``, axis at
+    ``b[32]``), its velocity along the pad dropped while it is bounded: the pad pushes a
+    wall it meets with at most ``tip_kp * USERVO_PUSH`` [N] (its reference ran on to the
+    ridge's near wall, 4 mm past the far wall it stopped at: 1 N rolled the held ball
+    11 deg along the palm)."""
+    ax, ay = math.cos(b[32]), math.sin(b[32])
+    e = (inputs[35] - b[28]) * ax + (inputs[36] - b[29]) * ay
+    if abs(e) > USERVO_PUSH:
+        cut = e - math.copysign(USERVO_PUSH, e)
+        inputs[35] -= cut * ax
+        inputs[36] -= cut * ay
+        v = inputs[37] * ax + inputs[38] * ay
+        if v * e > 0.0:
+            inputs[37] -= v * ax
+            inputs[38] -= v * ay
+
+
+@njit(cache=True, nogil=True)
+def _contact_servo(b, ks, R):  # pragma: no cover
+    """Orientation correction [rad] of the exploring pad that drives its tactile contact
+    location ``u`` (``b[0]``) to ``ks[K_UTARGET]`` [m] (a PI on ``u``; integrates only while
+    the pad touches, ``b[1]``). A pad lying on a circle of radius ``R`` touches it where
+    it is tangent: turning the pad by ``d phi`` about its centre moves the contact by
+    ``R d phi`` along the pad, so ``d phi = -(u - u_target) / R`` (the integral removes the
+    steady deflection of the pad by its contact moment and its damping, 3-4 deg on the
+    10 cm ball: the contact sat 5 mm from the pad's end where 1.5 mm was commanded)."""
+    err = b[0] - ks[K_UTARGET]
+    if b[1] != 0.0:
+        acc = ks[S_UINT] + USERVO_KI * err * ks[K_DT]
+        ks[S_UINT] = _max(-USERVO_MAX * R, _min(USERVO_MAX * R, acc))
+    corr = -(USERVO_KP * err + ks[S_UINT]) / R
+    return _max(-USERVO_MAX, _min(USERVO_MAX, corr))
 
 
 @njit(cache=True, nogil=True)

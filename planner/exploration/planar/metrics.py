@@ -421,7 +421,8 @@ def pad_shadow(radius: float, height: float, reach: float) -> float:
     meets the wall (``atan(reach / R)``) or, if its face passes above the wall's foot, when
     the face meets the step's corner (``atan(sqrt((R + h)^2 - R^2) / R)``), whichever is
     nearer. A 20 mm pad touching with its middle (reach 10 mm) at the 3 mm ridge of the
-    10 cm ball: 11.3 deg; touching 1.5 mm from its end (the back-stroke): 1.7 deg."""
+    10 cm ball: 11.3 deg; touching 2.5 mm from its end (the corner probe,
+    :mod:`.corner_probe`): 2.9 deg."""
     R, h = float(radius), float(height)
     corner = math.sqrt((R + h) ** 2 - R * R)
     return math.atan(min(float(reach), corner) / R)

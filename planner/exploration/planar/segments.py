@@ -155,7 +155,7 @@ def friction_lag(settings) -> float:
 EDGE_MARGIN = 1.5e-3
 
 
-def _stroke(b0: float, b1: float, via: float | None, radius: float, speed: float):
+def contact_stroke(b0: float, b1: float, via: float | None, radius: float, speed: float):
     """The explorer's contact angle ``tm -> (beta, rate, accel)`` [rad, rad/s, rad/s^2] from
     ``b0`` to ``b1`` (through ``via`` when given), quintic pieces at rest at their ends,
     the time [s] it reaches ``via`` (or ``b1``) and its duration [s] (``radius`` [m],
@@ -223,7 +223,7 @@ def explore_segment(
         trail = math.copysign(hand.params.left.pad_half_width - EDGE_MARGIN, b0 - via)
     else:
         via = None
-    path, _, T_move = _stroke(b0, b1, via, radius, s.explore_speed)
+    path, _, T_move = contact_stroke(b0, b1, via, radius, s.explore_speed)
     T = s.startup_time + T_move
     c = est.centre.copy()
     r = hand.params.right.tip_radius
@@ -403,6 +403,7 @@ def palm_moment(point, force, centre, radius: float) -> float:
 
 
 __all__ = [
+    "contact_stroke",
     "explore_segment",
     "friction_lag",
     "hold_tangential_force",

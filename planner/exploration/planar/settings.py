@@ -40,6 +40,10 @@ class GaitSettings:
             beside the true ridge, and seed 3 failed at 18 deg; with the 0.6 N hold the
             pad never crossed the ridge far enough for a back-stroke (coverage 0.972-0.975).
             Off by default.
+        corner_probe: after a phase 3 whose pad's leading end stalled at a wall and then
+            got past it (it jumped a ridge), one extra phase 3 sends the pad's end, tilted,
+            back into the corner beyond the wall (:mod:`.corner_probe`; round nominal
+            shapes only).
         explore_force: normal force of the exploring finger (0.3 N, §2.3.2) [N].
         object_mass: the planner's guess of the object mass [kg].
         object_kp, object_kv: object impedance gains (eq. 2.7).
@@ -70,6 +74,7 @@ class GaitSettings:
     hold_force: float = 2.0
     left_hold_force: float = 2.0
     sensed_features: bool = False
+    corner_probe: bool = True
     explore_force: float = 0.3
     object_mass: float = 0.05
     object_kp: tuple[float, float, float] = (80.0, 80.0, 0.8)
