@@ -21,6 +21,7 @@ import numpy as np
 from planner.errors import InvalidParameter
 from planner.exploration.planar import shape_planning
 from planner.exploration.planar.controller import TRACE_NAMES, GaitController, trace_arrays
+from planner.exploration.planar.corner_probe import CornerProbe, probe_segment
 from planner.exploration.planar.gait_loop import PhaseStop, TipHoldStop
 from planner.exploration.planar.heuristics import regrasp_left_angle, stable_pair
 from planner.exploration.planar.logs import concat_logs
@@ -179,6 +180,8 @@ class _Runner:
         self.sensed_features: list[float] = []  # object-frame angles of sensed bumps [rad]
         self.shape: ShapeTracker | None = None  # the posed nominal outline (non-round only)
         self.nlps: dict = {}  # the shape planner's NLPs, built at first use
+        self.corner = (CornerProbe(hand.params.left.pad_half_width, len(ctrl.sensing.taxel_u))
+                       if s.corner_probe else None)  # fmt: skip
 
     def rotation(self) -> float:
         """True rotation of the object so far [rad] (unwrapped from the logs)."""
@@ -263,8 +266,24 @@ class _Runner:
             return seg, 0.0, 0.0, ""
         else:
             target = self._left_regrasp_angle(est)
+            aim = self._corner_aim(est)
+            if aim is not None:  # first the pad's end into the corner beyond a wall
+                self._stroking = True
+                seg = probe_segment(est, q, aim, target, self.theta, s, self.hand)
+                return seg, 0.0, 0.0, ""
         seg = explore_segment(kind, est, q, target, self.theta, s, self.hand, PHASE1_TRAVEL)
         return seg, 0.0, 0.0, ""
+
+    def _corner_aim(self, est) -> float | None:
+        """The world angle [rad] a corner probe aims the pad's end at in this phase 3, or
+        None (:meth:`.corner_probe.CornerProbe.aim`; round nominal shapes only)."""
+        if self.corner is None or self.shape is not None:
+            return None
+        aim = self.corner.aim(self.theta, float(est.beta[0]))
+        if aim is not None:
+            msg = f"probe the corner beyond the wall at {math.degrees(aim):.0f} deg (world)"
+            self.events.append({"t": self.world.time, "kind": "corner_probe", "message": msg})
+        return aim
 
     def nlp_options(self) -> dict:
         """The phase-1 NLP's margins, home and rotation cap (keyword arguments of ``solve``)."""
@@ -461,6 +480,9 @@ class _Runner:
                                     f"epsilon {eps:.3f}: skip phase 3, rotate again"})  # fmt: skip
                 return 1, True
             return 3, False
+        if self.corner is not None and self.shape is None and not self.records[-1].backstroke:
+            rows = np.asarray(self.ctrl.trace[self._rows[0] : self._rows[1]], dtype=float)
+            self.corner.observe(rows, self.ctrl.sensing.radius)
         if self.s.sensed_features and not self.records[-1].backstroke:
             self._via = self._feature_behind(event)
             if self._via is not None:
