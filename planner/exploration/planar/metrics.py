@@ -18,17 +18,30 @@ def coverage_of(log, body: str, profile, cells: int = 360) -> float:
     return float(coverage_mask(log, body, profile, cells).mean())
 
 
-def coverage_mask(log, body: str, profile, cells: int = 360) -> np.ndarray:
+def coverage_mask(log, body: str, profile, cells: int = 360, phases=None) -> np.ndarray:
     """(cells,) whether each polar-angle cell of the outline (object frame, cell ``k``
     spans ``[k, k + 1) 360 / cells`` deg) holds a true contact point of a fingertip
-    (``*.left`` / ``*.right``) with a positive normal force."""
+    (``*.left`` / ``*.right``) with a positive normal force.
+
+    With ``phases`` (the result's :class:`~.result.PhaseRecord` list) only the exploring
+    finger's contacts count: the right finger's in phases 2, the left finger's in phases 3
+    (the strict reading of "touched by an exploring fingertip"); without, every fingertip
+    contact counts (phase-1 rolling and the holder sense the outline too)."""
     hit = np.zeros(cells, dtype=bool)
     pose = log.poses[body]
     for j, pair in enumerate(log.pairs):
         a, b = pair.split("|")
         if body not in (a, b) or not any(x.endswith((".left", ".right")) for x in (a, b)):
             continue
-        rows, slots = np.nonzero((log.contact_pair == j) & (log.normal_force > 0))
+        touch = (log.contact_pair == j) & (log.normal_force > 0)
+        if phases is not None:
+            kind = 2 if any(x.endswith(".right") for x in (a, b)) else 3
+            when = np.zeros(len(log.t), dtype=bool)
+            for ph in phases:
+                if ph.kind == kind:
+                    when |= (log.t >= ph.start) & (log.t <= ph.end)
+            touch &= when[:, None]
+        rows, slots = np.nonzero(touch)
         if rows.size == 0:
             continue
         P = log.contact_point[rows, slots]

@@ -81,7 +81,9 @@ class ExplorationResult:
         phases: the executed :class:`PhaseRecord` in order.
         rotation: total true object rotation [rad] (negative: clockwise).
         coverage: fraction of the outline (1-degree cells of polar angle) touched by a
-            fingertip, 0-1.
+            fingertip in any phase (phase-1 rolling and the holder sense it too), 0-1;
+            ``metrics.coverage_mask(log, "object", profile, phases=phases)`` counts the
+            exploring finger of phases 2/3 only (``coverage_explorer_only`` in a run).
         min_epsilon: smallest sensed epsilon of any phase-1 grasp.
         features: :class:`DetectedFeature` found by the exploring pad.
         log: the :class:`planner.sim.SimLog` of the whole run.
