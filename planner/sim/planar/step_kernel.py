@@ -165,7 +165,7 @@ def _add_row(row, kind, idx, nfree, x, joints, px, py, dx, dy, sign):
             row[off + k] += sign * (-dx * (py - jy) + dy * (px - jx))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _inverse_mass(mass, inertia, has_hand, q, qd, gx, gy, P, nfree):
     """The block-diagonal inverse mass ``Minv`` (nv, nv) of the free bodies and the hand,
     and the hand's bias ``hb`` (6,) at ``(q, qd)`` (zeros without a hand)."""
@@ -190,7 +190,7 @@ def _inverse_mass(mass, inertia, has_hand, q, qd, gx, gy, P, nfree):
     return Minv, hb
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _limit_rows(q, qd, h, limits):
     """Joint-limit rows: the joints within ``max(0.01, 2 |qd| h)`` [rad] of a limit.
 
@@ -212,7 +212,7 @@ def _limit_rows(q, qd, h, limits):
     return n, joint, gap, side
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _contact_rows(cand, kind, index, mu_body, nfree, x, joints, nlim, lim_joint, lim_side, nv):
     """The LCP's velocity rows: ``R`` (nn + 2 nf, nv) = normal rows of the candidates, the
     joint-limit rows, then +/- the tangent rows of the nf frictional candidates ``fr``;
@@ -250,7 +250,7 @@ def _contact_rows(cand, kind, index, mu_body, nfree, x, joints, nlim, lim_joint,
     return R, T, fr, mu
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _impulse_lcp(R, Minv, v_free, phi, fr, mu, nn, h, covers):
     """Solve the Stewart-Trinkle LCP of the step (normal, limit and friction-edge rows of
     ``R``, the friction-cone slack rows): ``(status, z, MRt)``; a failed Lemke path on the
