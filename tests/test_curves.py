@@ -246,3 +246,28 @@ def test_coarse_to_fine_path_matches_closed_forms(profile, expect, samples):
     np.testing.assert_allclose(tc.interference_points, expect, atol=1e-9)
     d = c.distance_to_profile(tc.points[:: max(1, len(tc.points) // 3000)], profile)
     assert d.min() >= 0.01 - 1e-7
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    n=st.integers(3, 9),
+    radius=st.floats(0.02, 0.1),
+    turn=st.floats(0.0, 2 * np.pi),
+    theta=st.floats(0.0, 2 * np.pi),
+)
+def test_regular_polygon_polar_lookup_closed_form(n, radius, turn, theta):
+    """Sharp regular n-gons (clockwise vertices, centred): on the face whose outward normal
+    is at ``a``, the point at polar angle theta lies at apothem / cos(theta - a) [m]. Their
+    pieces meet 1e-18 m apart at the corners, which the lookup once refused as "not
+    star-shaped"."""
+    ang = turn - 2 * np.pi * np.arange(n) / n
+    poly = shapes.polygon(radius * np.column_stack([np.cos(ang), np.sin(ang)]))
+    p, nrm = poly.point_at_polar_angle(np.array([theta]))
+    faces = ang - np.pi / n  # outward normal of the face between vertices k and k+1
+    off = np.angle(np.exp(1j * (theta - faces)))
+    k = int(np.argmin(np.abs(off)))
+    apothem = radius * np.cos(np.pi / n)
+    expect = apothem / np.cos(off[k]) * np.array([np.cos(theta), np.sin(theta)])
+    np.testing.assert_allclose(p[0], expect, atol=1e-6 * radius)
+    if abs(abs(off[k]) - np.pi / n) > 1e-3:  # away from a corner: the face's normal
+        np.testing.assert_allclose(nrm[0], [np.cos(faces[k]), np.sin(faces[k])], atol=1e-6)

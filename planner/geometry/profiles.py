@@ -256,8 +256,14 @@ class Profile:
             smp = self.sample(self.length / 20000.0)
             # one sample per point: a sharp corner gets the bisector of its fan's normals
             P, N = smp.points, smp.normals
+            # a point repeats within round-off (a fan, a corner where two pieces meet,
+            # the closing sample): 1e-12 of the length, not exact equality (pieces ending
+            # at a sharp corner meet 1e-18 m apart)
+            tol = 1e-12 * self.length
             new = np.ones(len(P), bool)
-            new[1:] = np.any(P[1:] != P[:-1], axis=1)
+            new[1:] = np.hypot(*(P[1:] - P[:-1]).T) > tol
+            if np.hypot(*(P[-1] - P[0])) <= tol:  # the closing sample is the first one
+                new[-1] = False
             grp = np.cumsum(new) - 1
             Nsum = np.zeros((int(grp[-1]) + 1, 2))
             np.add.at(Nsum, grp, N)
