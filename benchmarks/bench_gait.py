@@ -57,9 +57,6 @@ from _common import arg_parser, load_average, write_report  # noqa: E402
 #: ball_with_ridge hand (the default 110-deg ranges fit only 4-5 cm round objects)
 HAND_LOWER_DEG = (-40.0, 0.0, -10.0)
 HAND_UPPER_DEG = (90.0, 150.0, 130.0)
-#: polygons get corner fillets of this radius [m]: sharp polygons are refused by
-#: Profile.point_at_polar_angle ("not star-shaped": duplicated vertices 1e-17 apart)
-POLYGON_FILLET = 0.001
 
 
 @dataclass(frozen=True)
@@ -73,14 +70,11 @@ class BatchObject:
 
 
 def _polygon(n: int, radius: float):
-    """Regular n-gon of circumradius ``radius`` [m] resting on an edge, 1 mm fillets."""
+    """Regular sharp n-gon of circumradius ``radius`` [m] resting on an edge."""
     from planner.geometry import shapes
-    from planner.geometry.profiles import Profile
 
     ang = -0.5 * np.pi + np.pi / n - 2 * np.pi * np.arange(n) / n  # clockwise
-    P = radius * np.column_stack([np.cos(ang), np.sin(ang)])
-    pieces = shapes._chain(P, np.full(n, POLYGON_FILLET), closed=True)
-    return Profile(tuple(pieces), closed=True, name=f"{n}-gon")
+    return shapes.polygon(radius * np.column_stack([np.cos(ang), np.sin(ang)]))
 
 
 def objects(quick: bool) -> list[BatchObject]:
@@ -474,8 +468,7 @@ def main() -> None:
         f">= {args.min_rotation:g} deg clockwise or two phase-1 rotations >= 5 deg when the "
         "time ran out; success = full turn or turning",
         f"hand: joint ranges {list(HAND_LOWER_DEG)} .. {list(HAND_UPPER_DEG)} deg (the "
-        "ball_with_ridge hand), mu = 1; polygons with 1 mm corner fillets (sharp polygons hit "
-        "a star-shape check bug in Profile.point_at_polar_angle)",
+        "ball_with_ridge hand), mu = 1; regular polygons with sharp corners",
         "plan_gait: map space on the TRUE object (resolution 72, pure rolling, fixed "
         "contact model); the executor's model: "
         + ("the object's outline, posed from the sensed contacts at every phase start"
