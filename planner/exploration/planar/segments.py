@@ -204,13 +204,16 @@ def explore_segment(
     hand,
     travel: float = 0.35,
     via: float | None = None,
+    edge: bool = True,
 ):
     """The phase-2 (``kind`` 2: right explores) or phase-3 (left explores) segment that
     moves the explorer's contact from its sensed angle to ``target_beta`` [rad];
     ``travel`` [rad] is the contact travel expected in the next phase 1 (for the
     orientation heuristic). ``via`` [rad] (phase 3 only): a back-stroke, to ``via`` and back
     to ``target_beta``, the pad's centre trailing its contact (:data:`EDGE_MARGIN`) so
-    that its edge reaches the far side of a feature the pad jumped over."""
+    that its edge reaches the far side of a feature the pad jumped over; with ``edge``
+    False the contact stays centred on the pad (an overlap stroke,
+    :mod:`.stroke_overlap`)."""
     s = settings
     k = 1 if kind == 2 else 0
     radius = float(np.linalg.norm(est.p[k] - est.centre))
@@ -220,7 +223,8 @@ def explore_segment(
     if via is not None and kind == 3:
         via = b0 + math.atan2(math.sin(via - b0), math.cos(via - b0))
         # the centre on the tangent, on the side the pad comes from
-        trail = math.copysign(hand.params.left.pad_half_width - EDGE_MARGIN, b0 - via)
+        if edge:
+            trail = math.copysign(hand.params.left.pad_half_width - EDGE_MARGIN, b0 - via)
     else:
         via = None
     path, _, T_move = contact_stroke(b0, b1, via, radius, s.explore_speed)

@@ -44,6 +44,9 @@ class GaitSettings:
             got past it (it jumped a ridge), one extra phase 3 sends the pad's end, tilted,
             back into the corner beyond the wall (:mod:`.corner_probe`; round nominal
             shapes only).
+        stroke_overlap: a phase 3 whose pad starts more than a few degrees past the
+            outline explored so far first goes back into it (:mod:`.stroke_overlap`; round
+            nominal shapes only).
         explore_force: normal force of the exploring finger (0.3 N, §2.3.2) [N].
         object_mass: the planner's guess of the object mass [kg].
         object_kp, object_kv: object impedance gains (eq. 2.7).
@@ -75,6 +78,7 @@ class GaitSettings:
     left_hold_force: float = 2.0
     sensed_features: bool = False
     corner_probe: bool = True
+    stroke_overlap: bool = True
     explore_force: float = 0.3
     object_mass: float = 0.05
     object_kp: tuple[float, float, float] = (80.0, 80.0, 0.8)
