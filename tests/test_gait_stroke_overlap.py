@@ -202,3 +202,52 @@ def test_only_the_same_fingers_previous_stroke_counts():
     lifted[:, COL["pad_touch"]] = 0.0
     out.observe(lifted, 3, R)
     assert np.flatnonzero(out.last[3]).tolist() == list(range(100, 120))
+
+
+# ------------------------------------------------------- the end-first approach to a wall
+def test_a_known_wall_ahead_of_the_stroke_is_approached():
+    """The wall (object 167 deg, met moving towards larger angles) lies ahead of a stroke
+    from 150 to 160 deg (object) within the stroke plus APPROACH_REACH; not behind it, not
+    beyond the reach, not for a stroke the other way."""
+    from planner.exploration.planar.corner_probe import APPROACH_REACH, wall_ahead
+
+    walls = [(math.radians(167.0), 1.0)]
+    theta = -2.0
+    b = math.radians(150.0) + theta
+    assert wall_ahead(walls, theta, b, b + math.radians(10.0)) == pytest.approx(walls[0][0])
+    assert wall_ahead(walls, theta, b + math.radians(20.0), b + math.radians(30.0)) is None
+    short = math.radians(17.0) - APPROACH_REACH - math.radians(1.0)
+    assert wall_ahead(walls, theta, b, b + short) is None
+    assert wall_ahead(walls, theta, b, b - math.radians(10.0)) is None
+    assert wall_ahead([], theta, b, b + 0.2) is None
+
+
+def test_the_approach_leads_with_the_pad_end_and_servoes_the_contact_there():
+    """The approach: the contact from 150 to 160 deg (world) on the circle with the pad's
+    centre trailing it by the pad's half-width less EDGE_MARGIN once the startup is over,
+    the tactile servo's target PROBE_EDGE behind the leading end; the plain stroke has no
+    trail (the friction lead only), and both tables equal their callables."""
+    from planner.exploration.planar.controller import _references
+    from planner.exploration.planar.corner_probe import PROBE_EDGE, approach_segment
+    from planner.exploration.planar.segments import EDGE_MARGIN, friction_lag, segment_references
+    from planner.exploration.planar.settings import GaitSettings
+    from robots.planar_hand import PlanarHand
+
+    s, hand = GaitSettings(), PlanarHand()
+    w_pad = hand.params.left.pad_half_width
+    b0, target = math.radians(150.0), math.radians(160.0)
+    seg = approach_segment(_est(b0), np.full(6, 0.2), target, 0.1, s, hand)
+    plain = explore_segment(3, _est(b0), np.full(6, 0.2), target, 0.1, s, hand)
+    assert seg.contact_target == pytest.approx(w_pad - PROBE_EDGE)
+    assert plain.contact_target is None and seg.duration == pytest.approx(plain.duration)
+    t = 0.5 * plain.duration
+    (px, py), _, _ = seg.explore(t)
+    (qx, qy), _, _ = plain.explore(t)
+    diff = np.array([px - qx, py - qy])  # both references share the contact angle
+    assert np.hypot(*diff) == pytest.approx(w_pad - EDGE_MARGIN)
+    b = math.atan2(qy - R, qx)
+    assert diff @ np.array([-math.sin(b), math.cos(b)]) < -0.99 * (w_pad - EDGE_MARGIN)
+    assert np.hypot(qx, qy - R) == pytest.approx(math.hypot(R, friction_lag(s)))
+    tl = np.linspace(0.0, seg.duration + 0.1, 201)
+    rows = np.array([[seg.hold_force(x), *_references(seg, x)] for x in tl])
+    np.testing.assert_allclose(segment_references(seg, tl), rows, rtol=0, atol=1e-15)
