@@ -191,37 +191,8 @@ def global_skeleton(
     F = len(bnd)
     allb = np.concatenate(bnd)
     domain = domain_polygon(allb, margin)
-    skels: tuple = ()
-    if generators == "skeleton":
-        sk = []
-        for i, b in enumerate(bnd):
-            try:
-                sk.append(feature_skeleton(b, noise=noise, settings=settings))
-            except InvalidParameter:
-                if len(b) < 2:
-                    raise InvalidParameter(
-                        f"boundaries[{i}]: expected at least 2 samples to build a (pseudo-)skeleton"
-                    ) from None
-                sk.append(pseudo_skeleton(b))
-        skels = tuple(sk)
-        gens = [s.points for s in sk]
-    else:
-        gens = bnd
-    G = np.concatenate(gens)
-    lab = np.concatenate([np.full(len(x), i) for i, x in enumerate(gens)])
-    G, first = np.unique(G, axis=0, return_index=True)
-    lab = lab[first]
-    vor = voronoi(with_far_points(G))
-    lab = np.concatenate([lab, np.full(8, -1)])
-    rp = np.asarray(vor.ridge_points, dtype=np.int64)
-    rv = np.asarray(vor.ridge_vertices, dtype=np.int64).reshape(-1, 2)
-    la, lb = lab[rp[:, 0]], lab[rp[:, 1]]
-    keep = (la >= 0) & (lb >= 0) & (la != lb) & (rv >= 0).all(axis=1)
-    seg = vor.vertices[rv[keep]]
-    gen_pt = G[rp[keep, 0]]
-    pairs = np.sort(np.column_stack([la[keep], lb[keep]]), axis=1)
-    seg, inside = clip_segments(seg, domain.bounds)
-    seg, gen_pt, pairs = seg[inside], gen_pt[inside], pairs[inside]
+    gens, skels = _generators(bnd, generators, noise, settings)
+    G, lab, seg, gen_pt, pairs = _shared_edges(gens, domain)
     points, edges = merge_segments(seg)
     scale = float(np.ptp(allb, axis=0).max()) or 1.0
     points, edges, src = g.merge_close_points(points, edges, 1e-9 * scale)
@@ -238,7 +209,7 @@ def global_skeleton(
             else np.zeros(0)
         )
     pc = pair_clearances(bnd)
-    regions = _regions(seg, domain, G, lab[: len(G)], F)
+    regions = _regions(seg, domain, G, lab, F)
     return GlobalSkeleton(
         points,
         edges,
@@ -253,6 +224,47 @@ def global_skeleton(
         skels,
         generators,
     )
+
+
+def _generators(bnd: list, generators: str, noise, settings) -> tuple[list, tuple]:
+    """The Voronoi generators of each feature: its boundary samples, or its skeleton's
+    points (a feature enclosing no area: the pseudo-skeleton of its samples); and the
+    feature skeletons (empty for boundary generators)."""
+    if generators != "skeleton":
+        return bnd, ()
+    sk = []
+    for i, b in enumerate(bnd):
+        try:
+            sk.append(feature_skeleton(b, noise=noise, settings=settings))
+        except InvalidParameter:
+            if len(b) < 2:
+                raise InvalidParameter(
+                    f"boundaries[{i}]: expected at least 2 samples to build a (pseudo-)skeleton"
+                ) from None
+            sk.append(pseudo_skeleton(b))
+    return [s.points for s in sk], tuple(sk)
+
+
+def _shared_edges(gens: list, domain: shapely.Polygon):
+    """Fig. 4.15's extraction: the finite Voronoi edges between generators of two different
+    features, clipped to the domain. Returns the unique generators ``G`` (K, 2) [m] with
+    their feature labels (K,), the segments (E, 2, 2) [m], a generator of each (E, 2) and
+    each one's sorted feature pair (E, 2)."""
+    G = np.concatenate(gens)
+    lab = np.concatenate([np.full(len(x), i) for i, x in enumerate(gens)])
+    G, first = np.unique(G, axis=0, return_index=True)
+    lab = lab[first]
+    vor = voronoi(with_far_points(G))
+    lab_far = np.concatenate([lab, np.full(8, -1)])
+    rp = np.asarray(vor.ridge_points, dtype=np.int64)
+    rv = np.asarray(vor.ridge_vertices, dtype=np.int64).reshape(-1, 2)
+    la, lb = lab_far[rp[:, 0]], lab_far[rp[:, 1]]
+    keep = (la >= 0) & (lb >= 0) & (la != lb) & (rv >= 0).all(axis=1)
+    seg = vor.vertices[rv[keep]]
+    gen_pt = G[rp[keep, 0]]
+    pairs = np.sort(np.column_stack([la[keep], lb[keep]]), axis=1)
+    seg, inside = clip_segments(seg, domain.bounds)
+    return G, lab, seg[inside], gen_pt[inside], pairs[inside]
 
 
 def _regions(

@@ -2,7 +2,7 @@
 
 The executor plans on a circle: the holder's push in phase 2/3 and the two-finger grasp of
 phase 1 are checked with polar angles about the estimated centre
-(``machine._right_hold_angle``, :func:`.heuristics.stable_pair`). On a non-round object the
+(``phase_planning.right_hold_angle``, :func:`.heuristics.stable_pair`). On a non-round object the
 contact normals are not radial, and these angles are what the friction cones see:
 
 * :func:`palm_press_angle`: a finger pressing the object against the palm (no moment about

@@ -19,37 +19,27 @@ import time
 import numpy as np
 
 from planner.errors import InvalidParameter
-from planner.exploration.planar import shape_planning
+from planner.exploration.planar import phase_planning, shape_planning
 from planner.exploration.planar.controller import TRACE_NAMES, GaitController, trace_arrays
-from planner.exploration.planar.corner_probe import CornerProbe, probe_segment
+from planner.exploration.planar.corner_probe import CornerProbe
 from planner.exploration.planar.gait_loop import PhaseStop, TipHoldStop
-from planner.exploration.planar.heuristics import regrasp_left_angle, stable_pair
 from planner.exploration.planar.logs import concat_logs
 from planner.exploration.planar.metrics import pad_rolling
 from planner.exploration.planar.objects import mean_radius
 from planner.exploration.planar.result import ExplorationResult, PhaseRecord
-from planner.exploration.planar.segments import explore_segment, phase1_segment
-from planner.exploration.planar.sensed_features import rotation_cap, sensed_bump
 from planner.exploration.planar.settings import GaitSettings
 from planner.exploration.planar.setup import build_world, gait_prior
 from planner.exploration.planar.shape_tracking import ShapeTracker
 
 FULL_TURN = 2 * math.pi
 CX = TRACE_NAMES.index("cx")
-#: contact travel [rad] expected in one phase 1 (the regrasp heuristics keep joint range for
-#: it; the first rotation of the 10 cm ball moved the contacts 16-24 deg)
-PHASE1_TRAVEL = math.radians(22.0)
 #: the gait terminates when this many cycles together turned the object less than
 #: ``STALL_ROTATION`` [rad]
 STALL_CYCLES = 3
-#: range of the fitted local radius, in nominal radii [-]
-RADIUS_FIT = (0.85, 1.2)
 #: phases 2/3 end when the sensed object centre moved this far from its start [m] (a
 #: safety net: the sliding pad rolls the ball 1-5 mm per phase 3, more over the ridge)
 HOLD_SLIP = 0.01
 STALL_ROTATION = math.radians(5.0)
-#: sensed features closer than this (object frame) are one [rad]
-SAME_FEATURE = math.radians(15.0)
 #: simulated time between two calls of ``on_progress`` [s]
 PROGRESS_STEP = 0.1
 
@@ -244,142 +234,15 @@ class _Runner:
         return abs(net) < STALL_ROTATION
 
     def _plan(self, kind, est, q):
-        s = self.s
-        if kind == 1:
-            r = self.hand.params.right.tip_radius
-            mu = s.mu * (1 - s.friction_margin)
-            if self.shape is not None:
-                return shape_planning.plan_phase1(self, q, mu)
-            R = self._fit_radius(est, r)
-            self.ctrl.sensing.radius = R
-            est = self.ctrl.sensing.update(self.world.observe(), "auto")
-            plan = self.nlp.solve(q, est.centre, R, r, mu, est.beta, est.u, **self.nlp_options())
-            return self.phase1_outcome(plan, est, q, mu)
+        """``(segment or None, planned rotation [rad], solve time [s], why no plan)`` of the
+        next phase: the posed outline's planner (:mod:`.shape_planning`) or the round
+        one (:mod:`.phase_planning`)."""
         if self.shape is not None:
+            if kind == 1:
+                mu = self.s.mu * (1 - self.s.friction_margin)
+                return shape_planning.plan_phase1(self, q, mu)
             return shape_planning.plan_explore(self, kind, est, q)
-        if kind == 2:
-            target = max(self.start["beta"][1], self._right_hold_angle())
-        elif self._via is not None:  # the back-stroke: onto the feature's far side and back
-            via, self._via, self._stroking = self._via, None, True
-            seg = explore_segment(3, est, q, float(est.beta[0]), self.theta, s, self.hand,
-                                  PHASE1_TRAVEL, via=via)  # fmt: skip
-            return seg, 0.0, 0.0, ""
-        else:
-            target = self._left_regrasp_angle(est)
-            aim = self._corner_aim(est)
-            if aim is not None:  # first the pad's end into the corner beyond a wall
-                self._stroking = True
-                seg = probe_segment(est, q, aim, target, self.theta, s, self.hand)
-                return seg, 0.0, 0.0, ""
-        seg = explore_segment(kind, est, q, target, self.theta, s, self.hand, PHASE1_TRAVEL)
-        return seg, 0.0, 0.0, ""
-
-    def _corner_aim(self, est) -> float | None:
-        """The world angle [rad] a corner probe aims the pad's end at in this phase 3, or
-        None (:meth:`.corner_probe.CornerProbe.aim`; round nominal shapes only)."""
-        if self.corner is None or self.shape is not None:
-            return None
-        aim = self.corner.aim(self.theta, float(est.beta[0]))
-        if aim is not None:
-            msg = f"probe the corner beyond the wall at {math.degrees(aim):.0f} deg (world)"
-            self.events.append({"t": self.world.time, "kind": "corner_probe", "message": msg})
-        return aim
-
-    def nlp_options(self) -> dict:
-        """The phase-1 NLP's margins, home and rotation cap (keyword arguments of ``solve``)."""
-        s = self.s
-        return {
-            "margin": s.nlp_margin,
-            "joint_margin": s.joint_margin + 0.02,
-            "home_x": self.start["rest"][0],
-            "max_rotation": self._rotation_cap(),
-        }
-
-    def phase1_outcome(self, plan, est, q, mu: float):
-        """``(segment or None, planned rotation [rad], solve time [s], why no plan)`` of a
-        phase-1 plan from the estimate ``est`` at joint angles ``q`` [rad]."""
-        self._plan1 = plan
-        if not plan.success or abs(plan.rotation) < math.radians(1.0):
-            why = self._blocking(est, q, mu)
-            return None, 0.0, plan.solve_time_s, f"phase-1 NLP: {plan.stop}; {why}"
-        seg = phase1_segment(plan, est, q, self.theta, self.s, self.hand, lift=0.0015)
-        return seg, plan.rotation, plan.solve_time_s, ""
-
-    def _rotation_cap(self) -> float:
-        """The phase-1 rotation cap [rad] that keeps sensed features off the palm."""
-        return rotation_cap(self.sensed_features, self.theta)
-
-    def _feature_behind(self, event: str) -> float | None:
-        """Records a feature the last phase 3 met (object frame, for :meth:`_rotation_cap`)
-        and returns its world angle [rad] when the pad slid over it (a back-stroke
-        follows), else None."""
-        if event not in ("path finished", "workspace limit"):
-            return None
-        bump = sensed_bump(np.asarray(self.ctrl.trace[self._rows[0] : self._rows[1]]))
-        if bump is None:
-            return None
-        f = math.remainder(bump[0] - self.theta, 2 * math.pi)
-        if all(abs(math.remainder(f - g, 2 * math.pi)) > SAME_FEATURE
-               for g in self.sensed_features):  # fmt: skip
-            self.sensed_features.append(f)
-        return bump[0] if bump[1] else None
-
-    def _blocking(self, est, q, mu: float) -> str:
-        """Which constraint blocks phase 1 at the sensed grasp (the issue's three):
-        force closure (the contact line outside the friction cones), workspace (a joint
-        at its limit) or reach (no stable left grasp within the pad's reach)."""
-        stab = stable_pair(float(est.beta[0]), float(est.beta[1]), mu, 0.0)
-        if stab < 0:
-            return (f"blocking: force closure (contact line {math.degrees(-stab):.0f} deg "
-                    "outside the friction cones)")  # fmt: skip
-        lim = self.hand.joint_limits
-        margin = np.minimum(np.asarray(q) - lim[:, 0], lim[:, 1] - np.asarray(q))
-        j = int(np.argmin(margin))
-        if margin[j] < self.s.joint_margin + 0.02:
-            return (
-                f"blocking: workspace (joint {j} {math.degrees(margin[j]):.1f} deg from its limit)"
-            )
-        if self._left_regrasp_angle(est, fallback=False) is None:
-            return "blocking: reach (no stable left grasp within the pad's reach)"
-        return "blocking: none of force closure / workspace / reach at the start (IPOPT failed)"
-
-    def _fit_radius(self, est, r: float) -> float:
-        """The local radius [m] of the object between the two fingers (§2.2.3: "planning is
-        done ... using a current estimate of the object curvature"): the circle tangent to
-        the left pad at its sensed contact and touching the round right tip,
-        ``|T - p + R n| = R + r`` solved for ``R`` (``T`` tip centre, ``p``, ``n`` the pad's
-        contact point and outward normal), clamped to ``RADIUS_FIT`` times the nominal one.
-        On a non-circular object the nominal circle put the NLP's start out of reach of the
-        fingers (solver failed at the start of the ellipse)."""
-        R0 = self.R_nominal
-        d = est.tips[1] - est.p[0]
-        den = 2.0 * (float(d @ est.n[0]) - r)
-        if abs(den) < 1e-9 or not est.pad_touch:
-            return R0
-        R = (r * r - float(d @ d)) / den
-        lo, hi = RADIUS_FIT
-        return float(min(max(R, lo * R0), hi * R0))
-
-    def _left_regrasp_angle(self, est, fallback: bool = True):
-        """Where the left pad goes in phase 3 (world polar angle [rad]): the §2.2.3 choice of
-        :func:`regrasp_left_angle` for the right contact it will grasp with; the start
-        grasp's angle when none is stable and reachable (phase 1 then reports it)."""
-        s = self.s
-        mu = s.mu * (1 - s.friction_margin)
-        b = regrasp_left_angle(self.hand, est.centre, self.ctrl.sensing.radius, float(est.beta[1]),
-                               mu, s.nlp_margin, PHASE1_TRAVEL)  # fmt: skip
-        if b is None and fallback:
-            return self.start["beta"][0]
-        return b
-
-    def _right_hold_angle(self) -> float:
-        """Lowest polar angle [rad] of the right contact from which the right finger can
-        press the object against the palm in phase 3: the chord to the palm contact makes
-        (pi/2 - beta) / 2 with the contact normal and must lie inside the friction cone
-        (with a 0.2 rad reserve). Below it the holder's cone-limited push rolled the object
-        backwards along the palm (+10-18 deg per phase 3 with beta = 5 deg)."""
-        mu = self.s.mu * (1 - self.s.friction_margin)
-        return 0.5 * math.pi - 2 * math.atan(mu) + 0.2
+        return phase_planning.plan(self, kind, est, q)
 
     def _run(self, kind, skip, seg, planned, nlp_t):
         w, c = self.world, self.ctrl
@@ -484,7 +347,7 @@ class _Runner:
             rows = np.asarray(self.ctrl.trace[self._rows[0] : self._rows[1]], dtype=float)
             self.corner.observe(rows, self.ctrl.sensing.radius)
         if self.s.sensed_features and not self.records[-1].backstroke:
-            self._via = self._feature_behind(event)
+            self._via = phase_planning.feature_behind(self, event)
             if self._via is not None:
                 self.events.append({"t": self.world.time, "kind": "backstroke",
                                     "message": "the pad slid over a feature at "

@@ -23,11 +23,11 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
 
 import numpy as np
 
 from planner.exploration.planar import pivot_reach as pr
+from planner.trajectory.rolling_nlp import RollingPlan
 
 #: largest rotation of one pivot phase [rad]
 MAX_PIVOT = math.radians(40.0)
@@ -39,31 +39,6 @@ PIVOT_MARGIN = 0.045
 #: candidate regrasp contacts along the face [m] and tip orientations [rad]
 REGRASP_STEP = 0.01
 REGRASP_PHI_STEP = math.radians(10.0)
-
-
-@dataclass(frozen=True)
-class PivotPlan:
-    """A phase-1 plan on the pivot (the fields of ``planner.trajectory.RollingPlan``).
-
-    Attributes:
-        theta: (K,) object rotation at the knots [rad] (0, then decreasing: clockwise).
-        centre: (K, 2) the controller's centre estimate at the knots [m].
-        q: (K, 6) joint angles [rad]; beta: (K, 2) the contacts' polar angles about
-            ``centre`` [rad]; u: (K,) the pad's contact across the pad [m].
-        rotation: ``theta[-1]`` [rad]; stop: which finger's reach ends it.
-    """
-
-    theta: np.ndarray
-    centre: np.ndarray
-    q: np.ndarray
-    beta: np.ndarray
-    u: np.ndarray
-    rotation: float
-    success: bool
-    solve_time_s: float
-    stop: str
-    solve_cpu_s: float = float("nan")
-    iterations: int = 0
 
 
 def _deg(x: float) -> float:
@@ -94,11 +69,15 @@ def tip_face(shape, est):
     return f, float((con["tip"] - f.start) @ f.tangent)
 
 
-def plan_pivot(hand, W, face, d0: float, est, q, theta_cap: float, knots: int) -> PivotPlan:
+def plan_pivot(hand, W, face, d0: float, est, q, theta_cap: float, knots: int) -> RollingPlan:
     """The pivot of the posed outline ``W`` (M, 2) [m] from joint angles ``q`` (6,) [rad]
     with the round tip on ``face`` at ``d0`` [m] and the estimate ``est`` (its centre,
     contact angles and pad contact; the controller's radius already set), at most
-    ``theta_cap`` [rad], sampled at ``knots + 1`` knots."""
+    ``theta_cap`` [rad], sampled at ``knots + 1`` knots: a
+    :class:`~planner.trajectory.rolling_nlp.RollingPlan` whose ``centre`` is the controller's
+    centre estimate along the pivot (a point of the object, turning about the palm corner)
+    and ``beta`` the contacts' polar angles about it; ``stop`` names the finger whose reach
+    ends it."""
     t0, c0 = time.perf_counter(), time.process_time()
     q = np.asarray(q, float)
     path = pr.tip_rolling_path(hand, W, face, d0, float(q[3:].sum()), max_turn=theta_cap,
@@ -111,7 +90,7 @@ def plan_pivot(hand, W, face, d0: float, est, q, theta_cap: float, knots: int) -
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     if rot < math.radians(1.0) or len(qL) == 0:
         K = np.zeros(1)
-        return PivotPlan(K, est.centre[None].copy(), q[None].copy(), est.beta[None].copy(),
+        return RollingPlan(K, est.centre[None].copy(), q[None].copy(), est.beta[None].copy(),
                          np.array([est.u]), 0.0, False, wall, stop, cpu)  # fmt: skip
     th = -np.linspace(0.0, rot, knots + 1)
     grid = -path.theta
@@ -128,7 +107,7 @@ def plan_pivot(hand, W, face, d0: float, est, q, theta_cap: float, knots: int) -
     bR += 2 * math.pi * round((float(est.beta[1]) - bR[0]) / (2 * math.pi))
     beta = np.column_stack([float(est.beta[0]) + th, bR])
     del phi  # the orientation is in qR (its sum)
-    return PivotPlan(th, centre, np.column_stack([qLk, qR]), beta, np.full(th.size, float(est.u)),
+    return RollingPlan(th, centre, np.column_stack([qLk, qR]), beta, np.full(th.size, float(est.u)),
                      float(th[-1]), True, wall, stop, cpu)  # fmt: skip
 
 
@@ -198,7 +177,6 @@ def _move_ok(hand, W, face, q_right, end, n: int = 12) -> bool:
 
 __all__ = [
     "MAX_PIVOT",
-    "PivotPlan",
     "best_tip_regrasp",
     "pad_reach_now",
     "plan_pivot",

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import math
 
-from planner.exploration.planar import pivot_planning
+from planner.exploration.planar import phase_planning, pivot_planning
 
 #: largest travel of the planned centre in phase 1 on a posed outline [m] (a square pivoting
 #: on its corner lifts its centre up to 23 mm)
@@ -78,7 +78,7 @@ def plan_phase1(runner, q, mu: float):
     r = runner.hand.params.right.tip_radius
     set_radius(ctrl, runner.R_nominal)
     est = ctrl.sensing.update(runner.world.observe(), "auto")
-    common = runner.nlp_options()
+    common = phase_planning.nlp_options(runner)
     modes = shape.contact_modes(est) if PLAN_ON_OUTLINE else None
     local = None if modes is not None else shape.local_circle(est, r, runner.R_nominal)
     if modes is not None:
@@ -94,10 +94,10 @@ def plan_phase1(runner, q, mu: float):
         plan = _nlp(runner, "circle").solve(q, est.centre, local[1], r, mu, est.beta, est.u,
                                             palm_points=pts, **common)  # fmt: skip
     else:  # no pad or tip contact to pose the outline by: the circle fitted to both
-        R = runner._fit_radius(est, r)
+        R = phase_planning.fit_radius(runner, est, r)
         ctrl.sensing.radius = R
         plan = runner.nlp.solve(q, est.centre, R, r, mu, est.beta, est.u, **common)
-    return runner.phase1_outcome(plan, est, q, mu)
+    return phase_planning.phase1_outcome(runner, plan, est, q, mu)
 
 
 def _pivot_phase1(runner, q, est, local):
@@ -110,7 +110,7 @@ def _pivot_phase1(runner, q, est, local):
     set_radius(runner.ctrl, local[1])
     est = posed_estimate(est, local)
     W = shape.outline.posed(shape.pose)
-    cap = min(pivot_planning.MAX_PIVOT, runner._rotation_cap())
+    cap = min(pivot_planning.MAX_PIVOT, phase_planning.rotation_cap(runner))
     plan = pivot_planning.plan_pivot(runner.hand, W, face, d0, est, q, cap, s.nlp_knots)
     runner._plan1 = plan
     if not plan.success:

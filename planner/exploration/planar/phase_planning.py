@@ -1,0 +1,176 @@
+"""Planning each phase from the current estimate (§2.2.3: "The planning is done dynamically
+at the start of each phase, using a current estimate of the object curvature and surface
+orientation"): the planner of round nominal shapes, and the phase-1 pieces the posed-outline
+planner (:mod:`.shape_planning`) shares with it.
+
+Phase 1 is the rolling NLP on the local circle (:func:`fit_radius`); phase 2 sends the right
+finger back to where it can hold the object on the palm (:func:`right_hold_angle`); phase 3
+sends the left pad to the §2.2.3 regrasp (:func:`left_regrasp_angle`), after a back-stroke
+over a feature it slid across (:func:`feature_behind`) or a corner probe beyond a wall it
+jumped (:mod:`.corner_probe`). Every function takes the executor's runner
+(:class:`.machine._Runner`: its settings ``s``, ``hand``, ``ctrl``, ``start`` grasp, rotation
+estimate ``theta`` and sensed features).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from planner.exploration.planar.corner_probe import probe_segment
+from planner.exploration.planar.heuristics import regrasp_left_angle, stable_pair
+from planner.exploration.planar.segments import explore_segment, phase1_segment
+from planner.exploration.planar.sensed_features import rotation_cap as _cap
+from planner.exploration.planar.sensed_features import sensed_bump
+
+#: contact travel [rad] expected in one phase 1 (the regrasp heuristics keep joint range for
+#: it; the first rotation of the 10 cm ball moved the contacts 16-24 deg)
+PHASE1_TRAVEL = math.radians(22.0)
+#: range of the fitted local radius, in nominal radii [-]
+RADIUS_FIT = (0.85, 1.2)
+#: sensed features closer than this (object frame) are one [rad]
+SAME_FEATURE = math.radians(15.0)
+
+
+def plan(r, kind: int, est, q):
+    """``(segment or None, planned rotation [rad], solve time [s], why no plan)`` of the
+    next phase of a round nominal shape from the estimate ``est`` at joint angles ``q``."""
+    s = r.s
+    if kind == 1:
+        tip = r.hand.params.right.tip_radius
+        mu = s.mu * (1 - s.friction_margin)
+        R = fit_radius(r, est, tip)
+        r.ctrl.sensing.radius = R
+        est = r.ctrl.sensing.update(r.world.observe(), "auto")
+        p = r.nlp.solve(q, est.centre, R, tip, mu, est.beta, est.u, **nlp_options(r))
+        return phase1_outcome(r, p, est, q, mu)
+    if kind == 2:
+        target = max(r.start["beta"][1], right_hold_angle(r))
+    elif r._via is not None:  # the back-stroke: onto the feature's far side and back
+        via, r._via, r._stroking = r._via, None, True
+        seg = explore_segment(3, est, q, float(est.beta[0]), r.theta, s, r.hand,
+                              PHASE1_TRAVEL, via=via)  # fmt: skip
+        return seg, 0.0, 0.0, ""
+    else:
+        target = left_regrasp_angle(r, est)
+        aim = corner_aim(r, est)
+        if aim is not None:  # first the pad's end into the corner beyond a wall
+            r._stroking = True
+            seg = probe_segment(est, q, aim, target, r.theta, s, r.hand)
+            return seg, 0.0, 0.0, ""
+    seg = explore_segment(kind, est, q, target, r.theta, s, r.hand, PHASE1_TRAVEL)
+    return seg, 0.0, 0.0, ""
+
+
+def corner_aim(r, est) -> float | None:
+    """The world angle [rad] a corner probe aims the pad's end at in this phase 3, or None
+    (:meth:`.corner_probe.CornerProbe.aim`; round nominal shapes only)."""
+    if r.corner is None or r.shape is not None:
+        return None
+    aim = r.corner.aim(r.theta, float(est.beta[0]))
+    if aim is not None:
+        msg = f"probe the corner beyond the wall at {math.degrees(aim):.0f} deg (world)"
+        r.events.append({"t": r.world.time, "kind": "corner_probe", "message": msg})
+    return aim
+
+
+def nlp_options(r) -> dict:
+    """The phase-1 NLP's margins, home and rotation cap (keyword arguments of ``solve``)."""
+    s = r.s
+    return {
+        "margin": s.nlp_margin,
+        "joint_margin": s.joint_margin + 0.02,
+        "home_x": r.start["rest"][0],
+        "max_rotation": rotation_cap(r),
+    }
+
+
+def phase1_outcome(r, p, est, q, mu: float):
+    """``(segment or None, planned rotation [rad], solve time [s], why no plan)`` of the
+    phase-1 plan ``p`` from the estimate ``est`` at joint angles ``q`` [rad]."""
+    r._plan1 = p
+    if not p.success or abs(p.rotation) < math.radians(1.0):
+        why = blocking(r, est, q, mu)
+        return None, 0.0, p.solve_time_s, f"phase-1 NLP: {p.stop}; {why}"
+    seg = phase1_segment(p, est, q, r.theta, r.s, r.hand, lift=0.0015)
+    return seg, p.rotation, p.solve_time_s, ""
+
+
+def rotation_cap(r) -> float:
+    """The phase-1 rotation cap [rad] that keeps sensed features off the palm."""
+    return _cap(r.sensed_features, r.theta)
+
+
+def feature_behind(r, event: str) -> float | None:
+    """Records a feature the last phase 3 met (object frame, for :func:`rotation_cap`) and
+    returns its world angle [rad] when the pad slid over it (a back-stroke follows), else
+    None."""
+    if event not in ("path finished", "workspace limit"):
+        return None
+    bump = sensed_bump(np.asarray(r.ctrl.trace[r._rows[0] : r._rows[1]]))
+    if bump is None:
+        return None
+    f = math.remainder(bump[0] - r.theta, 2 * math.pi)
+    if all(abs(math.remainder(f - g, 2 * math.pi)) > SAME_FEATURE for g in r.sensed_features):
+        r.sensed_features.append(f)
+    return bump[0] if bump[1] else None
+
+
+def blocking(r, est, q, mu: float) -> str:
+    """Which constraint blocks phase 1 at the sensed grasp (the issue's three): force
+    closure (the contact line outside the friction cones), workspace (a joint at its limit)
+    or reach (no stable left grasp within the pad's reach)."""
+    stab = stable_pair(float(est.beta[0]), float(est.beta[1]), mu, 0.0)
+    if stab < 0:
+        return (f"blocking: force closure (contact line {math.degrees(-stab):.0f} deg "
+                "outside the friction cones)")  # fmt: skip
+    lim = r.hand.joint_limits
+    margin = np.minimum(np.asarray(q) - lim[:, 0], lim[:, 1] - np.asarray(q))
+    j = int(np.argmin(margin))
+    if margin[j] < r.s.joint_margin + 0.02:
+        return f"blocking: workspace (joint {j} {math.degrees(margin[j]):.1f} deg from its limit)"
+    if left_regrasp_angle(r, est, fallback=False) is None:
+        return "blocking: reach (no stable left grasp within the pad's reach)"
+    return "blocking: none of force closure / workspace / reach at the start (IPOPT failed)"
+
+
+def fit_radius(r, est, tip_radius: float) -> float:
+    """The local radius [m] of the object between the two fingers (§2.2.3: "planning is done
+    ... using a current estimate of the object curvature"): the circle tangent to the left
+    pad at its sensed contact and touching the round right tip, ``|T - p + R n| = R + r``
+    solved for ``R`` (``T`` tip centre, ``p``, ``n`` the pad's contact point and outward
+    normal, ``r`` the tip radius), clamped to ``RADIUS_FIT`` times the nominal one. On a
+    non-circular object the nominal circle put the NLP's start out of reach of the fingers
+    (solver failed at the start of the ellipse)."""
+    R0 = r.R_nominal
+    d = est.tips[1] - est.p[0]
+    den = 2.0 * (float(d @ est.n[0]) - tip_radius)
+    if abs(den) < 1e-9 or not est.pad_touch:
+        return R0
+    R = (tip_radius * tip_radius - float(d @ d)) / den
+    lo, hi = RADIUS_FIT
+    return float(min(max(R, lo * R0), hi * R0))
+
+
+def left_regrasp_angle(r, est, fallback: bool = True):
+    """Where the left pad goes in phase 3 (world polar angle [rad]): the §2.2.3 choice of
+    :func:`.heuristics.regrasp_left_angle` for the right contact it will grasp with; the
+    start grasp's angle when none is stable and reachable (phase 1 then reports it)."""
+    s = r.s
+    mu = s.mu * (1 - s.friction_margin)
+    b = regrasp_left_angle(r.hand, est.centre, r.ctrl.sensing.radius, float(est.beta[1]),
+                           mu, s.nlp_margin, PHASE1_TRAVEL)  # fmt: skip
+    if b is None and fallback:
+        return r.start["beta"][0]
+    return b
+
+
+def right_hold_angle(r) -> float:
+    """Lowest polar angle [rad] of the right contact from which the right finger can press
+    the object against the palm in phase 3: the chord to the palm contact makes
+    (pi/2 - beta) / 2 with the contact normal and must lie inside the friction cone (with a
+    0.2 rad reserve). Below it the holder's cone-limited push rolled the object backwards
+    along the palm (+10-18 deg per phase 3 with beta = 5 deg)."""
+    mu = r.s.mu * (1 - r.s.friction_margin)
+    return 0.5 * math.pi - 2 * math.atan(mu) + 0.2
