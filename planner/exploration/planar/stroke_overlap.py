@@ -1,20 +1,22 @@
-"""Exploring strokes that overlap the outline explored before them (the strict coverage of
-issue 11: "the fraction of the outline touched by an exploring fingertip").
+"""Exploring strokes that overlap the same finger's previous stroke (the strict coverage
+of issue 11: "the fraction of the outline touched by an exploring fingertip").
 
-The exploring strokes of phases 2/3 tile the outline as the object turns: each runs from
-where the fingertip lies after phase 1 (and the hold of the phase between) towards larger
-object angles. A stroke that starts farther past the explored outline than the previous
-stroke reached leaves a strip untouched by any explorer (only phase-1 rolling touched it):
-on ``ball_with_ridge`` 3-9 deg strips at 59-65, 84-85 and 219-221 deg (seeds 0-3; the left
-pad's sensed start lay 6.7-9 deg past the sensed explored outline there, 1.3-3.5 deg where
-the strokes did overlap: the pad's contact slips back 3.5-4 deg as its force ramps down).
+The left pad's strokes of phase 3 tile the outline as the object turns: each runs from
+where phase 1 rolled the contact to (20-28 deg on) towards larger object angles, over
+20-28 deg (the right tip's strokes of phase 2, 12-16 deg, fill between them). A stroke
+that starts farther past the end of the previous one than the pad's contact slips back at
+its start (3.5-4 deg, as its force ramps down) leaves a strip that no explorer touched
+(only phase-1 rolling and the hold did): on ``ball_with_ridge`` 59-65 and 84-85 deg (seed
+0), 62/63-64 and 219-221 deg (seeds 1-3).
 
 :class:`ExploredOutline` is the executor's memory of the explored outline (object frame,
 from the sensed contacts and the rotation estimate, no truth), and
 :meth:`ExploredOutline.back_to` is the overlap rule: a stroke whose start lies more than
 :data:`MIN_GAP` past the end of the same finger's previous stroke (looking back at most
 :data:`LOOKBACK`) first goes back :data:`OVERLAP` into it and then on to its own target
-(:func:`.segments.explore_segment` with ``via``, the contact centred on the pad).
+(:func:`.segments.explore_segment` with ``via`` and ``edge=False``: the contact centred
+on the pad). With it the strips are gone on seeds 0-7; what the explorers leave are the
+ridge's shadows (:func:`.corner_probe.approach_segment`).
 """
 
 from __future__ import annotations
