@@ -61,6 +61,10 @@ MAX_BEYOND = math.radians(45.0)
 #: (the pad flew over the ridge for 0.06-0.08 s; a pad stalling without jumping did not
 #: get past anything, and on smooth objects nothing is probed)
 JUMP_ROWS = 5
+#: a phase 3 approaches a known wall with its leading end when the wall lies within its
+#: stroke plus this [rad] (the pad's end reaches the pad's half-length, 11.3 deg on the
+#: 10 cm ball, ahead of its contact)
+APPROACH_REACH = math.radians(12.0)
 #: walls closer than this are one (object frame) [rad]
 SAME_WALL = math.radians(10.0)
 
@@ -161,6 +165,39 @@ class CornerProbe:
         return None
 
 
+def wall_ahead(walls: list, theta: float, beta: float, target: float) -> float | None:
+    """The object-frame angle [rad] of a recorded wall (``walls`` of :class:`CornerProbe`)
+    that a phase-3 stroke from the pad's contact ``beta`` to ``target`` (world polar angles
+    [rad]; ``theta`` the rotation estimate [rad]) runs towards, its motion the pad's motion
+    when it stalled there, the wall within the stroke plus :data:`APPROACH_REACH`; or None."""
+    turn = math.remainder(target - beta, 2 * math.pi)
+    for wall, direction in walls:
+        if turn * direction <= 0.0:
+            continue
+        ahead = direction * math.remainder(wall + theta - beta, 2 * math.pi)
+        if 0.0 < ahead <= abs(turn) + APPROACH_REACH:
+            return wall
+    return None
+
+
+def approach_segment(est, q, target: float, theta0: float, settings, hand) -> Segment:
+    """A phase 3 towards a known wall (:func:`wall_ahead`) with the pad's leading end
+    first: its centre trails the contact and the tactile servo holds the contact
+    :data:`PROBE_EDGE` behind the leading end, so that the contact gets within ``atan(
+    PROBE_EDGE / R)`` (2.9 deg on the 10 cm ball) of the NEAR wall instead of the pad's
+    half-length (11.3 deg) when it touches with its middle.
+
+    Args:
+        est: the sensed grasp now; q: joint angles [rad]; target: the phase's target (world
+            polar angle [rad]); theta0: the rotation estimate [rad]; settings:
+            :class:`.settings.GaitSettings`; hand: the ``PlanarHand``.
+    """
+    seg = explore_segment(3, est, q, target, theta0, settings, hand, lead_end=True)
+    lead = 1.0 if math.remainder(target - float(est.beta[0]), 2 * math.pi) > 0 else -1.0
+    seg.contact_target = lead * (hand.params.left.pad_half_width - PROBE_EDGE)
+    return seg
+
+
 def _near(angle: float, angles: list) -> bool:
     """Whether ``angle`` lies within :data:`SAME_WALL` of one of ``angles`` [rad]."""
     return any(abs(math.remainder(angle - a, 2 * math.pi)) < SAME_WALL for a in angles)
@@ -185,4 +222,4 @@ def probe_segment(est, q, aim: float, target: float, theta0: float, settings, ha
     return seg
 
 
-__all__ = ["CornerProbe", "probe_segment", "wall_stall"]
+__all__ = ["CornerProbe", "approach_segment", "probe_segment", "wall_ahead", "wall_stall"]

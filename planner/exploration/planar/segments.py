@@ -204,25 +204,35 @@ def explore_segment(
     hand,
     travel: float = 0.35,
     via: float | None = None,
+    edge: bool = True,
+    lead_end: bool = False,
 ):
     """The phase-2 (``kind`` 2: right explores) or phase-3 (left explores) segment that
     moves the explorer's contact from its sensed angle to ``target_beta`` [rad];
     ``travel`` [rad] is the contact travel expected in the next phase 1 (for the
     orientation heuristic). ``via`` [rad] (phase 3 only): a back-stroke, to ``via`` and back
     to ``target_beta``, the pad's centre trailing its contact (:data:`EDGE_MARGIN`) so
-    that its edge reaches the far side of a feature the pad jumped over."""
+    that its edge reaches the far side of a feature the pad jumped over; with ``edge``
+    False the contact stays centred on the pad (an overlap stroke,
+    :mod:`.stroke_overlap`). ``lead_end`` (phase 3 without ``via``): the pad's centre
+    trails its contact by the same margin, its leading end first (the approach to a known
+    wall, :func:`.corner_probe.approach_segment`), ramped in with the startup."""
     s = settings
     k = 1 if kind == 2 else 0
     radius = float(np.linalg.norm(est.p[k] - est.centre))
     b0 = float(est.beta[k])
     b1 = b0 + math.atan2(math.sin(target_beta - b0), math.cos(target_beta - b0))
     trail = 0.0
+    lead = lead_end and kind == 3 and via is None and b1 != b0
     if via is not None and kind == 3:
         via = b0 + math.atan2(math.sin(via - b0), math.cos(via - b0))
         # the centre on the tangent, on the side the pad comes from
-        trail = math.copysign(hand.params.left.pad_half_width - EDGE_MARGIN, b0 - via)
+        if edge:
+            trail = math.copysign(hand.params.left.pad_half_width - EDGE_MARGIN, b0 - via)
     else:
         via = None
+        if lead:
+            trail = -math.copysign(hand.params.left.pad_half_width - EDGE_MARGIN, b1 - b0)
     path, _, T_move = contact_stroke(b0, b1, via, radius, s.explore_speed)
     T = s.startup_time + T_move
     c = est.centre.copy()
@@ -261,8 +271,8 @@ def explore_segment(
         b, bd, _ = path(tm)
         cb, sb = math.cos(b), math.sin(b)
         w = min(max(min(tm, T_move - tm) / s.startup_time, 0.0), 1.0)
-        if via is None:
-            ahead = w * lag
+        if via is None:  # (an end-first stroke: its centre trails the contact)
+            ahead = w * (lag + trail) if lead else w * lag
         else:  # the friction lead follows the motion (it flips at the turn); the trail
             ahead = min(max(bd * w_speed, -1.0), 1.0) * abs(lag) + w * trail
         p = (cx + radius * cb - ahead * sb, cy + radius * sb + ahead * cb)
@@ -275,7 +285,7 @@ def explore_segment(
         cb, sb = np.cos(b), np.sin(b)
         w = np.clip(np.minimum(tm, T_move - tm) / s.startup_time, 0.0, 1.0)
         if via is None:
-            ahead = w * lag
+            ahead = w * (lag + trail) if lead else w * lag
         else:
             ahead = np.clip(bd * w_speed, -1.0, 1.0) * abs(lag) + w * trail
         return np.column_stack([cx + radius * cb - ahead * sb, cy + radius * sb + ahead * cb,

@@ -44,6 +44,16 @@ class GaitSettings:
             got past it (it jumped a ridge), one extra phase 3 sends the pad's end, tilted,
             back into the corner beyond the wall (:mod:`.corner_probe`; round nominal
             shapes only).
+        stroke_overlap: a phase 3 whose pad starts more than a few degrees past the
+            outline explored so far first goes back into it (:mod:`.stroke_overlap`; round
+            nominal shapes only).
+        wall_approach: a phase 3 whose stroke runs towards a wall the pad stalled at before
+            leads with the pad's end (:func:`.corner_probe.approach_segment`): the contact
+            gets within 2.9 deg of the ridge's near wall instead of 11.3. Off by default:
+            on ``ball_with_ridge`` (with ``stroke_overlap``) it raised the explorer-only
+            coverage to 0.992-0.994 (seeds 0-3) but on seed 0 its rows beside the wall
+            diluted the Fig. 2.14 ridge measures (tangential 0.27 vs 0.28 N off the ridge,
+            elongation 1.26) and the ridge came out 6.0 deg off.
         explore_force: normal force of the exploring finger (0.3 N, §2.3.2) [N].
         object_mass: the planner's guess of the object mass [kg].
         object_kp, object_kv: object impedance gains (eq. 2.7).
@@ -75,6 +85,8 @@ class GaitSettings:
     left_hold_force: float = 2.0
     sensed_features: bool = False
     corner_probe: bool = True
+    stroke_overlap: bool = True
+    wall_approach: bool = False
     explore_force: float = 0.3
     object_mass: float = 0.05
     object_kp: tuple[float, float, float] = (80.0, 80.0, 0.8)
