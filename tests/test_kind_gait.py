@@ -34,10 +34,11 @@ CIRCLE = "kind: gait\nobject:\n  shape: circle\n  radius: 0.05\n"  # fits the ha
         (CIRCLE + "hold_force: 0\n", "hold_force", "greater than 0"),
         (CIRCLE + "hand:\n  joint_lower_deg: [10, 0, -10]\n  joint_upper_deg: [5, 110, 100]\n",
          "hand", "lower < upper"),
+        (CIRCLE + "stroke_overlap: maybe\n", "stroke_overlap", "valid boolean"),
     ],
     ids=["unknown-object", "unknown-nominal", "mu-zero", "mu-negative", "too-big",
          "too-thin", "gain-negative", "gain-too-high", "damping-negative", "hold-force",
-         "joint-range"],
+         "joint-range", "switch-not-bool"],
 )  # fmt: skip
 def test_bad_input_exits_2_with_key_path_and_writes_nothing(cli, tmp_path, text, key, words):
     scenario = tmp_path / "bad.yaml"
@@ -229,3 +230,14 @@ def test_fig214_measures_on_a_synthetic_trace():
     assert m["tangential_off_ridge_N"] == pytest.approx(0.1)
     assert m["tactile_elongation_at_ridge"] == pytest.approx(8.0)
     assert m["tactile_elongation_off_ridge"] == pytest.approx(1.0)
+
+
+def test_exploration_switches_reach_the_gait_settings():
+    from planner.kinds.gait import Config
+
+    base = {"kind": "gait", "name": "switches", "object": {"shape": "circle", "radius": 0.05}}
+    s = Config.model_validate(base).settings()
+    assert (s.corner_probe, s.stroke_overlap, s.wall_approach) == (True, False, False)
+    flipped = {"corner_probe": False, "stroke_overlap": True, "wall_approach": True}
+    s = Config.model_validate({**base, **flipped}).settings()
+    assert (s.corner_probe, s.stroke_overlap, s.wall_approach) == (False, True, True)

@@ -30,6 +30,7 @@ from planner.exploration.planar.result import ExplorationResult, PhaseRecord
 from planner.exploration.planar.settings import GaitSettings
 from planner.exploration.planar.setup import build_world, gait_prior
 from planner.exploration.planar.shape_tracking import ShapeTracker
+from planner.exploration.planar.stroke_overlap import ExploredOutline
 
 FULL_TURN = 2 * math.pi
 CX = TRACE_NAMES.index("cx")
@@ -172,6 +173,7 @@ class _Runner:
         self.nlps: dict = {}  # the shape planner's NLPs, built at first use
         self.corner = (CornerProbe(hand.params.left.pad_half_width, len(ctrl.sensing.taxel_u))
                        if s.corner_probe else None)  # fmt: skip
+        self.explored = ExploredOutline() if s.stroke_overlap else None
 
     def rotation(self) -> float:
         """True rotation of the object so far [rad] (unwrapped from the logs)."""
@@ -265,6 +267,8 @@ class _Runner:
         self.logs.append(log)
         self._rows = (n0, len(c.trace))
         self.theta = c.theta
+        if kind != 1 and self.explored is not None:
+            self.explored.observe(c.trace[n0:], kind, self.ctrl.sensing.radius)
         if kind != 1 and len(c.trace) > n0 + 1:
             # phases 2/3 hold the object on the palm, where it rolls: phase 2 reads its turn
             # from the object rolling on the holding pad (eq. 2.4; a drag over the ridge

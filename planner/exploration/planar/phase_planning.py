@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from planner.exploration.planar.corner_probe import probe_segment
+from planner.exploration.planar.corner_probe import approach_segment, probe_segment, wall_ahead
 from planner.exploration.planar.heuristics import regrasp_left_angle, stable_pair
 from planner.exploration.planar.segments import explore_segment, phase1_segment
 from planner.exploration.planar.sensed_features import rotation_cap as _cap
@@ -59,6 +59,9 @@ def plan(r, kind: int, est, q):
             r._stroking = True
             seg = probe_segment(est, q, aim, target, r.theta, s, r.hand)
             return seg, 0.0, 0.0, ""
+        seg = pad_stroke(r, est, q, target)
+        if seg is not None:  # the pad's end first to a known wall, or back into its last stroke
+            return seg, 0.0, 0.0, ""
     seg = explore_segment(kind, est, q, target, r.theta, s, r.hand, PHASE1_TRAVEL)
     return seg, 0.0, 0.0, ""
 
@@ -73,6 +76,45 @@ def corner_aim(r, est) -> float | None:
         msg = f"probe the corner beyond the wall at {math.degrees(aim):.0f} deg (world)"
         r.events.append({"t": r.world.time, "kind": "corner_probe", "message": msg})
     return aim
+
+
+def pad_stroke(r, est, q, target: float):
+    """A phase 3 other than the plain stroke to ``target`` (world polar angle [rad]), or
+    None: with ``wall_approach`` the pad's end first towards a wall it stalled at before
+    (:func:`.corner_probe.approach_segment`, a back-stroke record: its rows beside the
+    wall are no ridge), else a stroke that first goes back into the pad's previous one
+    (:func:`overlap_back`; its contact centred on the pad). Round nominal shapes only."""
+    s = r.s
+    if r.shape is not None:
+        return None
+    if s.wall_approach and r.corner is not None:
+        wall = wall_ahead(r.corner.walls, r.theta, float(est.beta[0]), target)
+        if wall is not None:
+            r._stroking = True
+            msg = f"the pad's end first towards the wall at {math.degrees(wall):.0f} deg"
+            r.events.append({"t": r.world.time, "kind": "wall_approach", "message": msg})
+            return approach_segment(est, q, target, r.theta, s, r.hand)
+    back = overlap_back(r, est, target)
+    if back is None:
+        return None
+    return explore_segment(3, est, q, target, r.theta, s, r.hand, PHASE1_TRAVEL, via=back,
+                           edge=False)  # fmt: skip
+
+
+def overlap_back(r, est, target: float) -> float | None:
+    """The world angle [rad] this phase 3's pad first goes back to, so that its stroke
+    overlaps its previous one (:meth:`.stroke_overlap.ExploredOutline.back_to`; round
+    nominal shapes only), or None."""
+    if r.explored is None or r.shape is not None:
+        return None
+    walls = [w for w, _ in r.corner.walls] if r.corner is not None else []
+    beta = float(est.beta[0])
+    back = r.explored.back_to(beta, float(target), r.theta, (*r.sensed_features, *walls))
+    if back is not None:
+        gap = math.degrees(abs(math.remainder(back - beta, 2 * math.pi)))
+        msg = f"the pad goes back {gap:.1f} deg into its previous stroke"
+        r.events.append({"t": r.world.time, "kind": "stroke_overlap", "message": msg})
+    return back
 
 
 def nlp_options(r) -> dict:
