@@ -16,7 +16,8 @@ from the sensed contacts and the rotation estimate, no truth), and
 :data:`LOOKBACK`) first goes back :data:`OVERLAP` into it and then on to its own target
 (:func:`.segments.explore_segment` with ``via`` and ``edge=False``: the contact centred
 on the pad). With it the strips are gone on seeds 0-7; what the explorers leave are the
-ridge's shadows (:func:`.corner_probe.approach_segment`).
+ridge's shadows (:func:`.corner_probe.approach_segment`). Off by default
+(``GaitSettings.stroke_overlap``): each way back costs a Fig. 2.14 sign change (below).
 """
 
 from __future__ import annotations
