@@ -223,11 +223,33 @@ def _scene(name):
     return world, ctrl
 
 
+def _assert_fast_step_equals_reference(
+    world, s0, tau, atol: float, gap_rtol: float, gap_atol: float
+):
+    """From state ``s0``, the compiled step (``step_fast``) and the Python reference
+    (``step``) give the same state, contacts, impulses and limit rows (``atol`` on states
+    and impulses, ``gap_rtol``/``gap_atol`` on the gaps); returns the compiled step's result."""
+    from planner.sim.planar.stepper import step, step_fast
+
+    _set(world, s0)
+    ref = step(world, tau)
+    s_ref = _state(world)
+    _set(world, s0)
+    fast = step_fast(world, tau)
+    for a, b in zip(s_ref, _state(world), strict=True):
+        assert np.allclose(a, b, rtol=0, atol=atol)
+    assert np.array_equal(ref.body_a, fast.body_a)
+    assert np.allclose(ref.gap, fast.gap, rtol=gap_rtol, atol=gap_atol)
+    for name in ("p_n", "p_t", "slip", "limit_impulses"):
+        assert np.allclose(getattr(ref, name), getattr(fast, name), rtol=0, atol=atol), name
+    assert np.array_equal(ref.limit_joints, fast.limit_joints)
+    return fast
+
+
 @settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(scene=st.sampled_from(["pinch", "roll", "slide", "incline"]), seed=st.integers(0, 10**6))
 def test_compiled_step_equals_the_python_reference(scene, seed):
     """Same contacts, impulses and state after a step from random nearby states."""
-    from planner.sim.planar.stepper import step, step_fast
 
     world, ctrl = _scene(scene)
     rng = np.random.default_rng(seed)
@@ -237,17 +259,7 @@ def test_compiled_step_equals_the_python_reference(scene, seed):
     s0[1] = s0[1] + rng.normal(0.0, 0.01, s0[1].shape)
     s0[3] = s0[3] + rng.normal(0.0, 0.5, s0[3].shape)
     tau = ctrl(world.time, world.observe()) if ctrl else None
-    _set(world, s0)
-    ref = step(world, tau)
-    s_ref = _state(world)
-    _set(world, s0)
-    fast = step_fast(world, tau)
-    for a, b in zip(s_ref, _state(world), strict=True):
-        assert np.allclose(a, b, rtol=0, atol=1e-12)
-    assert np.array_equal(ref.body_a, fast.body_a) and np.allclose(ref.gap, fast.gap, atol=0)
-    for name in ("p_n", "p_t", "slip", "limit_impulses"):
-        assert np.allclose(getattr(ref, name), getattr(fast, name), rtol=0, atol=1e-12), name
-    assert np.array_equal(ref.limit_joints, fast.limit_joints)
+    _assert_fast_step_equals_reference(world, s0, tau, atol=1e-12, gap_rtol=1e-5, gap_atol=0.0)
 
 
 @settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -260,7 +272,7 @@ def test_compiled_projection_equals_the_python_reference(scene, seed, depth):
     """A step from a penetrating state (the object pushed ``depth`` [m] into what it
     touches): the compiled step projects the positions as the Python step does (same state,
     contacts and impulses) and leaves no gap below the projection tolerance."""
-    from planner.sim.planar.stepper import find_contacts, step, step_fast
+    from planner.sim.planar.stepper import find_contacts
 
     world, ctrl = _scene(scene)
     rng = np.random.default_rng(seed)
@@ -278,16 +290,9 @@ def test_compiled_projection_equals_the_python_reference(scene, seed, depth):
     _set(world, s0)
     if min(c[2] for c in find_contacts(world, world.margin)) >= -world.projection_tolerance:
         return  # the push did not make that contact penetrate (e.g. a fixed-fixed pair)
-    ref = step(world, tau)
-    s_ref = _state(world)
-    _set(world, s0)
-    fast = step_fast(world, tau)
-    for a, b in zip(s_ref, _state(world), strict=True):
-        assert np.allclose(a, b, rtol=0, atol=1e-11)
-    assert np.array_equal(ref.body_a, fast.body_a)
-    assert np.allclose(ref.gap, fast.gap, rtol=0, atol=1e-12)
-    for name in ("p_n", "p_t", "slip", "limit_impulses"):
-        assert np.allclose(getattr(ref, name), getattr(fast, name), rtol=0, atol=1e-11), name
+    fast = _assert_fast_step_equals_reference(
+        world, s0, tau, atol=1e-11, gap_rtol=0.0, gap_atol=1e-12
+    )
     assert min(fast.gap, default=0.0) >= -world.projection_tolerance
 
 
