@@ -60,6 +60,13 @@ def test_long_thin_object_has_no_gait_and_says_why(hand):
     assert "force closure" in g.reason or "workspace" in g.reason
 
 
+def test_object_beyond_the_workspace_has_no_gait_and_says_why(hand):
+    # a 60 cm disc: no fingertip pose touches it (used to crash reshaping an empty selection)
+    g = plan_gait(curves.circle(0.3), hand, 1.0, resolution=36)
+    assert not g.feasible and g.phases == ()
+    assert "workspace" in g.reason and "cannot reach" in g.reason
+
+
 def test_frictionless_object_has_no_gait(hand):
     g = plan_gait(curves.circle(0.05), hand, 0.0, resolution=36)
     assert not g.feasible and "force closure" in g.reason

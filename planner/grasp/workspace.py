@@ -224,6 +224,8 @@ class HandReachability:
         q = q.reshape(m, k * 2, 3)
         ok = ok.reshape(m, k * 2)
         rows, cols = np.nonzero(ok)  # check collisions only where IK succeeded
+        if rows.size == 0:  # nothing reachable (e.g. an object larger than the workspace)
+            return out
         pts = finger_points(np.array(f.base), np.array(f.lengths), q[rows, cols])  # (L, 4, 2)
         good = np.all(pts[:, 1:, 1] >= -1e-9, axis=-1)
         if f.tip == "round":
