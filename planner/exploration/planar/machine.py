@@ -18,8 +18,8 @@ import time
 
 import numpy as np
 
-from planner.errors import InvalidParameter
 from planner.exploration.planar import phase_planning, shape_planning
+from planner.exploration.planar.arguments import check_arguments
 from planner.exploration.planar.controller import TRACE_NAMES, GaitController, trace_arrays
 from planner.exploration.planar.corner_probe import CornerProbe
 from planner.exploration.planar.gait_loop import PhaseStop, TipHoldStop
@@ -82,18 +82,16 @@ def explore_object(
         the :class:`ExplorationResult`.
 
     Raises:
-        InvalidParameter: bad arguments (open profile, mu <= 0, an object that does not fit).
+        InvalidParameter: bad arguments, named in the message (an open profile, mu <= 0, a
+            negative seed, a duration shorter than one step, max_rotation <= 0, a wrong type
+            of hand / settings / on_progress, an object that does not fit the hand).
     """
     wall0 = time.perf_counter()
-    if getattr(profile, "closed", False) is not True:
-        raise InvalidParameter("profile: expected a closed planar Profile (the object outline)")
-    if nominal is not None and getattr(nominal, "closed", False) is not True:
-        raise InvalidParameter(
-            "nominal: expected a closed planar Profile (the planner's model) or None"
-        )
-    if not (isinstance(mu, (int, float)) and math.isfinite(mu) and mu > 0):
-        raise InvalidParameter(f"mu: expected a finite number > 0, got {mu!r}")
-    s = settings or GaitSettings(mu=float(mu))
+    mu, seed, duration, max_rotation = check_arguments(
+        profile, hand, mu, nominal, seed=seed, duration=duration, settings=settings,
+        max_rotation=max_rotation, use_prior=use_prior, on_progress=on_progress,
+    )  # fmt: skip
+    s = settings or GaitSettings(mu=mu)
     if hand is None:
         from robots.planar_hand import PlanarHand
 

@@ -194,8 +194,8 @@ def steady_sliding(trace: dict, explore_force: float = 0.3) -> np.ndarray:
         px, py = trace["pLx"] - trace["cx"], trace["pLy"] - trace["cy"]
         ang = np.unwrap(np.arctan2(py, px) - th)  # polar angle of the contact on the object
         speed = np.abs(np.gradient(ang, t)) * np.hypot(px, py)
-        k = np.ones(9) / 9.0
-        sel &= np.convolve(speed, k, mode="same") >= MIN_SLIDE_SPEED
+        n = min(9, len(t))  # a 9-row moving average ('same' keeps the length only if n <= rows)
+        sel &= np.convolve(speed, np.ones(n) / n, mode="same") >= MIN_SLIDE_SPEED
     return sel
 
 

@@ -1,0 +1,71 @@
+"""Argument checks of :func:`planner.exploration.explore_object` (its public boundary).
+
+Every bad argument raises :class:`planner.errors.InvalidParameter` with one message that
+names it, before anything is built or simulated. Whether the object fits the hand is
+checked later, by :func:`.setup.build_world` (it needs the grasp search).
+"""
+
+from __future__ import annotations
+
+from planner import checks
+from planner.errors import InvalidParameter
+from planner.exploration.planar.settings import GaitSettings
+
+
+def _closed_profile(name: str, value: object, what: str) -> None:
+    if getattr(value, "closed", False) is not True:
+        raise InvalidParameter(f"{name}: expected a closed planar Profile ({what}), got {value!r}")
+
+
+def check_arguments(
+    profile,
+    hand,
+    mu,
+    nominal,
+    *,
+    seed,
+    duration,
+    settings,
+    max_rotation,
+    use_prior,
+    on_progress,
+) -> tuple[float, int, float | None, float]:
+    """Validate the arguments of ``explore_object``.
+
+    Returns:
+        ``(mu, seed, duration, max_rotation)`` converted: mu [-] (finite, > 0); seed (an int
+        >= 0); duration [s] (at least one simulator step, ``inf`` allowed, or None);
+        max_rotation [rad] (> 0, ``inf`` allowed).
+
+    Raises:
+        InvalidParameter: the first bad argument, named.
+    """
+    _closed_profile("profile", profile, "the object outline")
+    if nominal is not None:
+        _closed_profile("nominal", nominal, "the planner's model, or None")
+    mu = checks.positive("mu", mu)
+    seed = checks.integer("seed", seed, minimum=0)
+    if duration is not None:
+        duration = checks.positive("duration", duration, "s", allow_inf=True)
+    max_rotation = checks.positive("max_rotation", max_rotation, "rad", allow_inf=True)
+    if settings is not None and not isinstance(settings, GaitSettings):
+        raise InvalidParameter(f"settings: expected a GaitSettings or None, got {settings!r}")
+    dt = (settings or GaitSettings()).dt
+    if duration is not None and duration < dt:
+        raise InvalidParameter(
+            f"duration: expected at least one simulator step ({dt:g} s) or None, got {duration!r}"
+        )
+    if hand is not None:
+        from robots.planar_hand import PlanarHand
+
+        if not isinstance(hand, PlanarHand):
+            raise InvalidParameter(f"hand: expected a robots.planar_hand.PlanarHand or None, "
+                                   f"got {type(hand).__name__}")  # fmt: skip
+    if not isinstance(use_prior, bool):
+        raise InvalidParameter(f"use_prior: expected True or False, got {use_prior!r}")
+    if on_progress is not None and not callable(on_progress):
+        raise InvalidParameter(f"on_progress: expected a callable(t) or None, got {on_progress!r}")
+    return mu, seed, duration, max_rotation
+
+
+__all__ = ["check_arguments"]

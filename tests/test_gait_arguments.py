@@ -1,0 +1,83 @@
+"""explore_object's argument checks: every bad argument is named, before anything runs."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from planner.errors import InvalidParameter
+from planner.exploration.planar import explore_object
+from planner.exploration.planar.arguments import check_arguments
+from planner.exploration.planar.settings import GaitSettings
+from planner.geometry import shapes
+
+DISC = shapes.circle(0.05)
+OK = dict(seed=0, duration=None, settings=None, max_rotation=2 * math.pi, use_prior=True,
+          on_progress=None)  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("change", "name"),
+    [
+        ({"mu": 0.0}, "mu"),
+        ({"mu": -1}, "mu"),
+        ({"mu": math.nan}, "mu"),
+        ({"mu": math.inf}, "mu"),
+        ({"seed": -1}, "seed"),
+        ({"seed": 1.5}, "seed"),
+        ({"seed": True}, "seed"),
+        ({"duration": 0.0}, "duration"),
+        ({"duration": -1.0}, "duration"),
+        ({"duration": 1e-4}, "duration"),  # shorter than the 2 ms simulator step
+        ({"duration": math.nan}, "duration"),
+        ({"max_rotation": 0.0}, "max_rotation"),
+        ({"max_rotation": -1.0}, "max_rotation"),
+        ({"settings": {"mu": 1.0}}, "settings"),
+        ({"hand": "planar"}, "hand"),
+        ({"use_prior": "yes"}, "use_prior"),
+        ({"on_progress": 3}, "on_progress"),
+        ({"profile": shapes.plane()}, "profile"),
+        ({"nominal": "circle"}, "nominal"),
+    ],
+)
+def test_each_bad_argument_is_named(change, name):
+    args = {"profile": DISC, "hand": None, "mu": 1.0, "nominal": None, **OK, **change}
+    with pytest.raises(InvalidParameter, match=rf"^{name}: expected"):
+        check_arguments(**args)
+    # and explore_object raises it before building the world (fast, no simulation)
+    with pytest.raises(InvalidParameter, match=rf"^{name}: expected"):
+        explore_object(**args)
+
+
+def test_good_arguments_are_converted():
+    mu, seed, duration, max_rotation = check_arguments(
+        DISC, None, 1, shapes.circle(0.05), **{**OK, "seed": 3.0, "duration": 2, "max_rotation": 1}
+    )
+    assert (mu, seed, duration, max_rotation) == (1.0, 3, 2.0, 1.0)
+    assert isinstance(mu, float) and isinstance(seed, int) and isinstance(duration, float)
+    # unbounded runs are allowed, and the duration floor follows the settings' step
+    out = check_arguments(DISC, None, 0.5, None, **{**OK, "duration": math.inf,
+                                                    "max_rotation": math.inf})  # fmt: skip
+    assert out[2] == math.inf and out[3] == math.inf
+    fine = GaitSettings(dt=1e-4, control_rate=1000.0)
+    assert check_arguments(DISC, None, 1.0, None, **{**OK, "settings": fine,
+                                                     "duration": 1e-4})[2] == 1e-4  # fmt: skip
+
+
+def test_an_object_beyond_the_workspace_does_not_fit():
+    # a 60 cm disc: no fingertip reaches it (plan_gait used to crash on it)
+    with pytest.raises(InvalidParameter, match="does not fit"):
+        explore_object(shapes.circle(0.3), duration=0.1)
+
+
+@pytest.mark.parametrize("duration", [0.002, 0.01])
+def test_the_shortest_runs_end_by_their_duration(duration):
+    # one and five simulator steps: the metrics of a trace shorter than their smoothing
+    # windows used to crash (np.convolve 'same' returns the longer operand's length)
+    r = explore_object(DISC, duration=duration)
+    assert r.status == "ok" and r.reason == f"duration {duration:g} s reached"
+    assert len(r.phases) == 1 and r.phases[0].kind == 1
+    assert r.phases[0].end == pytest.approx(duration)
+    assert len(r.trace["t"]) == round(duration / 0.002)
+    assert r.features == ()
