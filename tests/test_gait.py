@@ -36,7 +36,7 @@ def test_bad_inputs_raise():
     with pytest.raises(InvalidParameter, match="nominal"):
         explore_object(shapes.circle(0.05), nominal="square")
     with pytest.raises(InvalidParameter, match="does not fit"):
-        explore_object(shapes.circle(0.02), duration=0.1)
+        explore_object(shapes.circle(0.01), duration=0.1)  # 2 cm across: below the pad
 
 
 PROGRESS: list[float] = []
@@ -93,7 +93,7 @@ def test_gait_kind_bad_input_exits_2(cli, tmp_path):
     assert "mu" in proc.stderr
     assert not (tmp_path / "o").exists()
     small = tmp_path / "small.yaml"
-    small.write_text("kind: gait\nobject:\n  shape: circle\n  radius: 0.02\n")
+    small.write_text("kind: gait\nobject:\n  shape: circle\n  radius: 0.01\n")
     proc = cli("validate", str(small))
     assert proc.returncode == 2
     assert "does not fit" in proc.stderr

@@ -25,9 +25,8 @@ CIRCLE = "kind: gait\nobject:\n  shape: circle\n  radius: 0.05\n"  # fits the ha
          "  radius: 0.03\n", "nominal.shape", "polygon"),
         (CIRCLE + "mu: 0\n", "mu", "greater than 0"),
         (CIRCLE + "mu: -0.5\n", "mu", "greater than 0"),
-        ("kind: gait\nobject:\n  shape: circle\n  radius: 0.12\n", "object", "does not fit"),
-        ("kind: gait\nobject:\n  shape: ellipse\n  a: 0.07\n  b: 0.012\n", "object",
-         "does not fit"),
+        ("kind: gait\nobject:\n  shape: circle\n  radius: 0.15\n", "object", "does not fit"),
+        ("kind: gait\nobject:\n  shape: circle\n  radius: 0.01\n", "object", "does not fit"),
         (CIRCLE + "gains:\n  object_kp: [80, -1, 0.8]\n", "gains.object_kp", "[0, 1e4]"),
         (CIRCLE + "gains:\n  tip_kp: 5000\n", "gains.tip_kp", "less than or equal to 1000"),
         (CIRCLE + "gains:\n  hold_kv: -0.1\n", "gains.hold_kv", "greater than or equal to 0"),
@@ -37,7 +36,7 @@ CIRCLE = "kind: gait\nobject:\n  shape: circle\n  radius: 0.05\n"  # fits the ha
         (CIRCLE + "stroke_overlap: maybe\n", "stroke_overlap", "valid boolean"),
     ],
     ids=["unknown-object", "unknown-nominal", "mu-zero", "mu-negative", "too-big",
-         "too-thin", "gain-negative", "gain-too-high", "damping-negative", "hold-force",
+         "too-small", "gain-negative", "gain-too-high", "damping-negative", "hold-force",
          "joint-range", "switch-not-bool"],
 )  # fmt: skip
 def test_bad_input_exits_2_with_key_path_and_writes_nothing(cli, tmp_path, text, key, words):

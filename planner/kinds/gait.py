@@ -33,7 +33,7 @@ Keys (SI units)::
     control_rate: 500            # [Hz]
     hand:                        # joint ranges of the RIGHT finger (the left one mirrors it)
       joint_lower_deg: [-40, 0, -10]
-      joint_upper_deg: [70, 110, 100]
+      joint_upper_deg: [90, 150, 130]   # the gait's hand (the thesis' fingers: [70, 110, 100])
     gains: {...}                 # see GainsConfig
     rolling: {amplitude: 0.003, period: 1.0}   # explicit_rolling only
     output: {animation: false}   # true: plots/animation.gif (+ the usual plots/formats/dpi)
@@ -130,13 +130,14 @@ class GainsConfig(StrictModel):
 class HandConfig(StrictModel):
     """Joint ranges of the two-finger hand (right finger; the left finger mirrors them).
 
-    The default ranges (110 deg per joint) suit 2-8 cm objects; on a 10 cm ball the right
-    finger starts within a few degrees of its joint-2 stop and its joint 1 runs into -40 deg,
-    so every phase ends at the workspace limit after a few degrees of rotation.
+    The default is the gait's hand (``robots.planar_hand.params.GAIT_LOWER_DEG`` ..
+    ``GAIT_UPPER_DEG``). The thesis' fingers had about 110 deg per joint
+    (``[-40, 0, -10]`` .. ``[70, 110, 100]`` here): with them circles of 2-3 cm radius do not
+    fit the hand and 4-5 cm ones stall after 16-42 deg (every phase 1 ends at a joint stop).
     """
 
     joint_lower_deg: tuple[float, float, float] = Field((-40.0, 0.0, -10.0))
-    joint_upper_deg: tuple[float, float, float] = Field((70.0, 110.0, 100.0))
+    joint_upper_deg: tuple[float, float, float] = Field((90.0, 150.0, 130.0))
 
     @model_validator(mode="after")
     def _ranges(self):
@@ -150,18 +151,10 @@ class HandConfig(StrictModel):
 
     def hand(self, mu: float):
         """The ``robots.planar_hand.PlanarHand`` with these ranges."""
-        import dataclasses
-
         from robots.planar_hand import PlanarHand
-        from robots.planar_hand.params import HandParams, default_finger
+        from robots.planar_hand.params import ranged_hand_params
 
-        lo = tuple(math.radians(v) for v in self.joint_lower_deg)
-        hi = tuple(math.radians(v) for v in self.joint_upper_deg)
-        right = dataclasses.replace(default_finger("right"), lower=lo, upper=hi)
-        left = dataclasses.replace(
-            default_finger("left"), lower=tuple(-v for v in hi), upper=tuple(-v for v in lo)
-        )
-        return PlanarHand(HandParams(left=left, right=right, friction=float(mu)))
+        return PlanarHand(ranged_hand_params(self.joint_lower_deg, self.joint_upper_deg, mu))
 
 
 class RollingConfig(StrictModel):

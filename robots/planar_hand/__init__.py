@@ -2,12 +2,22 @@
 
 Public names: :class:`PlanarHand` (``.model``, ``.fingertip_positions(q)``,
 ``.jacobian(q, finger)``, ``.hand_jacobian``, ``.inverse_kinematics``), :class:`HandParams`,
-:class:`FingerParams`, :func:`sample_reachable`, :func:`ball_workspace`,
+:class:`FingerParams`, :func:`gait_hand_params` (the executed gait's wider joint ranges),
+:func:`ranged_hand_params`, :func:`sample_reachable`, :func:`ball_workspace`,
 :class:`WorkspaceMap`, :class:`ReachableSet`.
 """
 
 from robots.planar_hand.hand import FingertipPose, PlanarHand
-from robots.planar_hand.params import FINGERS, FingerParams, HandParams, default_finger
+from robots.planar_hand.params import (
+    FINGERS,
+    GAIT_LOWER_DEG,
+    GAIT_UPPER_DEG,
+    FingerParams,
+    HandParams,
+    default_finger,
+    gait_hand_params,
+    ranged_hand_params,
+)
 from robots.planar_hand.workspace import (
     ReachableSet,
     WorkspaceMap,
@@ -18,6 +28,8 @@ from robots.planar_hand.workspace import (
 
 __all__ = [
     "FINGERS",
+    "GAIT_LOWER_DEG",
+    "GAIT_UPPER_DEG",
     "FingerParams",
     "FingertipPose",
     "HandParams",
@@ -27,5 +39,7 @@ __all__ = [
     "ball_workspace",
     "collision_free",
     "default_finger",
+    "gait_hand_params",
+    "ranged_hand_params",
     "sample_reachable",
 ]

@@ -138,3 +138,33 @@ def default_finger(side: str, tip: str | None = None, tip_radius: float = 0.025)
         tip=tip,
         tip_radius=tip_radius,
     )
+
+
+#: joint ranges of the right finger of the executed grasp gait's hand [deg] (the left finger
+#: mirrors them): the default fingers with joint 1 to 90 deg, joint 2 folding to 150 deg and
+#: joint 3 to 130 deg. Measured with ``explore_object`` (10 s, mu = 1): with the 110 deg
+#: ranges of :func:`default_finger` circles of 2-3 cm radius do not fit the hand and 4-5 cm
+#: ones stall after 16-42 deg (every phase 1 ends at a joint stop after 1-10 deg); with these
+#: ranges the 10 cm ball with a ridge turns 365 deg in 60 s and the batch's 2-7 cm circles
+#: keep turning (``benchmarks/bench_gait.py``).
+GAIT_LOWER_DEG = (-40.0, 0.0, -10.0)
+GAIT_UPPER_DEG = (90.0, 150.0, 130.0)
+
+
+def ranged_hand_params(lower_deg, upper_deg, friction: float = 1.0) -> HandParams:
+    """The default fingers with the right finger's joint ranges ``lower_deg``..``upper_deg``
+    [deg] (3 each; the left finger mirrors them) and ``friction`` [-]."""
+    import dataclasses
+
+    lo = tuple(float(np.deg2rad(v)) for v in lower_deg)
+    hi = tuple(float(np.deg2rad(v)) for v in upper_deg)
+    right = dataclasses.replace(default_finger("right"), lower=lo, upper=hi)
+    left = dataclasses.replace(
+        default_finger("left"), lower=tuple(-v for v in hi), upper=tuple(-v for v in lo)
+    )
+    return HandParams(left=left, right=right, friction=float(friction))
+
+
+def gait_hand_params(friction: float = 1.0) -> HandParams:
+    """The hand of the executed grasp gait (``GAIT_LOWER_DEG``..``GAIT_UPPER_DEG``)."""
+    return ranged_hand_params(GAIT_LOWER_DEG, GAIT_UPPER_DEG, friction)

@@ -63,8 +63,10 @@ def explore_object(
     Args:
         profile: the TRUE closed object profile (object frame, star-shaped about its origin)
             [m]; the simulated object has this shape.
-        hand: ``robots.planar_hand.PlanarHand`` (default: flat left pad with the 8x8 array,
-            2.5 cm round right tip).
+        hand: ``robots.planar_hand.PlanarHand`` (default: the gait's hand,
+            ``robots.planar_hand.params.gait_hand_params``: flat left pad with the 8x8
+            array, 2.5 cm round right tip, joint ranges widened from the thesis' 110 deg,
+            with which no circle keeps turning).
         mu: true friction coefficient of fingers, palm and object [-] (> 0).
         nominal: the planner's model of the object (a closed profile; default a feature-less
             circle of the object's area). A round one is used through its mean radius; a
@@ -94,8 +96,9 @@ def explore_object(
     s = settings or GaitSettings(mu=mu)
     if hand is None:
         from robots.planar_hand import PlanarHand
+        from robots.planar_hand.params import gait_hand_params
 
-        hand = PlanarHand(friction=float(mu))
+        hand = PlanarHand(gait_hand_params(mu))
     R = mean_radius(nominal if nominal is not None else profile)
     prior = gait_prior(nominal, R, hand, mu) if use_prior else None
     world, start = build_world(profile, hand, mu, R, prior, s, seed)
