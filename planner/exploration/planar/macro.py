@@ -45,7 +45,9 @@ MACRO_MERGE = math.radians(15.0)
 #: an estimate 3 mm off, e.g. with the ridge under the palm), so it is no feature [-]
 MACRO_LOCAL = 0.8
 #: pass numbers of the pad's rows are offset by this (the locality test applies to them:
-#: in phase 3 the centre comes from the right tip and the palm) [-]
+#: in phase 3 the centre comes from the right tip and the palm; the round tip's passes are
+#: exempt: riding over the ridge lifts it over +-14 deg, most of a short pass, and with the
+#: test on them ``ball_with_ridge`` seed 0 lost its ridge) [-]
 PAD_PASS = 1_000_000
 #: a region must be seen in this many separate passes (phases) [-]: a single pass can be
 #: off by the holder's estimate (in phase 3 the centre comes from the right tip and the
@@ -107,7 +109,35 @@ def _detrend(angles: np.ndarray, heights: np.ndarray) -> np.ndarray:
     return res
 
 
-def macro_regions(angles: np.ndarray, heights: np.ndarray, passes=None) -> list:
+#: evidence weight of a pass next to an excluded phase (see :func:`suspect_passes`) [-]
+SUSPECT_WEIGHT = 0.5
+
+
+def suspect_passes(trace: dict) -> frozenset:
+    """Pass numbers (as :func:`sensed_heights` numbers them) of the passes right before or
+    after an excluded window (rows whose ``kind`` is 0: a phase that ended "object moved",
+    or a back-stroke). The held object starts moving before the 10 mm safety net ends such a
+    phase and the estimate settles only after it, so these passes' heights are often off:
+    with the ridge at 20 deg of ``ball_with_ridge`` (``explore_object``, seed 0) the round
+    tip's passes right before and after one such phase made a phantom ridge 128 deg from
+    the true one. They count :data:`SUSPECT_WEIGHT` of a pass."""
+    kind = np.asarray(trace["kind"])
+    if kind.size == 0:
+        return frozenset()
+    passes = np.concatenate([[0], np.cumsum(np.diff(kind) != 0)])
+    first = np.flatnonzero(np.r_[True, np.diff(passes) != 0])
+    pass_kind = kind[first]  # the kind of every pass, in order
+    out = set()
+    for q in np.flatnonzero(pass_kind == 0):
+        for n in (q - 1, q + 1):
+            if 0 <= n < pass_kind.size and pass_kind[n] != 0:
+                out.add(int(n) + (PAD_PASS if pass_kind[n] == 3 else 0))
+    return frozenset(out)
+
+
+def macro_regions(
+    angles: np.ndarray, heights: np.ndarray, passes=None, suspect: frozenset = frozenset()
+) -> list:
     """``[(angle [rad], sign), ...]`` of the features of the sensed heights (sign +1
     ridge, -1 groove).
 
@@ -118,7 +148,8 @@ def macro_regions(angles: np.ndarray, heights: np.ndarray, passes=None) -> list:
     before it is over the ridge, and stalls on one side: the middle of the half-height
     bins is the ridge's middle, the median of the samples was not). Regions of all passes
     within :data:`MACRO_MERGE` form one feature, reported at their median when at least
-    :data:`MACRO_MIN_PASSES` passes saw it.
+    :data:`MACRO_MIN_PASSES` passes saw it; a pass in ``suspect`` (:func:`suspect_passes`)
+    counts :data:`SUSPECT_WEIGHT` of a pass, in both the count and the (weighted) median.
     """
     if angles.size == 0:
         return []
@@ -127,8 +158,10 @@ def macro_regions(angles: np.ndarray, heights: np.ndarray, passes=None) -> list:
     for sign in (1, -1):
         pts = sorted((a, q) for a, sg, q in seen if sg == sign)
         for g in circular_groups(pts, MACRO_MERGE, angle=lambda p: p[0]):
-            if len({q for _, q in g}) >= MACRO_MIN_PASSES:
-                out.append((circular_median([a for a, _ in g]), sign))
+            weight = {q: SUSPECT_WEIGHT if q in suspect else 1.0 for _, q in g}
+            if sum(weight.values()) >= MACRO_MIN_PASSES - 1e-9:
+                w = [weight[q] for _, q in g]
+                out.append((circular_median([a for a, _ in g], w), sign))
     return out
 
 
@@ -140,8 +173,22 @@ def pass_regions(angles: np.ndarray, heights: np.ndarray, passes=None) -> list:
     for q in np.unique(passes):
         m = passes == q
         regions = _pass_regions(angles[m], heights[m], local=q >= PAD_PASS)
-        seen += [(a, sg, int(q)) for a, sg in regions]
+        seen += [(a, sg, int(q)) for a, sg in isolated(regions)]
     return seen
+
+
+def isolated(regions: list) -> list:
+    """The regions of one pass without a region of the same sign within :data:`MACRO_MERGE`.
+
+    One ridge or groove gives one region per pass; several of one sign a few degrees apart
+    are the estimate wandering (the held object moving: in the passes next to an "object
+    moved" phase of ``ball_with_ridge`` with the ridge at 90, 225 and 315 deg, 2-4 grooves
+    6-13 deg apart made phantom grooves 110-130 deg from the ridge)."""
+    return [
+        (a, sg) for i, (a, sg) in enumerate(regions)
+        if not any(sg2 == sg and j != i and abs(math.remainder(a - a2, 2 * math.pi)) < MACRO_MERGE
+                   for j, (a2, sg2) in enumerate(regions))
+    ]  # fmt: skip
 
 
 def binned_median(keys: np.ndarray, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -201,7 +248,7 @@ def detect_macro_features(
     """Ridges and grooves of the sensed outline (module docstring), each compared with the
     nearest true feature of ``profile`` (the middle of its cluster of curvature features)."""
     a, h, p = sensed_heights(trace, theta, radius, tip_radius, band)
-    found = macro_regions(a, h, p)
+    found = macro_regions(a, h, p, suspect_passes(trace))
     single = [ang for ang, sign, _ in pass_regions(a, h, p) if sign > 0]
     found += fuse_image_ridges(image_ridges(trace, theta, band), found, single)
     truth = _truth_clusters(profile)
@@ -241,4 +288,5 @@ __all__ = [
     "macro_regions",
     "pass_regions",
     "sensed_heights",
+    "suspect_passes",
 ]

@@ -1,0 +1,97 @@
+"""Macro features of the sensed outline (planar.macro): isolation, suspect passes, locality."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from hypothesis import given
+from hypothesis import strategies as st
+
+from planner.exploration.planar.macro import (
+    MACRO_MERGE,
+    PAD_PASS,
+    SUSPECT_WEIGHT,
+    isolated,
+    macro_regions,
+    pass_regions,
+    suspect_passes,
+)
+
+A = np.linspace(0.2, 1.8, 640)  # one pass's polar angles [rad], 0.15 deg apart
+
+
+def bumps(centres, height=3e-3, half_width=0.04, noise=1e-4, seed=0):
+    """Heights over A [m]: 3 mm plateaus at ``centres`` [rad] plus white noise."""
+    h = np.zeros(A.size)
+    for c in centres:
+        h[np.abs(A - c) < half_width] = height
+    return h + np.random.default_rng(seed).normal(0.0, noise, A.size)
+
+
+def test_isolated_drops_same_sign_neighbours_only():
+    near = math.radians(8.0)
+    regions = [(1.0, 1), (1.0 + near, 1), (1.0 + near / 2, -1), (2.5, 1)]
+    # the two ridges 8 deg apart go; the groove between them and the far ridge stay
+    assert isolated(regions) == [(1.0 + near / 2, -1), (2.5, 1)]
+    apart = [(0.5, 1), (0.5 + MACRO_MERGE * 1.01, 1)]
+    assert isolated(apart) == apart
+    # across +-pi
+    assert isolated([(math.pi - 0.01, -1), (-math.pi + 0.01, -1)]) == []
+
+
+def test_a_wandering_pass_adds_no_feature():
+    # pass 0: three grooves 6 deg apart (the estimate wandering); pass 1: one groove at 1.0
+    wander = bumps([0.9, 1.0, 1.1], height=-2e-3, half_width=0.02)
+    one = bumps([1.0], height=-2e-3)
+    a, h = np.r_[A, A], np.r_[wander, one]
+    p = np.r_[np.zeros(A.size), np.ones(A.size)].astype(int)
+    assert [q for _, _, q in pass_regions(a, h, p)] == [1]
+    assert macro_regions(a, h, p) == []  # one pass only: no feature
+    # two clean passes: the groove, at its place
+    found = macro_regions(np.r_[A, A], np.r_[one, bumps([1.0], -2e-3, seed=1)], p)
+    assert len(found) == 1 and found[0][1] == -1 and abs(found[0][0] - 1.0) < math.radians(0.5)
+
+
+def test_a_pad_pass_lifted_as_a_whole_is_no_feature():
+    # the estimate 3 mm off over the whole pass (a ridge under the palm or the holder)
+    lifted = np.full(A.size, 3e-3)
+    p = np.r_[np.zeros(A.size), np.ones(A.size)].astype(int)
+    assert macro_regions(np.r_[A, A], np.r_[lifted, lifted], p + PAD_PASS) == []
+    # the round tip's passes are exempt (riding over a ridge lifts most of a short pass)
+    assert len(macro_regions(np.r_[A, A], np.r_[lifted, lifted], p)) == 1
+
+
+def test_suspect_passes_are_the_neighbours_of_excluded_rows():
+    # passes: 0 kind 1, 1 kind 2 (tip), 2 excluded, 3 kind 3 (pad), 4 kind 1, 5 kind 3,
+    # 6 excluded (the last)
+    kind = np.array([1, 1, 2, 2, 0, 0, 3, 3, 1, 3, 3, 0])
+    assert suspect_passes({"kind": kind}) == {1, 3 + PAD_PASS, 5 + PAD_PASS}
+    assert suspect_passes({"kind": np.array([1, 2, 3, 1])}) == frozenset()
+    assert suspect_passes({"kind": np.array([])}) == frozenset()
+
+
+def test_suspect_passes_weigh_half():
+    a = np.r_[A, A, A]
+    h = np.r_[bumps([1.0], seed=0), bumps([1.0], seed=1), bumps([1.1], seed=2)]
+    p = np.repeat([0, 1, 2], A.size)
+    both = {0, 1}
+    assert SUSPECT_WEIGHT * 2 < 2  # two suspect passes are not enough on their own
+    assert macro_regions(a[: 2 * A.size], h[: 2 * A.size], p[: 2 * A.size], both) == []
+    # with a sound third pass (weight 1 + 0.5 + 0.5): found, pulled to the sound one's 1.1
+    # by the weighted median (the suspect ones' 1.0 weigh half)
+    found = macro_regions(a, h, p, both)
+    assert len(found) == 1 and abs(found[0][0] - 1.05) < math.radians(0.5)
+    plain = macro_regions(a, h, p)
+    assert len(plain) == 1 and abs(plain[0][0] - 1.0) < math.radians(0.5)
+
+
+@given(st.floats(-math.pi, math.pi), st.integers(2, 4))
+def test_one_ridge_seen_by_several_passes_is_found_at_its_angle(centre, n):
+    # the same 3 mm ridge in n passes, rotated anywhere on the circle
+    a = np.remainder(np.tile(A - 1.0 + centre, n) + math.pi, 2 * math.pi) - math.pi
+    h = np.concatenate([bumps([1.0], seed=k) for k in range(n)])
+    p = np.repeat(np.arange(n), A.size)
+    found = macro_regions(a, h, p)
+    assert len(found) == 1 and found[0][1] == 1
+    assert abs(math.remainder(found[0][0] - centre, 2 * math.pi)) < math.radians(0.5)
