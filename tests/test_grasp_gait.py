@@ -67,6 +67,16 @@ def test_object_beyond_the_workspace_has_no_gait_and_says_why(hand):
     assert "workspace" in g.reason and "cannot reach" in g.reason
 
 
+def test_the_search_finds_the_cycle_of_a_mildly_oval_object():
+    # a 1.5:1 ellipse with the gait's hand: its cyclic gait needs more than the 6 phase-1
+    # successors per node the search once kept (it said "no gait")
+    from robots.planar_hand import PlanarHand, gait_hand_params
+
+    g = plan_gait(curves.ellipse(0.05, 0.05 / 1.5), PlanarHand(gait_hand_params()), 1.0)
+    assert g.feasible, g.reason
+    assert g.turns >= 1 and g.rotation_per_cycle < 0 and g.min_epsilon > 0
+
+
 def test_frictionless_object_has_no_gait(hand):
     g = plan_gait(curves.circle(0.05), hand, 0.0, resolution=36)
     assert not g.feasible and "force closure" in g.reason
