@@ -14,10 +14,13 @@ gait and the feature detection fare where nothing was tuned. Two configurations:
 
 Per run: status and reason, rotation, coverage, the ridge found (angle error of the detected
 ridge nearest the true one, within 20 deg), phantom features (every other detection), wall
-and CPU time. The summary counts full turns, ridges within 5 deg and phantoms.
+and CPU time, and (scenario runs) Fig. 2.14's tangential-force sign changes at the phase
+2 -> 3 switches. The summary counts full turns, ridges within 5 deg and phantoms.
 
 Run: ``python benchmarks/bench_gait_ridge.py [--angles 0,45,...] [--seeds 0,1] [--jobs 2]
-[--config scenario,default] [--quick]`` (``--quick``: 3 angles, 1 seed, 20 s).
+[--config scenario,default] [--set KEY.PATH=VALUE] [--quick]`` (``--quick``: 3 angles, 1
+seed, 20 s; ``--set`` overrides a key of the scenario configuration, e.g.
+``left_hold_force=2.0``).
 """
 
 from __future__ import annotations
@@ -38,7 +41,7 @@ TARGET_DEG = 5.0
 
 
 def _run(task: tuple) -> dict:
-    config, angle, seed, duration = task
+    config, angle, seed, duration, extra = task
     import resource
 
     cpu0 = resource.getrusage(resource.RUSAGE_SELF).ru_utime
@@ -47,7 +50,7 @@ def _run(task: tuple) -> dict:
         from planner.runner import run_config
         from planner.scenario import load_scenario
 
-        overrides = [f"seed={seed}", f"object.ridge_angle_deg={angle}"]
+        overrides = [f"seed={seed}", f"object.ridge_angle_deg={angle}", *extra]
         if duration is not None:
             overrides.append(f"duration={duration}")
         res, _ = run_config(load_scenario(SCENARIO, overrides=overrides), plots=False)
@@ -55,6 +58,7 @@ def _run(task: tuple) -> dict:
         status, reason = res.status, res.reason or str(m.get("end_event", ""))
         rotation, coverage = -m["rotation_deg"], m["coverage"]
         feats = [(f["kind"], f["error_deg"]) for f in m["features"]]
+        signs = m.get("tangential_sign_changes_2to3", "")
     else:
         from planner.exploration import explore_object
         from planner.exploration.planar import circle_with_ridge
@@ -64,6 +68,7 @@ def _run(task: tuple) -> dict:
         status, reason = r.status, r.reason
         rotation, coverage = -math.degrees(r.rotation), r.coverage
         feats = [(f.kind, math.degrees(f.error)) for f in r.features]
+        signs = ""
     wall = time.perf_counter() - t0
     cpu = resource.getrusage(resource.RUSAGE_SELF).ru_utime - cpu0
     errs = [e for k, e in feats if k == "ridge" and e is not None and abs(e) <= MATCH_DEG]
@@ -74,6 +79,7 @@ def _run(task: tuple) -> dict:
         "reason": reason[:90], "turn_deg": round(rotation, 1), "coverage": round(coverage, 3),
         "ridge_error_deg": None if math.isnan(best) else round(best, 2),
         "within_5deg": bool(errs) and abs(best) <= TARGET_DEG, "phantoms": phantoms,
+        "fig214_sign_changes": signs,
         "wall_s": round(wall, 1), "cpu_s": round(cpu, 1),
     }  # fmt: skip
 
@@ -103,6 +109,13 @@ def main() -> None:
     p.add_argument("--config", default="scenario,default", help="scenario and/or default")
     p.add_argument("--jobs", type=int, default=2, help="worker processes")
     p.add_argument("--duration", type=float, default=None, help="simulated s (default: full)")
+    p.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="KEY.PATH=VALUE",
+        help="override a key of the scenario configuration (repeatable)",
+    )
     args = p.parse_args()
     angles = [float(a) for a in args.angles.split(",")]
     seeds = [int(s) for s in args.seeds.split(",")]
@@ -112,7 +125,8 @@ def main() -> None:
     bad = [c for c in configs if c not in ("scenario", "default")]
     if bad:
         p.error(f"--config: expected scenario and/or default, got {bad}")
-    tasks = [(c, a, s, args.duration) for c in configs for a in angles for s in seeds]
+    tasks = [(c, a, s, args.duration, tuple(args.set)) for c in configs for a in angles
+             for s in seeds]  # fmt: skip
     t0 = time.perf_counter()
     rows = []
     try:
@@ -130,7 +144,7 @@ def main() -> None:
         "one a phantom; full turn: status ok and >= 360 deg",
         "scenario = scenarios/ball_with_ridge.yaml with seed and ridge angle overridden (the "
         "kind derives the noise seed from the scenario seed); default = explore_object with "
-        "every default",
+        "every default" + (f"; scenario overrides: {', '.join(args.set)}" if args.set else ""),
         f"total wall {time.perf_counter() - t0:.0f} s with {args.jobs} worker processes; load "
         f"average at the end {load_average()} (2-core machine shared with other jobs: wall "
         "times vary, cpu_s much less)",

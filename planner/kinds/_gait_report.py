@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 
 
-def report(config, ctx, res, profile, duration: float, hand):
+def report(config, ctx, res, profile, duration: float, hand, noise_seed: int | None = None):
     """The :class:`RunResult` of an executed gait, ok or failed: the figures show what ran
     up to the end, ``result.json`` has the reason and the last phase.
 
@@ -15,6 +15,8 @@ def report(config, ctx, res, profile, duration: float, hand):
         res: the :class:`planner.exploration.planar.ExplorationResult`.
         profile: the true object profile; duration: the simulated time limit [s].
         hand: the ``robots.planar_hand.PlanarHand`` that ran it.
+        noise_seed: the ``seed`` the run passed to ``explore_object`` (derived from the
+            scenario's seed; ``metrics["noise_seed"]``: the same run from Python).
     """
     import json
 
@@ -27,6 +29,8 @@ def report(config, ctx, res, profile, duration: float, hand):
     theta = _rotation(config, res, profile)
     metrics = _metrics(config, res, profile, ridge, duration, theta)
     metrics["coverage_explorer_only"] = _explorer_coverage(res, profile)
+    if noise_seed is not None:
+        metrics["noise_seed"] = int(noise_seed)
     if ridge is not None:
         metrics.update(_ridge_coverage(config, res, profile, hand))
     arrays = {f"log/{k}": v for k, v in res.log.arrays().items() if k != "pairs"}

@@ -41,9 +41,10 @@ Keys (SI units)::
 Outputs: ``result.json`` metrics (phases, transitions_4, rotation_deg, coverage,
 min_epsilon, slip_distance_m, explore_force_rms_error_N, internal_force_rms_error_N,
 features found vs the true features with angle errors, real_time_factor, NLP and control-step
-timings, last_phase), ``phases.json``, ``trajectory.npz`` (the simulator log ``log/*`` and
-the controller's sensed series ``trace/*``), plots ``snapshots`` (Fig. 2.12), ``forces``
-(Fig. 2.14), ``contacts`` (Fig. 2.10), ``timeline``, and ``plots/animation.gif``.
+timings, last_phase, noise_seed: the seed ``explore_object`` got), ``phases.json``,
+``trajectory.npz`` (the simulator log ``log/*`` and the controller's sensed series
+``trace/*``), plots ``snapshots`` (Fig. 2.12), ``forces`` (Fig. 2.14), ``contacts``
+(Fig. 2.10), ``timeline``, and ``plots/animation.gif``.
 A gait that cannot go on ends with status "failed" (exit 1), the reason and the last phase,
 and the same complete outputs up to the failure.
 """
@@ -256,7 +257,7 @@ def run(config: Config, ctx):
                                  on_progress=advance)  # fmt: skip
     from planner.kinds._gait_report import report
 
-    return report(config, ctx, res, profile, duration, _hand(config))
+    return report(config, ctx, res, profile, duration, _hand(config), noise_seed=seed)
 
 
 def _hand(config: Config):
