@@ -95,3 +95,48 @@ def test_one_ridge_seen_by_several_passes_is_found_at_its_angle(centre, n):
     found = macro_regions(a, h, p)
     assert len(found) == 1 and found[0][1] == 1
     assert abs(math.remainder(found[0][0] - centre, 2 * math.pi)) < math.radians(0.5)
+
+
+def _trace(kind, cx, cy=None):
+    kind = np.asarray(kind, float)
+    cy = np.zeros(kind.size) if cy is None else np.asarray(cy, float)
+    return {"kind": kind, "cx": np.asarray(cx, float), "cy": cy}
+
+
+def test_held_still_keeps_the_phases_3_whose_centre_stayed():
+    from planner.exploration.planar.metrics import held_still
+
+    # phase 1 | phase 3 moving 3 mm | phase 2 | phase 3 moving 5 mm (the last row back home)
+    kind = [1, 1, 3, 3, 3, 2, 2, 3, 3, 3]
+    cx = [0, 0.01, 0.0, 0.003, 0.001, 0.0, 0.0, 0.0, 0.005, 0.0]
+    first, second = [False] * 2 + [True] * 3 + [False] * 2, [True] * 3
+    assert held_still(_trace(kind, cx), 0.004).tolist() == first + [False] * 3
+    assert held_still(_trace(kind, cx), 0.006).tolist() == first + second
+    # the motion is the distance in the plane, not along x alone
+    assert not held_still(_trace([3, 3], [0, 0.003], [0, 0.003]), 0.004).any()
+    assert held_still(_trace([], []), 0.004).size == 0
+
+
+def test_macro_features_survive_a_run_without_a_sliding_pass():
+    # only the round tip explores (two phase-2 passes over a 3 mm ridge at 1.0 rad, a phase 1
+    # between them), the pad never slides: the curvature detector has nothing to look at,
+    # and the ridge must still be reported
+    from planner.exploration.planar.metrics import detect_pad_features
+    from planner.geometry import shapes
+
+    R, r, k = 0.05, 0.025, A.size
+    ang = np.tile(A, 3)
+    height = np.r_[bumps([1.0], noise=0.0), np.zeros(k), bumps([1.0], noise=0.0)]
+    kind = np.repeat([2.0, 1.0, 2.0], k)
+    out = np.column_stack([np.cos(ang), np.sin(ang)])  # outward normal of the ball
+    tip_centre = (R + r + height)[:, None] * out
+    m, zero = 3 * k, np.zeros(3 * k)
+    trace = {
+        "t": np.arange(m) * 0.002, "kind": kind, "theta": zero, "cx": zero, "cy": zero,
+        "pRx": tip_centre[:, 0] - r * out[:, 0], "pRy": tip_centre[:, 1] - r * out[:, 1],
+        "nRx": -out[:, 0], "nRy": -out[:, 1], "fnR": np.full(m, 0.3), "fnL": zero,
+        "pad_touch": zero, "pLx": zero, "pLy": zero, "nLx": zero, "nLy": zero, "u": zero,
+    }  # fmt: skip
+    found = detect_pad_features(trace, shapes.circle(R), None, R, 0.3, r)
+    assert [f.kind for f in found] == ["ridge"]
+    assert abs(found[0].angle - 1.0) < math.radians(1.0)
