@@ -18,6 +18,9 @@ contacts on a circle hold a vertical load inside their cones without a moment on
 object: a small linear program. For contacts placed symmetrically at ``alpha`` above the
 horizontal it has the closed form ``W / 2 cot(atan(mu) - alpha)`` (:func:`symmetric_squeeze`;
 ``W / (2 mu)`` for horizontal contacts, the classic two-finger hold).
+:func:`phase1_squeeze` turns it into the phase-1 command; the round planner uses it in the
+phase 1 after one that rolled the object along the palm into a workspace limit
+(:func:`.phase_planning.carry_squeeze`).
 """
 
 from __future__ import annotations

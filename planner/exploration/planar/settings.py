@@ -24,10 +24,14 @@ class GaitSettings:
             shapes). With the 1 N squeeze alone a 3 cm circle grasped at 150/20 deg
             (needing 1.1-1.8 N) stayed on the palm and rolled 12 mm right per phase 1 where
             the plan moved it 10 mm left, until every phase 1 ended at the right base
-            joint's stop ("no progress" at 54 deg). Raising it in every phase 1 made
-            ball_with_ridge fail (seeds 0-2 at 14-15 deg: its phases 3 then rolled the ball
-            back 11.6 deg each); raising it after every such miss (without the workspace
-            limit) left seed 1 with a phantom concave feature 12 deg from the ridge.
+            joint's stop ("no progress" at 54 deg); now it turns 364 deg in 40.6 s.
+            Measured alternatives on ball_with_ridge (seeds 0-3): raising it in every phase
+            1 from the start failed at 14-15 deg (its phases 3 then rolled the ball back
+            11.6 deg each); keeping it raised in every phase 1 after the first trigger (the
+            3 cm circle: 27.5 of 27.5 deg per phase 1, 373 deg in 30.3 s) failed seeds 2
+            and 3 after their full turn. With this rule the ball triggers it once or twice
+            (seed 0 at 253 and 383 deg, seeds 1-3 at 363 deg); seed 1 then shows a phantom
+            concave feature 12 deg from the ridge.
         carry_margin: the squeeze is ``1 + carry_margin`` times the carrying one [-].
         max_squeeze: cap of the raised squeeze [N].
         hold_force: force of the right finger pressing the object against the palm in
