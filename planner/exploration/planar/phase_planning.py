@@ -3,13 +3,15 @@ at the start of each phase, using a current estimate of the object curvature and
 orientation"): the planner of round nominal shapes, and the phase-1 pieces the posed-outline
 planner (:mod:`.shape_planning`) shares with it.
 
-Phase 1 is the rolling NLP on the local circle (:func:`fit_radius`); phase 2 sends the right
-finger back to where it can hold the object on the palm (:func:`right_hold_angle`); phase 3
-sends the left pad to the §2.2.3 regrasp (:func:`left_regrasp_angle`), after a back-stroke
-over a feature it slid across (:func:`feature_behind`) or a corner probe beyond a wall it
-jumped (:mod:`.corner_probe`). Every function takes the executor's runner
-(:class:`.machine._Runner`: its settings ``s``, ``hand``, ``ctrl``, ``start`` grasp, rotation
-estimate ``theta`` and sensed features).
+Phase 1 is the rolling NLP on the local circle (:func:`fit_radius`), squeezed to carry the
+object off the palm after a phase 1 that rolled it there (:func:`carry_squeeze`); phase 2
+sends the right finger back to where it can hold the object on the palm
+(:func:`right_hold_angle`); phase 3 sends the left pad to the §2.2.3 regrasp
+(:func:`left_regrasp_angle`), after a back-stroke over a feature it slid across
+(:func:`feature_behind`) or a corner probe beyond a wall it jumped (:mod:`.corner_probe`).
+Every function takes the executor's runner (:class:`.machine._Runner`: its settings ``s``,
+``hand``, ``ctrl``, ``start`` grasp, rotation estimate ``theta``, sensed features, phase
+records and events).
 """
 
 from __future__ import annotations
