@@ -3,13 +3,15 @@ at the start of each phase, using a current estimate of the object curvature and
 orientation"): the planner of round nominal shapes, and the phase-1 pieces the posed-outline
 planner (:mod:`.shape_planning`) shares with it.
 
-Phase 1 is the rolling NLP on the local circle (:func:`fit_radius`); phase 2 sends the right
-finger back to where it can hold the object on the palm (:func:`right_hold_angle`); phase 3
-sends the left pad to the §2.2.3 regrasp (:func:`left_regrasp_angle`), after a back-stroke
-over a feature it slid across (:func:`feature_behind`) or a corner probe beyond a wall it
-jumped (:mod:`.corner_probe`). Every function takes the executor's runner
-(:class:`.machine._Runner`: its settings ``s``, ``hand``, ``ctrl``, ``start`` grasp, rotation
-estimate ``theta`` and sensed features).
+Phase 1 is the rolling NLP on the local circle (:func:`fit_radius`), squeezed to carry the
+object off the palm after a phase 1 that rolled it there (:func:`carry_squeeze`); phase 2
+sends the right finger back to where it can hold the object on the palm
+(:func:`right_hold_angle`); phase 3 sends the left pad to the §2.2.3 regrasp
+(:func:`left_regrasp_angle`), after a back-stroke over a feature it slid across
+(:func:`feature_behind`) or a corner probe beyond a wall it jumped (:mod:`.corner_probe`).
+Every function takes the executor's runner (:class:`.machine._Runner`: its settings ``s``,
+``hand``, ``ctrl``, ``start`` grasp, rotation estimate ``theta``, sensed features, phase
+records and events).
 """
 
 from __future__ import annotations
@@ -18,6 +20,8 @@ import math
 
 import numpy as np
 
+from planner.exploration.planar.carry_squeeze import phase1_squeeze
+from planner.exploration.planar.controller import TRACE_NAMES
 from planner.exploration.planar.corner_probe import approach_segment, probe_segment, wall_ahead
 from planner.exploration.planar.heuristics import regrasp_left_angle, stable_pair
 from planner.exploration.planar.segments import explore_segment, phase1_segment
@@ -27,6 +31,8 @@ from planner.exploration.planar.sensed_features import sensed_bump
 #: contact travel [rad] expected in one phase 1 (the regrasp heuristics keep joint range for
 #: it; the first rotation of the 10 cm ball moved the contacts 16-24 deg)
 PHASE1_TRAVEL = math.radians(22.0)
+#: how far the phase-1 pose reference lifts the object off the palm [m]
+PHASE1_LIFT = 0.0015
 #: range of the fitted local radius, in nominal radii [-]
 RADIUS_FIT = (0.85, 1.2)
 #: sensed features closer than this (object frame) are one [rad]
@@ -131,12 +137,51 @@ def nlp_options(r) -> dict:
 def phase1_outcome(r, p, est, q, mu: float):
     """``(segment or None, planned rotation [rad], solve time [s], why no plan)`` of the
     phase-1 plan ``p`` from the estimate ``est`` at joint angles ``q`` [rad]."""
+    miss = phase1_miss(r)  # of the previous phase 1 (before ``r._plan1`` becomes ``p``)
     r._plan1 = p
     if not p.success or abs(p.rotation) < math.radians(1.0):
         why = blocking(r, est, q, mu)
         return None, 0.0, p.solve_time_s, f"phase-1 NLP: {p.stop}; {why}"
-    seg = phase1_segment(p, est, q, r.theta, r.s, r.hand, lift=0.0015)
+    squeeze = carry_squeeze(r, p, miss)
+    seg = phase1_segment(p, est, q, r.theta, r.s, r.hand, lift=PHASE1_LIFT, squeeze=squeeze)
     return seg, p.rotation, p.solve_time_s, ""
+
+
+def carry_squeeze(r, plan, miss: float | None) -> float | None:
+    """The raised phase-1 squeeze [N] of ``plan`` (:func:`.carry_squeeze.phase1_squeeze`)
+    when the previous phase 1 rolled the object along the palm into a workspace limit,
+    else None (the commanded squeeze).
+
+    The NLP moves the object's centre freely; on the palm it rolls instead (``R theta`` to
+    the right per clockwise turn), and the right finger runs into its base joint's stop.
+    A previous phase 1 that ended at a workspace limit with its sensed centre ``miss`` [m]
+    (:func:`phase1_miss`) more than the NLP's whole travel (``r.nlp.travel``) from its
+    plan's end did that: this one carries the object (an event says so). Round nominal
+    shapes only (the posed outlines' planner keeps the commanded squeeze).
+    """
+    if not r.s.carry_weight or r.shape is not None or miss is None:
+        return None
+    last = next((p for p in reversed(r.records) if p.kind == 1), None)
+    if last is None or last.event != "workspace limit" or miss <= r.nlp.travel:
+        return None
+    f = phase1_squeeze(plan.beta, r.s, PHASE1_LIFT)
+    msg = (f"the last phase 1 ended at a workspace limit {1e3 * miss:.1f} mm from its "
+           f"plan (rolled on the palm): squeeze {f:.2f} N to carry the object")  # fmt: skip
+    r.events.append({"t": r.world.time, "kind": "carry", "phase": 1, "message": msg})
+    return f
+
+
+def phase1_miss(r) -> float | None:
+    """Horizontal distance [m] between where the last phase 1 left the object's sensed
+    centre and where its plan (``r._plan1``) put it; None before the first phase 1."""
+    plan = r._plan1
+    if plan is None or not plan.success or not r.ctrl.trace:
+        return None
+    trace, kind, cx = r.ctrl.trace, TRACE_NAMES.index("kind"), TRACE_NAMES.index("cx")
+    for row in reversed(trace):
+        if row[kind] == 1:
+            return abs(float(row[cx]) - float(plan.centre[-1, 0]))
+    return None
 
 
 def rotation_cap(r) -> float:

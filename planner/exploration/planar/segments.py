@@ -86,9 +86,13 @@ def _quintic_many(spline: QuinticSpline):
     return at
 
 
-def phase1_segment(plan, est, q, theta0: float, settings, hand, lift: float) -> Segment:
+def phase1_segment(
+    plan, est, q, theta0: float, settings, hand, lift: float, squeeze: float | None = None
+) -> Segment:
     """The phase-1 segment following ``plan`` (a :class:`RollingPlan`) from the sensed
-    estimate ``est`` and joint angles ``q`` [rad]; ``theta0`` is the rotation estimate."""
+    estimate ``est`` and joint angles ``q`` [rad]; ``theta0`` is the rotation estimate,
+    ``lift`` [m] raises the pose reference off the palm, ``squeeze`` is the internal force
+    [N] ramped to (default ``settings.internal_force``; :mod:`.carry_squeeze`)."""
     s = settings
     rot = abs(plan.rotation)
     T_move = max(rot / s.rotation_speed, 0.1)
@@ -118,7 +122,7 @@ def phase1_segment(plan, est, q, theta0: float, settings, hand, lift: float) -> 
 
     rolling.many = rolling_many  # (m,) -> (m, 6): u, s, phi (2), phid (2)
     f0 = float(max(min(est.normal_force), 0.0))
-    ramp = ForceRamp(f0, s.internal_force, s.startup_time)
+    ramp = ForceRamp(f0, s.internal_force if squeeze is None else squeeze, s.startup_time)
     return Segment(
         kind=1,
         duration=float(ts[-1]) + 0.05,

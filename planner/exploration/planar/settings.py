@@ -16,6 +16,24 @@ class GaitSettings:
         mu: friction coefficient the planner assumes [-] (the world uses the true one).
         friction_margin: fraction of ``mu`` kept in reserve in the controllers' cones [-].
         internal_force: commanded internal (squeeze) force of the phase-1 grasp [N].
+        carry_weight: after a phase 1 that ended at a workspace limit with the object more
+            than the NLP's travel (1 cm) from where its plan put it (it rolled along the
+            palm instead of being carried), the next phase 1 raises its squeeze to what its
+            planned grasp needs to carry the object's weight and lift inside the cones
+            (:func:`.phase_planning.carry_squeeze`, :mod:`.carry_squeeze`; round nominal
+            shapes). With the 1 N squeeze alone a 3 cm circle grasped at 150/20 deg
+            (needing 1.1-1.8 N) stayed on the palm and rolled 12 mm right per phase 1 where
+            the plan moved it 10 mm left, until every phase 1 ended at the right base
+            joint's stop ("no progress" at 54 deg); now it turns 364 deg in 40.6 s.
+            Measured alternatives on ball_with_ridge (seeds 0-3): raising it in every phase
+            1 from the start failed at 14-15 deg (its phases 3 then rolled the ball back
+            11.6 deg each); keeping it raised in every phase 1 after the first trigger (the
+            3 cm circle: 27.5 of 27.5 deg per phase 1, 373 deg in 30.3 s) failed seeds 2
+            and 3 after their full turn. With this rule the ball triggers it once or twice
+            (seed 0 at 253 and 383 deg, seeds 1-3 at 363 deg); seed 1 then shows a phantom
+            concave feature 12 deg from the ridge.
+        carry_margin: the squeeze is ``1 + carry_margin`` times the carrying one [-].
+        max_squeeze: cap of the raised squeeze [N].
         hold_force: force of the right finger pressing the object against the palm in
             phase 3 [N]. With
             1 N the explorer's friction rolled the ball back along the palm (1-3.4 deg per
@@ -85,6 +103,9 @@ class GaitSettings:
     mu: float = 1.0
     friction_margin: float = 0.2
     internal_force: float = 1.0
+    carry_weight: bool = True
+    carry_margin: float = 0.2
+    max_squeeze: float = 3.0
     hold_force: float = 2.0
     left_hold_force: float = 2.0
     sensed_features: bool = False
@@ -125,11 +146,11 @@ class GaitSettings:
         checks.in_range("friction_margin", self.friction_margin, 0.0, 0.9)
         for name in ("internal_force", "hold_force", "left_hold_force", "explore_force",
                      "object_mass", "tip_kp", "phi_kp", "rotation_speed", "explore_speed",
-                     "startup_time", "dt",
+                     "startup_time", "dt", "max_squeeze",
                      "control_rate", "lost_time", "torque_limit", "hold_stiffness"):  # fmt: skip
             checks.positive(name, getattr(self, name))
         for name in ("tip_kv", "phi_kv", "min_force", "joint_margin", "min_epsilon",
-                     "lost_force", "nlp_margin", "hold_damping"):  # fmt: skip
+                     "lost_force", "nlp_margin", "hold_damping", "carry_margin"):  # fmt: skip
             checks.nonnegative(name, getattr(self, name))
         checks.vector("object_kp", self.object_kp, 3)
         checks.vector("object_kv", self.object_kv, 3)
