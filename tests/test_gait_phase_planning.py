@@ -109,3 +109,17 @@ def test_the_phase1_segment_ramps_to_the_squeeze(squeeze):
     assert seg.hold_force(seg.duration) == pytest.approx(want)
     assert float(seg.hold_force.many(np.array([seg.duration]))[0]) == pytest.approx(want)
     assert math.isfinite(seg.duration)
+
+
+def test_joint_at_limit_names_the_finger_the_joint_and_the_stop():
+    from planner.exploration.planar.phase_planning import joint_at_limit
+    from robots.planar_hand import PlanarHand
+
+    lim = PlanarHand().joint_limits
+    q = lim.mean(axis=1)
+    q[5] = lim[5, 0] + math.radians(0.5)  # right distal joint near its lower stop
+    q[1] = lim[1, 1] - math.radians(2.0)  # left middle joint near its upper stop
+    assert joint_at_limit(q, lim, 5) == "the right finger's joint 3 0.5 deg from its lower limit"
+    assert joint_at_limit(q, lim, 1) == "the left finger's joint 2 2.0 deg from its upper limit"
+    q[0] = lim[0, 0]
+    assert joint_at_limit(q, lim, 0) == "the left finger's joint 1 0.0 deg from its lower limit"

@@ -173,7 +173,8 @@ class RollingNLP:
             # the margin band (or beyond its limit: the previous phase ended on a workspace
             # event) may stay where it is but not move further toward its limit (the strict
             # margin at knot 1 made the NLP infeasible right at the start: "solver failed;
-            # blocking: workspace (joint 5 0.0 deg from its limit)" on 20 of 31 objects)
+            # blocking: workspace (joint 5 0.0 deg from its limit)" on 20 of 31 objects: joint 5 =
+            # the right finger's joint 3)
             for i in range(6 if k > 0 else 0):
                 add(q[i] - cs.fmin(lim[i, 0] + qm, q0[i]), 0, cs.inf)
                 add(q[i] - cs.fmax(lim[i, 1] - qm, q0[i]), -cs.inf, 0)

@@ -216,10 +216,22 @@ def blocking(r, est, q, mu: float) -> str:
     margin = np.minimum(np.asarray(q) - lim[:, 0], lim[:, 1] - np.asarray(q))
     j = int(np.argmin(margin))
     if margin[j] < r.s.joint_margin + 0.02:
-        return f"blocking: workspace (joint {j} {math.degrees(margin[j]):.1f} deg from its limit)"
+        return f"blocking: workspace ({joint_at_limit(q, lim, j)})"
     if left_regrasp_angle(r, est, fallback=False) is None:
         return "blocking: reach (no stable left grasp within the pad's reach)"
     return "blocking: none of force closure / workspace / reach at the start (IPOPT failed)"
+
+
+def joint_at_limit(q, limits, j: int) -> str:
+    """``"the right finger's joint 1 0.2 deg from its lower limit"``: joint ``j`` of the hand's
+    joint vector ``q`` [rad] (left finger 0-2, right 3-5, base joint first) with its
+    ``limits`` ((6, 2) [rad])."""
+    q = np.asarray(q, float)
+    lo, hi = q[j] - limits[j, 0], limits[j, 1] - q[j]
+    side = "lower" if lo <= hi else "upper"
+    finger = ("left", "right")[j // 3]
+    return (f"the {finger} finger's joint {j % 3 + 1} {math.degrees(min(lo, hi)):.1f} deg from "
+            f"its {side} limit")  # fmt: skip
 
 
 def fit_radius(r, est, tip_radius: float) -> float:
