@@ -14,7 +14,9 @@ Rows:
   ``does not fit`` (no start grasp: bad input of the gait kind), ``wall cap`` or ``not
   run`` (over the total ``--budget``). The executor *succeeds* on ``full turn`` /
   ``turning``; ``agree`` compares that with plan_gait's verdict on the same (true) object,
-  hand and mu;
+  hand and mu; ``rest_turn_deg`` / ``rest_blocking``: how far map-space gaits can turn the
+  object from where it rests unturned, searched over every start grasp and handoff
+  (:mod:`planner.exploration.planar.start_reach`), and the constraint that stops them;
 * ``nlp build`` / ``nlp solve``: the CasADi rolling NLP (targets <= 200 ms, <= 30 ms warm);
 * ``ball_with_ridge`` (``--ball S``): the bundled scenario's object for S simulated seconds.
 
@@ -118,6 +120,20 @@ def map_verdict(profile, hand, mu: float) -> tuple[bool, str]:
     return bool(g.feasible), g.reason
 
 
+def rest_reach(profile, hand, mu: float) -> dict:
+    """Map space from the resting pose (:func:`planner.exploration.planar.start_reach.
+    start_reach`, every start grasp and handoff): ``rest_turn_deg`` (360 for a full turn)
+    and ``rest_blocking`` (what stops it)."""
+    from planner.errors import HapexError
+    from planner.exploration.planar.start_reach import start_reach
+
+    try:
+        sr = start_reach(profile, hand, mu)
+    except HapexError as exc:
+        return {"rest_turn_deg": "", "rest_blocking": f"error: {exc}"}
+    return {"rest_turn_deg": round(math.degrees(sr.rotation)), "rest_blocking": sr.blocking}
+
+
 def run_object(
     obj: BatchObject,
     duration: float,
@@ -137,7 +153,7 @@ def run_object(
     feasible, why_map = map_verdict(obj.profile, hand, mu)
     row = {"benchmark": "batch", "object": obj.name, "family": obj.family,
            "size_cm": obj.size_cm, "plan_gait": "gait" if feasible else "no gait",
-           "plan_gait_reason": why_map}  # fmt: skip
+           "plan_gait_reason": why_map, **rest_reach(obj.profile, hand, mu)}  # fmt: skip
     why = check_fits(obj.profile, mu, hand)
     if why:
         row.update(verdict="does not fit", status="-", reason=why)
@@ -313,7 +329,10 @@ def summary(rows: list[dict]) -> list[str]:
         rs = [r for r in batch if r["family"] == fam]
         succ = sum(1 for r in rs if r.get("verdict") in ("full turn", "turning"))
         gait = sum(1 for r in rs if r.get("plan_gait") == "gait")
-        lines.append(f"{fam}: executor succeeds on {succ}/{len(rs)}, plan_gait on {gait}/{len(rs)}")
+        rest = sum(1 for r in rs if r.get("rest_turn_deg") == 360)
+        lines.append(f"{fam}: executor succeeds on {succ}/{len(rs)}, plan_gait on "
+                     f"{gait}/{len(rs)}, map space from rest turns {rest}/{len(rs)} a full "
+                     "turn")  # fmt: skip
     return lines
 
 
@@ -470,7 +489,10 @@ def main() -> None:
         f"hand: joint ranges {list(HAND_LOWER_DEG)} .. {list(HAND_UPPER_DEG)} deg (the "
         "ball_with_ridge hand), mu = 1; regular polygons with sharp corners",
         "plan_gait: map space on the TRUE object (resolution 72, pure rolling, fixed "
-        "contact model); the executor's model: "
+        "contact model); rest_turn_deg / rest_blocking: the same map space searched "
+        "exhaustively from the object resting unturned (every start grasp and handoff; "
+        "planar/start_reach.py): how far it can turn and the constraint that stops it; "
+        "the executor's model: "
         + ("the object's outline, posed from the sensed contacts at every phase start"
            if args.nominal == "true" else "a nominal circle of the object's area")
         + (f"; objects matching {args.only!r} only" if args.only else ""),
@@ -487,7 +509,8 @@ def main() -> None:
     cols = ["benchmark", "value_ms", "target_ms", "object", "size_cm", "plan_gait", "verdict",
             "status", "reason", "rotation_deg", "coverage", "phases", "phase1",
             "transitions_4", "min_epsilon", "end_events", "sim_s", "wall_s", "rtf", "cpu_rtf",
-            "ridge_error_deg", "agree", "plan_gait_reason"]  # fmt: skip
+            "ridge_error_deg", "agree", "plan_gait_reason", "rest_turn_deg",
+            "rest_blocking"]  # fmt: skip
     write_report("bench_gait", rows, title="hapex executed grasp gait (ch. 2, §2.3.1 batch)",
                  out=args.out, notes=notes, columns=cols)  # fmt: skip
     for r in rows:

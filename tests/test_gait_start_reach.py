@@ -1,0 +1,73 @@
+"""Map-space reach from the resting pose (planar/start_reach.py): a circle turns a full
+turn, the batch's ellipses stop where the module docstring says, and the reported reasons
+agree with the friction-cone geometry."""
+
+from __future__ import annotations
+
+import math
+import re
+
+import pytest
+
+from planner.errors import InvalidParameter
+from planner.exploration.planar.start_reach import start_reach
+from planner.geometry import shapes
+
+
+@pytest.fixture(scope="module")
+def hand():
+    from planner.kinds.gait import HandConfig
+
+    return HandConfig(joint_lower_deg=(-40, 0, -10), joint_upper_deg=(90, 150, 130)).hand(1.0)
+
+
+@pytest.mark.parametrize("radius", [0.02, 0.05])
+def test_a_circle_turns_a_full_turn_from_rest(hand, radius):
+    sr = start_reach(shapes.circle(radius), hand, 1.0)
+    assert sr.full_turn and sr.rotation == pytest.approx(2 * math.pi)
+    assert sr.blocking == "" and sr.start_grasps > 0
+
+
+def test_a_1_5_to_1_ellipse_turns_a_full_turn_and_a_margin_never_helps(hand):
+    """Every grasp with epsilon > 0.05 is also a force-closure grasp: the reachable set
+    can only shrink (measured: a full turn without the margin, 95 deg with it)."""
+    prof = shapes.ellipse(0.05, 0.05 / 1.5)
+    free = start_reach(prof, hand, 1.0)
+    robust = start_reach(prof, hand, 1.0, min_epsilon=0.05)
+    assert free.full_turn
+    assert not robust.full_turn and 0 < robust.rotation < free.rotation
+    assert robust.start_grasps <= free.start_grasps
+
+
+def test_a_2_to_1_ellipse_stops_at_the_left_reach(hand):
+    sr = start_reach(shapes.ellipse(0.05, 0.025), hand, 1.0)
+    assert not sr.full_turn and sr.start_grasps > 0
+    assert 0 < math.degrees(sr.rotation) <= 15.0
+    assert "left finger's reach" in sr.blocking
+    assert "neither finger holds the object on the palm" in sr.blocking
+
+
+@pytest.mark.parametrize("a", [0.05, 0.07])
+def test_a_4_to_1_ellipse_has_no_force_closure_grasp_at_rest(hand, a):
+    """Two contacts are in force closure iff their line lies inside both cones: with none
+    the best line must be at least atan(mu) = 45 deg off a normal."""
+    sr = start_reach(shapes.ellipse(a, a / 4), hand, 1.0)
+    assert (sr.rotation, sr.full_turn, sr.start_grasps, sr.states) == (0.0, False, 0, 0)
+    m = re.search(r"contact line (\d+) deg off a normal", sr.blocking)
+    assert m and sr.blocking.startswith("force closure within reach")
+    assert int(m.group(1)) >= 45
+
+
+def test_the_state_cap_stops_the_search_and_says_so(hand):
+    sr = start_reach(shapes.circle(0.05), hand, 1.0, max_states=5)
+    assert not sr.full_turn and sr.states >= 5
+    assert f"search stopped: {sr.states} entries, cap 5" in sr.blocking
+
+
+@pytest.mark.parametrize(
+    "kwargs", [{"mu": 0.0}, {"mu": -1.0}, {"max_states": 0}, {"min_epsilon": 1.0}]
+)
+def test_bad_arguments_raise(hand, kwargs):
+    args = {"mu": 1.0, **kwargs}
+    with pytest.raises(InvalidParameter):
+        start_reach(shapes.circle(0.05), hand, args.pop("mu"), **args)
