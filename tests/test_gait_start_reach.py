@@ -39,6 +39,19 @@ def test_a_1_5_to_1_ellipse_turns_a_full_turn_and_a_margin_never_helps(hand):
     assert robust.start_grasps <= free.start_grasps
 
 
+@pytest.mark.parametrize("a", [0.05, 0.07])
+def test_the_start_grasp_is_in_force_closure_on_the_resting_outline(hand, a):
+    """The reported start grasp, put on the true outline resting on the palm
+    (hold_geometry.resting_contact), has its contact line inside both mu = 1 cones."""
+    from planner.exploration.planar.hold_geometry import contact_line_angles, resting_contact
+
+    prof = shapes.ellipse(a, a / 1.5)
+    sr = start_reach(prof, hand, 1.0)
+    (pl, nl, _), (pr, nr, _) = (resting_contact(prof, 0.0, b) for b in sr.start)
+    assert max(contact_line_angles(pl, nl, pr, nr)) < math.atan(1.0)
+    assert math.pi / 2 < sr.start[0] <= math.pi and -math.pi / 2 < sr.start[1] < math.pi / 2
+
+
 def test_a_2_to_1_ellipse_stops_at_the_left_reach(hand):
     sr = start_reach(shapes.ellipse(0.05, 0.025), hand, 1.0)
     assert not sr.full_turn and sr.start_grasps > 0

@@ -44,6 +44,9 @@ class StartReach:
             resting pose.
         states: phase-1 entries ``(pose, left, right)`` visited.
         blocking: what stops the object at ``rotation`` ("" for a full turn).
+        start: ``(beta_left, beta_right)`` world polar angles [rad] about the object
+            origin of the start grasp of the furthest-turning path (right in (-pi, pi]),
+            or None without a start grasp.
     """
 
     rotation: float
@@ -51,6 +54,7 @@ class StartReach:
     start_grasps: int
     states: int
     blocking: str
+    start: tuple[float, float] | None = None
 
 
 def _extent(prob, horizon: int, k: int, i: int, j: int) -> tuple[int, str]:
@@ -172,23 +176,25 @@ def start_reach(
     if ii.size == 0:
         return StartReach(0.0, False, 0, 0, _no_start_grasp(prob, profile))
     heap = [(0, int(i), int(j)) for i, j in zip(ii, jj, strict=True)]
-    seen = set(heap)
-    best = (-1, "")
+    heapq.heapify(heap)
+    seen: dict = dict.fromkeys(heap)  # entry -> the entry whose phase 1 led to it
+    best = (-1, "", heap[0])
     while heap:
-        negk, i, j = heapq.heappop(heap)  # deepest first: a full turn is found fast
-        k = -negk
+        node = heapq.heappop(heap)  # deepest first: a full turn is found fast
+        k, i, j = -node[0], node[1], node[2]
         m, why = _extent(prob, horizon, k % n, i, j)
         if k + m > best[0]:
             best = (k + m, _stuck(prob, k + m, (i + prob.sign * m) % n,
-                                  (j + prob.sign * m) % n, why))  # fmt: skip
+                                  (j + prob.sign * m) % n, why), node)  # fmt: skip
         if k + m >= n:
-            return StartReach(2 * math.pi, True, int(ii.size), len(seen), "")
+            start = _root(prob, seen, node)
+            return StartReach(2 * math.pi, True, int(ii.size), len(seen), "", start)
         for t in range(m, 0, -1):
             k2, i2, j2 = k + t, (i + prob.sign * t) % n, (j + prob.sign * t) % n
             for g in _handoffs(prob, horizon, k2 % n, i2, j2):
                 key = (-k2, *g)
                 if key not in seen:
-                    seen.add(key)
+                    seen[key] = node
                     heapq.heappush(heap, key)
         if len(seen) >= max_states:
             break
@@ -198,7 +204,16 @@ def start_reach(
         if len(seen) < max_states
         else f" (search stopped: {len(seen)} entries, cap {max_states})"
     )
-    return StartReach(rot, False, int(ii.size), len(seen), best[1] + cap)
+    return StartReach(rot, False, int(ii.size), len(seen), best[1] + cap,
+                      _root(prob, seen, best[2]))  # fmt: skip
+
+
+def _root(prob, parent: dict, node) -> tuple[float, float]:
+    """World polar angles [rad] of the start grasp (pose 0) of the path to ``node``."""
+    while parent[node] is not None:
+        node = parent[node]
+    th = prob.theta
+    return float(th[node[1]]), float(math.remainder(th[node[2]], 2 * math.pi))
 
 
 __all__ = ["MAX_STATES", "StartReach", "start_reach"]
