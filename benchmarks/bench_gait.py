@@ -16,7 +16,8 @@ Rows:
   ``turning``; ``agree`` compares that with plan_gait's verdict on the same (true) object,
   hand and mu; ``rest_turn_deg`` / ``rest_blocking``: how far map-space gaits can turn the
   object from where it rests unturned, searched over every start grasp and handoff
-  (:mod:`planner.exploration.planar.start_reach`), and the constraint that stops them;
+  (:mod:`planner.exploration.planar.start_reach`), and the constraint that stops them
+  (``rest_turn_reserve_deg``: with the friction the executor plans with);
 * ``nlp build`` / ``nlp solve``: the CasADi rolling NLP (targets <= 200 ms, <= 30 ms warm);
 * ``ball_with_ridge`` (``--ball S``): the bundled scenario's object for S simulated seconds.
 
@@ -123,15 +124,21 @@ def map_verdict(profile, hand, mu: float) -> tuple[bool, str]:
 def rest_reach(profile, hand, mu: float) -> dict:
     """Map space from the resting pose (:func:`planner.exploration.planar.start_reach.
     start_reach`, every start grasp and handoff): ``rest_turn_deg`` (360 for a full turn)
-    and ``rest_blocking`` (what stops it)."""
+    and ``rest_blocking`` (what stops it) with ``mu``, and ``rest_turn_reserve_deg`` with
+    the executor's planning friction ``mu (1 - GaitSettings.friction_margin)``."""
     from planner.errors import HapexError
+    from planner.exploration.planar.settings import GaitSettings
     from planner.exploration.planar.start_reach import start_reach
 
+    reserve = mu * (1.0 - GaitSettings(mu=mu).friction_margin)
     try:
-        sr = start_reach(profile, hand, mu)
+        sr, sr_reserve = (start_reach(profile, hand, m) for m in (mu, reserve))
     except HapexError as exc:
-        return {"rest_turn_deg": "", "rest_blocking": f"error: {exc}"}
-    return {"rest_turn_deg": round(math.degrees(sr.rotation)), "rest_blocking": sr.blocking}
+        return {"rest_turn_deg": "", "rest_turn_reserve_deg": "", "rest_blocking": f"error: {exc}"}
+    why = sr.blocking or (sr_reserve.blocking and f"with mu {reserve:g}: {sr_reserve.blocking}")
+    return {"rest_turn_deg": round(math.degrees(sr.rotation)),
+            "rest_turn_reserve_deg": round(math.degrees(sr_reserve.rotation)),
+            "rest_blocking": why}  # fmt: skip
 
 
 def run_object(
@@ -491,7 +498,9 @@ def main() -> None:
         "plan_gait: map space on the TRUE object (resolution 72, pure rolling, fixed "
         "contact model); rest_turn_deg / rest_blocking: the same map space searched "
         "exhaustively from the object resting unturned (every start grasp and handoff; "
-        "planar/start_reach.py): how far it can turn and the constraint that stops it; "
+        "planar/start_reach.py): how far it can turn and the constraint that stops it "
+        "(rest_turn_reserve_deg: the same with the executor's planning friction, mu less "
+        "its friction_margin); "
         "the executor's model: "
         + ("the object's outline, posed from the sensed contacts at every phase start"
            if args.nominal == "true" else "a nominal circle of the object's area")
@@ -510,7 +519,7 @@ def main() -> None:
             "status", "reason", "rotation_deg", "coverage", "phases", "phase1",
             "transitions_4", "min_epsilon", "end_events", "sim_s", "wall_s", "rtf", "cpu_rtf",
             "ridge_error_deg", "agree", "plan_gait_reason", "rest_turn_deg",
-            "rest_blocking"]  # fmt: skip
+            "rest_turn_reserve_deg", "rest_blocking"]  # fmt: skip
     write_report("bench_gait", rows, title="hapex executed grasp gait (ch. 2, §2.3.1 batch)",
                  out=args.out, notes=notes, columns=cols)  # fmt: skip
     for r in rows:
