@@ -84,3 +84,16 @@ def test_bad_arguments_raise(hand, kwargs):
     args = {"mu": 1.0, **kwargs}
     with pytest.raises(InvalidParameter):
         start_reach(shapes.circle(0.05), hand, args.pop("mu"), **args)
+
+
+def test_the_scenario_descriptions_numbers(hand):
+    """ellipse_gait (12 x 10 cm) turns a full turn from rest even with the executor's
+    friction reserve; long_thin_gait (16 x 10 cm) does not, and less with it."""
+    eg = start_reach(shapes.ellipse(0.06, 0.05), hand, 0.8, min_epsilon=0.02)
+    assert eg.full_turn
+    assert [round(math.degrees(b)) for b in eg.start] == [135, 5]
+    thin = shapes.ellipse(0.08, 0.05)
+    full_cone, reserve = start_reach(thin, hand, 1.0), start_reach(thin, hand, 0.8)
+    assert not full_cone.full_turn and round(math.degrees(full_cone.rotation)) == 175
+    assert round(math.degrees(reserve.rotation)) == 10
+    assert "left finger's reach" in full_cone.blocking
