@@ -210,6 +210,10 @@ def explain(row: dict) -> str:
     if row["verdict"] in ("wall cap", "not run", "error"):
         return f"not decided ({row['verdict']})"
     if ok == (row["plan_gait"] == "gait"):
+        if not ok and row.get("rest_turn_deg") == 360:
+            return ("agree; but map space from rest has a full turn that plan_gait's search "
+                    f"misses ({row['rest_turn_reserve_deg']} deg with the executor's friction "
+                    "reserve)")  # fmt: skip
         return "agree"
     if ok:
         return ("disagree: plan_gait finds no cyclic rolling gait in map space "
@@ -327,7 +331,7 @@ def summary(rows: list[dict]) -> list[str]:
     batch = [r for r in rows if r.get("benchmark") == "batch"]
     lines = [f"objects: {len(batch)}; verdicts: "
              + _count([r.get("verdict", "?") for r in batch])]  # fmt: skip
-    agree = sum(1 for r in batch if r.get("agree") == "agree")
+    agree = sum(1 for r in batch if str(r.get("agree", "")).startswith("agree"))
     dis = sum(1 for r in batch if str(r.get("agree", "")).startswith("disagree"))
     lines.append(f"executor vs plan_gait: {agree} agree, {dis} disagree, "
                  f"{len(batch) - agree - dis} undecided")  # fmt: skip
