@@ -15,7 +15,9 @@ turn a full turn (a state comes back after whole turns: a cyclic gait exists, wh
 ``plan_gait`` with its 6 successors per phase does not find); the 2:1 ones 10 deg (their
 only force-closure grasps lying flat are across the long axis, left 165-170 deg, and the
 left pad reaches no contact beyond 170 deg); the 3:1 and 4:1 ones have no force-closure
-grasp within reach lying flat.
+grasp within reach lying flat. With the friction the executor plans with (``mu (1 -
+friction_margin)`` = 0.8) the 1.5:1 ones turn only 25 / 15 deg (ellipses of 1.3:1 still a
+full turn, 1.4:1 95 deg), and the rounded squares 80-90 deg.
 """
 
 from __future__ import annotations
