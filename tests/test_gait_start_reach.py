@@ -122,3 +122,38 @@ def test_the_batch_table_columns(hand):
     assert bench.explain(row).startswith("agree; but map space from rest has a full turn")
     row.update(rest_turn_deg=10)
     assert bench.explain(row) == "agree"
+
+
+@pytest.mark.parametrize(
+    "profile",
+    [shapes.ellipse(0.05, 0.05 / 1.5), shapes.rounded_rectangle(0.12, 0.12, 0.024)],
+    ids=["ellipse", "rounded square"],
+)
+def test_phase1_extent_and_handoffs_follow_plan_gaits_rules(hand, profile):
+    """start_reach's phase 1 and handoffs are plan_gait's (planner.grasp.gait._Search with
+    no successor limit) on 200 random phase-1 entries: the same extent, the same set of
+    next entries."""
+    import numpy as np
+
+    from planner.exploration.planar import start_reach as sr
+    from planner.grasp.gait import _Search, gait_problem
+
+    prob = gait_problem(profile, hand, 1.0, resolution=72)
+    srch, horizon, n = _Search(prob), sr._horizon(prob), 72
+    kk, ii, jj = np.nonzero(
+        prob.fc_lr[None] & prob.reach["left"][:, :, None] & prob.reach["right"][:, None, :]
+    )
+    rng = np.random.default_rng(0)
+    for a in rng.choice(kk.size, 200, replace=False):
+        k, i, j = int(kk[a]), int(ii[a]), int(jj[a])
+        m, _ = sr._extent(prob, horizon, k, i, j)
+        assert m == int(srch.p1_extent(k, i, j)[0][0])
+        if m < 1:
+            continue
+        theirs = {((k + t) % n, g[0], g[1]) for t, _, g, _ in srch.successors(k, i, j, m, 10**6)}
+        mine = {
+            ((k + t) % n, *g)
+            for t in range(m, 0, -1)
+            for g in sr._handoffs(prob, horizon, (k + t) % n, (i + t) % n, (j + t) % n)
+        }
+        assert mine == theirs
