@@ -8,6 +8,8 @@ import math
 import re
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from planner.errors import InvalidParameter
 from planner.exploration.planar.start_reach import start_reach
@@ -157,3 +159,16 @@ def test_phase1_extent_and_handoffs_follow_plan_gaits_rules(hand, profile):
             for g in sr._handoffs(prob, horizon, (k + t) % n, (i + t) % n, (j + t) % n)
         }
         assert mine == theirs
+
+
+@settings(max_examples=6, deadline=None, derandomize=True)
+@given(mu=st.floats(0.6, 1.4), extra=st.floats(0.05, 0.5))
+def test_more_friction_never_turns_less(mu, extra):
+    """Every force-closure grasp (two contacts, or a finger with the palm) stays one with a
+    larger mu and the reach tables do not depend on it: the graph only grows."""
+    from planner.kinds.gait import HandConfig
+
+    h = HandConfig(joint_lower_deg=(-40, 0, -10), joint_upper_deg=(90, 150, 130)).hand(1.0)
+    prof = shapes.ellipse(0.05, 0.05 / 1.5)
+    low, high = start_reach(prof, h, mu), start_reach(prof, h, mu + extra)
+    assert high.rotation >= low.rotation and high.start_grasps >= low.start_grasps
