@@ -148,7 +148,9 @@ class GraspSensing:
         non-round object the two differ (12 x 10 cm ellipse: 12 mm), and the switch at the
         first touch jumped the pad's contact angle and so the rolling-integrated rotation
         (eq. 2.4) by -17 deg, which the object impedance then 'corrected' by turning the
-        ellipse +15 deg the wrong way."""
+        ellipse +15 deg the wrong way. For a round model only: a pad placed flat on a
+        square's face does not touch it at its centre, and square_gait (posed outline)
+        turned +29.7 deg the wrong way with it (-30.9 deg without)."""
         self.buffer[B_U] = 0.0
         self.buffer[B_TOUCH] = PLACED
 
