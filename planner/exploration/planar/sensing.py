@@ -150,7 +150,9 @@ class GraspSensing:
         (eq. 2.4) by -17 deg, which the object impedance then 'corrected' by turning the
         ellipse +15 deg the wrong way. For a round model only: a pad placed flat on a
         square's face does not touch it at its centre, and square_gait (posed outline)
-        turned +29.7 deg the wrong way with it (-30.9 deg without)."""
+        turned +29.7 deg the wrong way with it (-30.9 deg without). Not called by
+        ``explore_object`` yet: with it ellipse_gait's seeds 0-3 failed at -99 to -63 deg
+        (-101 to -107 without) and the ball was neutral (measured 2026-11-23)."""
         self.buffer[B_U] = 0.0
         self.buffer[B_TOUCH] = PLACED
 
