@@ -14,7 +14,10 @@ Rows:
   ``does not fit`` (no start grasp: bad input of the gait kind), ``wall cap`` or ``not
   run`` (over the total ``--budget``). The executor *succeeds* on ``full turn`` /
   ``turning``; ``agree`` compares that with plan_gait's verdict on the same (true) object,
-  hand and mu;
+  hand and mu; ``rest_turn_deg`` / ``rest_blocking``: how far map-space gaits can turn the
+  object from where it rests unturned, searched over every start grasp and handoff
+  (:mod:`planner.exploration.planar.start_reach`), and the constraint that stops them
+  (``rest_turn_reserve_deg``: with the friction the executor plans with);
 * ``nlp build`` / ``nlp solve``: the CasADi rolling NLP (targets <= 200 ms, <= 30 ms warm);
 * ``ball_with_ridge`` (``--ball S``): the bundled scenario's object for S simulated seconds.
 
@@ -118,6 +121,26 @@ def map_verdict(profile, hand, mu: float) -> tuple[bool, str]:
     return bool(g.feasible), g.reason
 
 
+def rest_reach(profile, hand, mu: float) -> dict:
+    """Map space from the resting pose (:func:`planner.exploration.planar.start_reach.
+    start_reach`, every start grasp and handoff): ``rest_turn_deg`` (360 for a full turn)
+    and ``rest_blocking`` (what stops it) with ``mu``, and ``rest_turn_reserve_deg`` with
+    the executor's planning friction ``mu (1 - GaitSettings.friction_margin)``."""
+    from planner.errors import HapexError
+    from planner.exploration.planar.settings import GaitSettings
+    from planner.exploration.planar.start_reach import start_reach
+
+    reserve = mu * (1.0 - GaitSettings(mu=mu).friction_margin)
+    try:
+        sr, sr_reserve = (start_reach(profile, hand, m) for m in (mu, reserve))
+    except HapexError as exc:
+        return {"rest_turn_deg": "", "rest_turn_reserve_deg": "", "rest_blocking": f"error: {exc}"}
+    why = sr.blocking or (sr_reserve.blocking and f"with mu {reserve:g}: {sr_reserve.blocking}")
+    return {"rest_turn_deg": round(math.degrees(sr.rotation)),
+            "rest_turn_reserve_deg": round(math.degrees(sr_reserve.rotation)),
+            "rest_blocking": why}  # fmt: skip
+
+
 def run_object(
     obj: BatchObject,
     duration: float,
@@ -137,7 +160,7 @@ def run_object(
     feasible, why_map = map_verdict(obj.profile, hand, mu)
     row = {"benchmark": "batch", "object": obj.name, "family": obj.family,
            "size_cm": obj.size_cm, "plan_gait": "gait" if feasible else "no gait",
-           "plan_gait_reason": why_map}  # fmt: skip
+           "plan_gait_reason": why_map, **rest_reach(obj.profile, hand, mu)}  # fmt: skip
     why = check_fits(obj.profile, mu, hand)
     if why:
         row.update(verdict="does not fit", status="-", reason=why)
@@ -187,6 +210,10 @@ def explain(row: dict) -> str:
     if row["verdict"] in ("wall cap", "not run", "error"):
         return f"not decided ({row['verdict']})"
     if ok == (row["plan_gait"] == "gait"):
+        if not ok and row.get("rest_turn_deg") == 360:
+            return ("agree; but map space from rest has a full turn that plan_gait's search "
+                    f"misses ({row['rest_turn_reserve_deg']} deg with the executor's friction "
+                    "reserve)")  # fmt: skip
         return "agree"
     if ok:
         return ("disagree: plan_gait finds no cyclic rolling gait in map space "
@@ -304,7 +331,7 @@ def summary(rows: list[dict]) -> list[str]:
     batch = [r for r in rows if r.get("benchmark") == "batch"]
     lines = [f"objects: {len(batch)}; verdicts: "
              + _count([r.get("verdict", "?") for r in batch])]  # fmt: skip
-    agree = sum(1 for r in batch if r.get("agree") == "agree")
+    agree = sum(1 for r in batch if str(r.get("agree", "")).startswith("agree"))
     dis = sum(1 for r in batch if str(r.get("agree", "")).startswith("disagree"))
     lines.append(f"executor vs plan_gait: {agree} agree, {dis} disagree, "
                  f"{len(batch) - agree - dis} undecided")  # fmt: skip
@@ -313,7 +340,10 @@ def summary(rows: list[dict]) -> list[str]:
         rs = [r for r in batch if r["family"] == fam]
         succ = sum(1 for r in rs if r.get("verdict") in ("full turn", "turning"))
         gait = sum(1 for r in rs if r.get("plan_gait") == "gait")
-        lines.append(f"{fam}: executor succeeds on {succ}/{len(rs)}, plan_gait on {gait}/{len(rs)}")
+        rest = sum(1 for r in rs if r.get("rest_turn_deg") == 360)
+        lines.append(f"{fam}: executor succeeds on {succ}/{len(rs)}, plan_gait on "
+                     f"{gait}/{len(rs)}, map space from rest turns {rest}/{len(rs)} a full "
+                     "turn")  # fmt: skip
     return lines
 
 
@@ -470,7 +500,12 @@ def main() -> None:
         f"hand: joint ranges {list(HAND_LOWER_DEG)} .. {list(HAND_UPPER_DEG)} deg (the "
         "ball_with_ridge hand), mu = 1; regular polygons with sharp corners",
         "plan_gait: map space on the TRUE object (resolution 72, pure rolling, fixed "
-        "contact model); the executor's model: "
+        "contact model); rest_turn_deg / rest_blocking: the same map space searched "
+        "exhaustively from the object resting unturned (every start grasp and handoff; "
+        "planar/start_reach.py): how far it can turn and the constraint that stops it "
+        "(rest_turn_reserve_deg: the same with the executor's planning friction, mu less "
+        "its friction_margin); "
+        "the executor's model: "
         + ("the object's outline, posed from the sensed contacts at every phase start"
            if args.nominal == "true" else "a nominal circle of the object's area")
         + (f"; objects matching {args.only!r} only" if args.only else ""),
@@ -487,7 +522,8 @@ def main() -> None:
     cols = ["benchmark", "value_ms", "target_ms", "object", "size_cm", "plan_gait", "verdict",
             "status", "reason", "rotation_deg", "coverage", "phases", "phase1",
             "transitions_4", "min_epsilon", "end_events", "sim_s", "wall_s", "rtf", "cpu_rtf",
-            "ridge_error_deg", "agree", "plan_gait_reason"]  # fmt: skip
+            "ridge_error_deg", "agree", "plan_gait_reason", "rest_turn_deg",
+            "rest_turn_reserve_deg", "rest_blocking"]  # fmt: skip
     write_report("bench_gait", rows, title="hapex executed grasp gait (ch. 2, §2.3.1 batch)",
                  out=args.out, notes=notes, columns=cols)  # fmt: skip
     for r in rows:

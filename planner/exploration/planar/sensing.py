@@ -30,6 +30,9 @@ from numba import njit
 
 #: tactile force [N] above which the pad is considered in contact
 TOUCH_FORCE = 0.02
+#: the pad-contact entry of an estimate whose pad lies where the start grasp put it on the
+#: object and has not been pressed yet (:meth:`GraspSensing.mark_placed`)
+PLACED = 2.0
 
 #: where the centre estimate comes from (``source`` of :meth:`GraspSensing.update`)
 SOURCES = {"auto": 0, "pad": 1, "palm": 2}
@@ -63,7 +66,8 @@ class GraspEstimate:
     Attributes:
         u: contact position across the left pad [m] (tactile centroid; kept while the pad
             does not touch).
-        pad_touch: whether the tactile array sees a contact.
+        pad_touch: whether the tactile array sees a contact (or the pad still lies, not yet
+            pressed, where the start grasp placed it: :meth:`GraspSensing.mark_placed`).
         p: (2, 2) contact points of the left and right fingers [m].
         n: (2, 2) outward object normals at them (the fingers push along ``-n``).
         centre: (2,) estimated object centre [m].
@@ -136,6 +140,22 @@ class GraspSensing:
         self.buffer[B_TN] = (0.0, 1.0, 0.0, 1.0)
         self.est = GraspEstimate(self.buffer)
 
+    def mark_placed(self) -> None:
+        """The pad lies on the object where the start grasp placed it (contact at its centre,
+        ``u = 0``) and is not pressed yet: until the tactile array first reads a pressure the
+        estimate treats it as touching, so the object centre comes from the pad (``p_L - R
+        n_L``) from the very first update instead of from the palm (``c_y = R``). On a
+        non-round object the two differ (12 x 10 cm ellipse: 12 mm), and the switch at the
+        first touch jumped the pad's contact angle and so the rolling-integrated rotation
+        (eq. 2.4) by -17 deg, which the object impedance then 'corrected' by turning the
+        ellipse +15 deg the wrong way. For a round model only: a pad placed flat on a
+        square's face does not touch it at its centre, and square_gait (posed outline)
+        turned +29.7 deg the wrong way with it (-30.9 deg without). Not called by
+        ``explore_object`` yet: with it ellipse_gait's seeds 0-3 failed at -99 to -63 deg
+        (-101 to -107 without) and the ball was neutral (measured 2026-11-23)."""
+        self.buffer[B_U] = 0.0
+        self.buffer[B_TOUCH] = PLACED
+
     def set_radius(self, radius: float) -> None:
         """Use ``radius`` [m] as the estimate's radius from the next update on."""
         self.radius = float(radius)
@@ -187,7 +207,8 @@ def sense_kernel(q, forces, image, has_image, source, geo, taxel_u, out):  # pra
         source: 0 auto, 1 pad, 2 palm (:data:`SOURCES`).
         geo: (14,) finger bases and link lengths, ``R``, tip radius, taxel area, touch force.
         taxel_u: (cols,) taxel centres across the pad [m].
-        out: (N_BUF,) the buffer; its ``u`` and pad-contact entries are kept when no image.
+        out: (N_BUF,) the buffer; its ``u`` and pad-contact entries are kept when no image
+            (and the pad-contact entry stays :data:`PLACED` while the image is all zero).
     """
     if has_image:
         total = 0.0
@@ -199,9 +220,11 @@ def sense_kernel(q, forces, image, has_image, source, geo, taxel_u, out):  # pra
             total += col
             moment += col * taxel_u[j]
         touch = total > 0.0 and total * geo[_G_PITCH2] > geo[_G_TOUCH]
-        out[B_TOUCH] = 1.0 if touch else 0.0
         if touch:
+            out[B_TOUCH] = 1.0
             out[B_U] = moment / total
+        elif total > 0.0 or out[B_TOUCH] != PLACED:  # PLACED lasts until a first pressure
+            out[B_TOUCH] = 0.0
     u = out[B_U]
     tLx, tLy, out[32] = _fingertip(q, 0, geo, _G_BASE_L, _G_LEN_L)
     tRx, tRy, out[33] = _fingertip(q, 3, geo, _G_BASE_R, _G_LEN_R)
@@ -259,6 +282,7 @@ __all__ = [
     "GraspEstimate",
     "GraspSensing",
     "N_BUF",
+    "PLACED",
     "SOURCES",
     "TOUCH_FORCE",
     "round_contact_arclength",
