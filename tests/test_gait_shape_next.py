@@ -107,3 +107,32 @@ def test_the_move_around_a_corner_keeps_the_tip_on_its_circle():
     assert np.all(d[arc] <= r + 1e-12) and np.all(d[arc] >= r * math.cos(math.radians(7.5)))
     np.testing.assert_allclose(T[-1], T1, atol=1e-15)
     assert np.all(T[arc, 0] >= c[0] - 1e-12) and np.all(T[arc, 1] >= c[1] - 1e-12)
+
+
+@pytest.mark.parametrize("turns", [-1, 1, 2])
+def test_a_square_on_its_next_face_plans_as_at_the_start(turns):
+    """The tracker's pose a quarter turn on (the global fit's symmetric pose: the square
+    lying on its next face) poses the same world polygon, so the face under the round tip,
+    the palm corner and the next face are the start's."""
+    from planner.exploration.planar.outline_pose import symmetric_pose
+    from planner.exploration.planar.pivot_planning import tip_face
+
+    outline = Outline.from_profile(shapes.rounded_rectangle(2 * A, 2 * A, 0.0))
+    start = np.array([0.004, A, 0.0])
+    hand = PlanarHand()
+    r = hand.params.right.tip_radius
+    from types import SimpleNamespace
+
+    est = SimpleNamespace(
+        pad_touch=True, tips=np.array([[-A + 0.004, 0.03], [A + 0.004 + r, 0.025]]),
+        phi=np.array([-0.5 * math.pi, 0.0]), u=0.0, normal_force=np.array([1.0, 1.0]),
+    )  # fmt: skip
+    faces = []
+    for pose in (start, symmetric_pose(outline, start, turns, 4)):
+        tr = _tracker(outline, pose)
+        face, d0 = tip_face(tr, est)
+        nxt = next_face(tr, face)
+        W = outline.posed(tr.pose)
+        faces.append((face.start, face.normal, face.length, d0, nxt.normal, pr.palm_corner(W)))
+    for a, b in zip(*faces, strict=True):
+        np.testing.assert_allclose(a, b, atol=1e-12)
