@@ -14,7 +14,8 @@ outline instead of a circle):
 * phases 2/3: the explorer's contact along the posed outline
   (:func:`.outline_segments.outline_explore_segment`) back to the start grasp's world angle;
   with :data:`PLAN_PIVOT` the right tip's phase 2 ends where the next pivot reaches furthest
-  (or does not run when no pivot can follow it).
+  (or does not run when no pivot can follow it), on the face under it or, with
+  :data:`NEXT_FACE_REGRASP`, over the far corner on the next face.
 """
 
 from __future__ import annotations
