@@ -173,3 +173,16 @@ def test_tracker_takes_the_global_fit_when_the_prior_is_far():
     assert tr.update(_estimate(rd), math.radians(-12.0))
     np.testing.assert_allclose(tr.pose, pose, atol=1e-6)
     assert tr.global_fits == 1
+
+
+def test_simplified_outline_is_the_same_polygon():
+    """A sharp square sampled every millimetre keeps its 4 corners; a rounded one its arcs;
+    both cover the same set."""
+    sharp = Outline.from_profile(shapes.rounded_rectangle(0.06, 0.06, 0.0))
+    rounded = Outline.from_profile(shapes.rounded_rectangle(0.08, 0.08, 0.016))
+    s = sharp.simplified()
+    assert len(sharp.points) > 200 and len(s.points) == 4
+    assert _same_polygon(s.points, sharp.points, tol=1e-12)
+    r = rounded.simplified()
+    assert 4 < len(r.points) < len(rounded.points)
+    assert _same_polygon(r.points, rounded.points, tol=1e-12)
