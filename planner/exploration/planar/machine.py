@@ -175,6 +175,8 @@ class _Runner:
         self.corner = (CornerProbe(hand.params.left.pad_half_width, len(ctrl.sensing.taxel_u))
                        if s.corner_probe else None)  # fmt: skip
         self.explored = ExploredOutline() if s.stroke_overlap else None
+        self._posed = True  # the posed outline's fit at the phase start was used
+        self._again = False  # the phase 2 being run repeats one planned from a rejected fit
 
     def rotation(self) -> float:
         """True rotation of the object so far [rad] (unwrapped from the logs)."""
@@ -198,7 +200,8 @@ class _Runner:
             obs = self.world.observe()
             est = self.ctrl.sensing.update(obs, {1: "auto", 2: "pad", 3: "palm"}[kind])
             if self.shape is not None:
-                self.shape.update(est, self.theta)
+                self._posed = self.shape.update(est, self.theta)
+                self._again = self._again and kind == 2
             seg, planned, nlp_t, why = self._plan(kind, est, obs.q)
             if seg is None:
                 failures += 1
@@ -336,7 +339,8 @@ class _Runner:
             obs = self.world.observe()
             e = self.ctrl.sensing.update(obs, "pad")
             if self.shape is not None:
-                self.shape.update(e, self.theta)
+                if self._phase2_again(self.shape.update(e, self.theta)):
+                    return 2, False
                 eps = self.shape.right_palm_epsilon(e, self.s.mu)
             else:
                 palm = np.array([e.centre[0], 0.0])
@@ -360,6 +364,17 @@ class _Runner:
                                     "onto its far side"})  # fmt: skip
                 return 3, False
         return 1, False
+
+    def _phase2_again(self, posed_now: bool) -> bool:
+        """Whether the phase 2 that ended is planned again: it was planned from a rejected
+        fit of the posed outline (the object still moving after phase 1: the 6 cm square
+        tipped 42 deg while the estimate said 12) and the outline is posed now (once)."""
+        if not posed_now or self._posed or self._again:
+            return False
+        self._again = True
+        msg = "phase 2 was planned from a rejected pose fit; the outline is posed now: again"
+        self.events.append({"t": self.world.time, "kind": "replan", "message": msg})
+        return True
 
     def _end(self, status: str, reason: str) -> None:
         self.status, self.reason = status, reason

@@ -67,6 +67,30 @@ class Outline:
             pts = pts[:-1]
         return cls(pts)
 
+    def centroid(self) -> np.ndarray:
+        """(2,) the area centroid of the polygon [m] (not the vertices' mean: a sampled
+        outline's vertices are not evenly spread)."""
+        P, Q = self.points, np.roll(self.points, -1, axis=0)
+        cross = P[:, 0] * Q[:, 1] - Q[:, 0] * P[:, 1]
+        return ((P + Q) * cross[:, None]).sum(axis=0) / (3.0 * cross.sum())
+
+    def simplified(self, tol: float = 1e-9) -> Outline:
+        """The same polygon without its collinear vertices (those within ``tol`` [m] of the
+        line through their neighbours): a sharp square sampled every millimetre keeps its
+        4 corners, so the global pose search (:func:`fit_pose_global`) evaluates the same
+        residuals about 60 times faster."""
+        P = self.points
+        keep = np.ones(len(P), bool)
+        for i in range(len(P)):
+            a, b = P[i - 1], P[(i + 1) % len(P)]
+            ab = b - a
+            n = float(np.hypot(*ab))
+            d = abs(ab[0] * (P[i, 1] - a[1]) - ab[1] * (P[i, 0] - a[0])) / max(n, 1e-300)
+            keep[i] = d > tol
+        if keep.sum() < 3:
+            return self
+        return Outline(P[keep])
+
     def roundness(self) -> float:
         """``(max - min) / mean`` of the vertices' distances from the centroid [-] (0 for
         a circle)."""
@@ -222,6 +246,98 @@ def fit_pose(
     return PoseFit(x, cost, bool(sol.status > 0) and near)
 
 
+#: rotation step of the global search's starts [rad]
+GLOBAL_STEP = math.radians(10.0)
+#: fits whose sensed cost is within this of the best one are ties, broken by the rotation
+#: prior modulo the outline's symmetry [m]
+TIE_COST = 5e-4
+
+
+def symmetry_order(outline: Outline, tol: float = 1e-4, max_order: int = 12) -> int:
+    """The largest ``n <= max_order`` such that turning ``outline`` by ``2 pi / n`` about
+    its area centroid maps it onto itself within ``tol`` [m] (1: no rotational symmetry;
+    4 for a square, n for a regular n-gon)."""
+    P = outline.points
+    c = outline.centroid()
+    for n in range(max_order, 1, -1):
+        Q = c + (P - c) @ rotation_matrix(2 * math.pi / n).T
+        if max(distances_to_polygon(P, Q)) <= tol:
+            return n
+    return 1
+
+
+def rotation_matrix(theta: float) -> np.ndarray:
+    """(2, 2) rotation by ``theta`` [rad]."""
+    c, s = math.cos(theta), math.sin(theta)
+    return np.array([[c, -s], [s, c]])
+
+
+def distances_to_polygon(W: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """(N,) distance [m] of each of ``points`` (N, 2) from the closed polygon ``W``."""
+    return np.array([nearest_on_polygon(W, p)[1] for p in points])
+
+
+def symmetric_pose(outline: Outline, pose, turns: int, order: int) -> np.ndarray:
+    """The pose (3,) [m, m, rad] at which ``outline`` (of symmetry ``order``) covers the
+    same world polygon as at ``pose``, its rotation ``turns * 2 pi / order`` larger: with
+    ``c`` the centroid, ``X' = X + R(theta) c - R(theta + alpha) c``."""
+    x, y, th = (float(v) for v in pose)
+    a = 2 * math.pi * turns / order
+    c = outline.centroid()
+    X = np.array([x, y]) + rotation_matrix(th) @ c - rotation_matrix(th + a) @ c
+    return np.array([X[0], X[1], th + a])
+
+
+def start_position(outline: Outline, theta: float, rd: Readings, guess) -> np.ndarray:
+    """A start pose at rotation ``theta`` [rad] for :func:`fit_pose`: the height that puts
+    the outline on the palm (``min y = 0``, when ``rd.palm``) and the abscissa that puts
+    its support on the pad's line (when the pad touches and its normal is not vertical);
+    the ``guess`` (2,) [m] where a reading is missing."""
+    P = outline.points @ rotation_matrix(theta).T
+    x, y = float(guess[0]), float(guess[1])
+    if rd.palm:
+        y = -float(P[:, 1].min())
+    if rd.pad_point is not None:
+        n = np.array([math.sin(rd.pad_angle), -math.cos(rd.pad_angle)])
+        if abs(n[0]) > 0.3:
+            x = (float(n @ rd.pad_point) - float((P @ n).max()) - n[1] * y) / n[0]
+    return np.array([x, y, theta])
+
+
+def fit_pose_global(
+    outline: Outline, readings: Readings, guess, theta_prior: float, order: int | None = None
+) -> PoseFit:
+    """The pose of ``outline`` best fitting ``readings`` from starts every
+    :data:`GLOBAL_STEP` over one period of its symmetry (``order``, default
+    :func:`symmetry_order`), each placed on the palm and the pad's line
+    (:func:`start_position`), without a rotation prior: a rolling-integrated rotation was
+    30 deg off after a square tipped over its corner, and its prior then held the fit 7-30
+    mm off. The best sensed cost wins; fits within :data:`TIE_COST` of it are ties, broken
+    by the rotation nearest ``theta_prior`` [rad] modulo the symmetry. The pose returned is
+    the symmetric one nearest the prior (the same world polygon)."""
+    g = checks.vector("guess", guess, 3)
+    n = symmetry_order(outline) if order is None else int(order)
+    outline = outline.simplified()
+    period = 2 * math.pi / n
+    starts = theta_prior + np.arange(-0.5 * period, 0.5 * period, GLOBAL_STEP)
+    fits = []
+    for th in starts:
+        s = start_position(outline, float(th), readings, g[:2])
+        f = fit_pose(outline, readings, s, max_step=math.inf)
+        if f.success:
+            fits.append(f)
+    if not fits:
+        return PoseFit(g.copy(), math.inf, False)
+    best = min(f.cost for f in fits)
+
+    def off(f):
+        return abs(math.remainder(float(f.pose[2]) - theta_prior, period))
+
+    pick = min((f for f in fits if f.cost <= best + TIE_COST), key=off)
+    turns = round((theta_prior - float(pick.pose[2])) / period)
+    return PoseFit(symmetric_pose(outline, pick.pose, turns, n), pick.cost, True)
+
+
 def contacts(outline: Outline, pose, rd: Readings) -> dict:
     """The contacts of the posed outline [m]: ``pad`` (the support set's middle on the pad),
     ``tip`` (nearest point to the tip centre) with its outward normal ``tip_normal``, and
@@ -247,13 +363,20 @@ def contacts(outline: Outline, pose, rd: Readings) -> dict:
 
 __all__ = [
     "FLAT_TOL",
+    "GLOBAL_STEP",
+    "TIE_COST",
     "Outline",
     "PoseFit",
     "Readings",
     "contacts",
     "fit_pose",
+    "fit_pose_global",
     "clip_halfplane",
     "nearest_on_polygon",
     "pad_window",
     "residuals",
+    "rotation_matrix",
+    "start_position",
+    "symmetric_pose",
+    "symmetry_order",
 ]

@@ -45,13 +45,14 @@ def _deg(x: float) -> float:
     return math.degrees(x) + 0.0  # no "-0.0"
 
 
-def tip_face(shape, est):
+def tip_face(shape, est, geometric: bool = False):
     """``(Face, d0)``: the straight face of the posed outline under the round tip (world
     frame) and the contact's distance along it [m], or None (no tip contact, no face, or
-    the outline rests on a rounded corner: it rolls there, it does not pivot)."""
+    the outline rests on a rounded corner: it rolls there, it does not pivot);
+    ``geometric``: contacts as in ``ShapeTracker.readings``."""
     from planner.exploration.planar.outline_pose import contacts
 
-    rd = shape.readings(est, True)
+    rd = shape.readings(est, True, geometric)
     if rd.tip_centre is None:
         return None
     W = shape.outline.posed(shape.pose)
@@ -67,6 +68,38 @@ def tip_face(shape, est):
     A, B = (Rt.T @ p + (x, y) for p in face)
     f = pr.Face.between(A, B, W.mean(axis=0))
     return f, float((con["tip"] - f.start) @ f.tangent)
+
+
+def next_face(shape, face):
+    """The straight face of the posed outline (world frame) beyond the far end of ``face``
+    (the end away from the palm corner, ``face.start + face.length * face.tangent``), or
+    None (no straight face there). A square pivoted towards 45 deg is held next with the
+    round tip on this face (the top face: it becomes the right face when the square lies on
+    its next face; :mod:`.pivot_grasps`: the pad on the left face with the tip on the top
+    face is stable from 0 to 90 deg for the 4 and 6 cm squares)."""
+    from planner.exploration.planar.outline_segments import PolylinePath
+
+    W = shape.outline.posed(shape.pose)
+    far = face.start + face.length * face.tangent
+    path = PolylinePath(W)
+    s = path.arclength_of(far)
+    x, y, a = shape.pose
+    c, sn = math.cos(a), math.sin(a)
+    Rt = np.array([[c, sn], [-sn, c]])  # world -> object frame
+    for ds in (NEXT_FACE_STEP, -NEXT_FACE_STEP):
+        p = np.asarray(path.at(s + ds)[0])
+        if abs(float((p - face.start) @ face.normal)) < 1e-5:  # still on ``face``
+            continue
+        ends = shape._face(Rt @ (p - (x, y)))
+        if ends is None:
+            return None
+        A, B = (Rt.T @ q + (x, y) for q in ends)
+        return pr.Face.between(A, B, W.mean(axis=0))
+    return None
+
+
+#: how far beyond a face's end the next face is looked for [m]
+NEXT_FACE_STEP = 0.003
 
 
 def plan_pivot(hand, W, face, d0: float, est, q, theta_cap: float, knots: int) -> RollingPlan:
@@ -119,7 +152,7 @@ def pad_reach_now(hand, W, est, q) -> float:
     return reach
 
 
-def best_tip_regrasp(hand, W, face, theta_cap: float = MAX_PIVOT, q_right=None):
+def best_tip_regrasp(hand, W, face, theta_cap: float = MAX_PIVOT, q_right=None, via=None):
     """Where on ``face`` the round tip should regrasp: ``(d0 [m], phi0 [rad], reach [rad])``
     of the candidate (every :data:`REGRASP_STEP` along the face, every
     :data:`REGRASP_PHI_STEP` of orientation) whose rolling path pivots the object (world
@@ -127,7 +160,8 @@ def best_tip_regrasp(hand, W, face, theta_cap: float = MAX_PIVOT, q_right=None):
     candidate is reachable. With the right finger's joints ``q_right`` (3,) [rad], only
     candidates the phase-2 move reaches from there are kept (:func:`_move_ok`; a regrasp
     chosen without it hit the base joint's limit on the way and the held square fell back
-    10 deg)."""
+    10 deg). ``via = (corner (2,), normal (2,))``: the tip comes from the face with that
+    outward normal over ``corner`` (:func:`_move_ok`'s path goes around it)."""
     lim = hand.finger_limits("right")
     best, key = None, (-1.0, -math.inf)
     lo = float(lim[:, 0].sum())  # orientations a turn apart are one (the IK wraps)
@@ -139,7 +173,8 @@ def best_tip_regrasp(hand, W, face, theta_cap: float = MAX_PIVOT, q_right=None):
             if not np.isfinite(p.margin[0]):
                 continue
             phi = float(p.q[0].sum())  # the orientation as the joints' sum (the IK wrapped it)
-            if q_right is not None and not _move_ok(hand, W, face, q_right, (float(d0), phi)):
+            if q_right is not None and not _move_ok(hand, W, face, q_right, (float(d0), phi),
+                                                    via=via):  # fmt: skip
                 continue
             kk = (round(p.reach, 6), float(p.margin.min()))
             if kk > key:
@@ -151,33 +186,60 @@ def best_tip_regrasp(hand, W, face, theta_cap: float = MAX_PIVOT, q_right=None):
 MOVE_MARGIN = 0.035
 
 
-def _move_ok(hand, W, face, q_right, end, n: int = 12) -> bool:
+def _around(T0, T1, via, normal, r: float, n: int):
+    """``(T (n-1, 2), t (n-1,))``: points of the tip centre's path from ``T0`` to ``T1``
+    [m] around the corner of ``via = (corner, normal_from)`` (to ``corner + r
+    normal_from``, on the circle of radius ``r`` about the corner to ``corner + r
+    normal``, then straight on), at the fractions ``t`` of its length after the start."""
+    c, m0 = np.asarray(via[0], float), np.asarray(via[1], float)
+    a0 = math.atan2(m0[1], m0[0])
+    turn = math.remainder(math.atan2(normal[1], normal[0]) - a0, 2 * math.pi)
+    a = a0 + np.linspace(0.0, turn, 7)
+    P = np.vstack([T0, c + r * np.column_stack([np.cos(a), np.sin(a)]), T1])
+    cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(P, axis=0).T))])
+    t = np.linspace(0.0, 1.0, n)[1:]
+    at = t * cum[-1]
+    return np.column_stack([np.interp(at, cum, P[:, 0]), np.interp(at, cum, P[:, 1])]), t
+
+
+def _move_ok(hand, W, face, q_right, end, n: int = 12, via=None) -> bool:
     """Whether the round tip's move from the right finger's joints ``q_right`` (3,) [rad]
     to the contact ``end = (d, phi)`` [m, rad] on ``face`` (its centre on the straight
-    line between, the orientation interpolated) keeps the finger's joints
+    line between, or with ``via = (corner, normal)`` around that corner from the face with
+    that outward normal: to ``corner + r normal``, on the circle of radius r about the
+    corner, then to the end; the orientation interpolated) keeps the finger's joints
     :data:`MOVE_MARGIN` inside their limits (or, from a start nearer than twice that, no
     nearer than the start less :data:`MOVE_MARGIN`; the object held where ``W`` is)."""
     from robots.planar_hand import kinematics as kin
 
     f = hand.params.right
+    r = float(f.tip_radius)
     q0 = np.asarray(q_right, float)
     T0, _ = kin.fingertip(np.array(f.base), np.array(f.lengths), q0[None])
-    T1 = face.tip_centre(pr.palm_corner(W), 0.0, end[0], float(f.tip_radius))
-    t = np.linspace(0.0, 1.0, n)[1:, None]
-    T = T0[0] + t * (T1 - T0[0])
-    phi = float(q0.sum()) + t[:, 0] * (end[1] - float(q0.sum()))
+    T1 = face.tip_centre(pr.palm_corner(W), 0.0, end[0], r)
+    if via is None:
+        t = np.linspace(0.0, 1.0, n)[1:]
+        T = T0[0] + t[:, None] * (T1 - T0[0])
+    else:
+        T, t = _around(T0[0], T1, via, face.normal, r, 3 * n)
+    phi = float(q0.sum()) + t * (end[1] - float(q0.sum()))
     lim = hand.finger_limits("right")
     sols, ok = hand.ik_candidates("right", T, phi)
     m = np.where(ok, np.minimum(sols - lim[:, 0], lim[:, 1] - sols).min(axis=-1), -np.inf)
     m0 = float(np.minimum(q0 - lim[:, 0], lim[:, 1] - q0).min())
     # a finger that starts nearer to a limit (a phase 1 ended there) may stay as near: the
-    # workspace event fires a further ``MOVE_MARGIN`` toward it (controller.limit_triggers)
-    return bool(np.all(m.max(axis=1) >= min(MOVE_MARGIN, m0 - MOVE_MARGIN)))
+    # workspace event fires a further ``MOVE_MARGIN`` toward it (controller.limit_triggers);
+    # around a corner it may not come nearer than it starts (the 11 cm square's tip, sent
+    # over its top corner with that allowance, hit the right base joint's limit on the way
+    # and the held square fell back 4-6 deg)
+    floor = min(MOVE_MARGIN, m0 - MOVE_MARGIN) if via is None else min(MOVE_MARGIN, m0)
+    return bool(np.all(m.max(axis=1) >= floor))
 
 
 __all__ = [
     "MAX_PIVOT",
     "best_tip_regrasp",
+    "next_face",
     "pad_reach_now",
     "plan_pivot",
     "tip_face",

@@ -14,7 +14,8 @@ outline instead of a circle):
 * phases 2/3: the explorer's contact along the posed outline
   (:func:`.outline_segments.outline_explore_segment`) back to the start grasp's world angle;
   with :data:`PLAN_PIVOT` the right tip's phase 2 ends where the next pivot reaches furthest
-  (or does not run when no pivot can follow it).
+  (or does not run when no pivot can follow it), on the face under it or, with
+  :data:`NEXT_FACE_REGRASP`, over the far corner on the next face.
 """
 
 from __future__ import annotations
@@ -32,6 +33,18 @@ SHAPE_TRAVEL = 0.03
 #: turned the 11 cm and 8 cm squares the wrong way (+30 and +41 deg where -25 were planned;
 #: measured 2026-11-23, 10 s simulated, seed 0)
 PLAN_ON_OUTLINE = False
+#: plan the FIRST phase 1 of a posed outline from the start grasp's contacts by geometry
+#: (``ShapeTracker.readings(geometric=True)``): the fingers are placed on the object at
+#: rest and sense no force yet, and the circle NLP planned without them flicked the 6 cm
+#: and 10 cm sharp squares over their corners (-42 / -68 deg where -10.7 / -27.5 were
+#: planned). Off: planned as a pivot from there, the squares slid on the palm instead
+#: (bench_gait, 30 s, clockwise turn of the sharp squares 4/6/8 cm: 0.9 / 0 / -14.2 deg
+#: where the circle NLP gave 0 / 42 / 21; the 12 cm one turned 82 deg the wrong way;
+#: measured 2026-11-23)
+START_BY_GEOMETRY = False
+#: the right tip's phase-2 regrasp may go over the far corner onto the next face (the top
+#: face of a square), when the next pivot reaches further from there
+NEXT_FACE_REGRASP = True
 #: plan phase 1 of a posed polygon as its pivot about the palm corner and end phase 2 where
 #: the next pivot reaches furthest (:mod:`.pivot_planning`)
 PLAN_PIVOT = True
@@ -79,14 +92,17 @@ def plan_phase1(runner, q, mu: float):
     set_radius(ctrl, runner.R_nominal)
     est = ctrl.sensing.update(runner.world.observe(), "auto")
     common = phase_planning.nlp_options(runner)
+    # the start grasp touches the object at rest before any squeeze: its contacts by geometry
+    first = START_BY_GEOMETRY and not runner.records
     modes = shape.contact_modes(est) if PLAN_ON_OUTLINE else None
-    local = None if modes is not None else shape.local_circle(est, r, runner.R_nominal)
+    local = None if modes is not None else shape.local_circle(est, r, runner.R_nominal,
+                                                              geometric=first)  # fmt: skip
     if modes is not None:
         plan = _nlp(runner, "outline").solve(q, shape.pose, modes, shape.hull_points(), r, mu,
                                              radius=runner.R_nominal, u_sensed=float(est.u),
                                              **common)  # fmt: skip
-    elif local is not None and PLAN_PIVOT and pivot_planning.tip_face(shape, est) is not None:
-        return _pivot_phase1(runner, q, est, local)
+    elif local is not None and PLAN_PIVOT and pivot_planning.tip_face(shape, est, first):
+        return _pivot_phase1(runner, q, est, local, first)
     elif local is not None:
         set_radius(ctrl, local[1])
         est = posed_estimate(est, local)
@@ -100,13 +116,13 @@ def plan_phase1(runner, q, mu: float):
     return phase_planning.phase1_outcome(runner, plan, est, q, mu)
 
 
-def _pivot_phase1(runner, q, est, local):
+def _pivot_phase1(runner, q, est, local, geometric: bool = False):
     """Phase 1 planned as the pivot about the palm corner (:func:`.pivot_planning.plan_pivot`)
     from the local circle's estimate (the controller's centre is a point of the object)."""
     from planner.exploration.planar.segments import phase1_segment
 
     shape, s = runner.shape, runner.s
-    face, d0 = pivot_planning.tip_face(shape, est)
+    face, d0 = pivot_planning.tip_face(shape, est, geometric)
     set_radius(runner.ctrl, local[1])
     est = posed_estimate(est, local)
     W = shape.outline.posed(shape.pose)
@@ -138,7 +154,7 @@ def plan_explore(runner, kind: int, est, q):
     if tf is not None:
         W = runner.shape.outline.posed(runner.shape.pose)
         pad = pivot_planning.pad_reach_now(runner.hand, W, est, q)
-        best = pivot_planning.best_tip_regrasp(runner.hand, W, tf[0], q_right=q[3:])
+        face, best = _best_regrasp(runner, W, tf[0], q)
         tip = 0.0 if best is None else best[2]
         if min(pad, tip) < pivot_planning.PIVOT_SLACK + math.radians(1.0):
             why = (
@@ -147,17 +163,37 @@ def plan_explore(runner, kind: int, est, q):
                 "(blocking: workspace)"
             )
             return None, 0.0, 0.0, why
-        point = tf[0].start + best[0] * tf[0].tangent
+        point = face.start + best[0] * face.tangent
         phi = best[1]
     seg = outline_explore_segment(kind, est, q, runner.shape, target, runner.theta, runner.s,
                                   runner.hand, target_point=point, phi_end=phi)  # fmt: skip
     return seg, 0.0, 0.0, ""
 
 
+def _best_regrasp(runner, W, face, q):
+    """``(face, (d0, phi0, reach))`` of the right tip's regrasp on ``face`` or, with
+    :data:`NEXT_FACE_REGRASP`, on the face beyond its far end (:func:`.pivot_planning.
+    next_face`), whichever lets the next pivot turn the object further (``None`` for no
+    reachable regrasp)."""
+    faces = [(face, None)]
+    if NEXT_FACE_REGRASP:
+        nxt = pivot_planning.next_face(runner.shape, face)
+        if nxt is not None:  # the tip goes around the far corner
+            faces.append((nxt, (face.start + face.length * face.tangent, face.normal)))
+    out = (face, None)
+    for f, via in faces:
+        b = pivot_planning.best_tip_regrasp(runner.hand, W, f, q_right=q[3:], via=via)
+        if b is not None and (out[1] is None or b[2] > out[1][2] + math.radians(1.0)):
+            out = (f, b)
+    return out
+
+
 __all__ = [
     "PLAN_ON_OUTLINE",
+    "NEXT_FACE_REGRASP",
     "PLAN_PIVOT",
     "SHAPE_TRAVEL",
+    "START_BY_GEOMETRY",
     "plan_explore",
     "plan_phase1",
     "set_radius",

@@ -3,7 +3,10 @@
 When the planner's model (``nominal`` of :func:`~.machine.explore_object`) is not round,
 the phase machine keeps a :class:`ShapeTracker`: the nominal outline posed by
 :func:`.outline_pose.fit_pose` at every phase start from the pad's line and tactile
-centroid, the round tip and the palm, with the rolling-integrated rotation as the prior.
+centroid, the round tip and the palm, with the rolling-integrated rotation as the prior;
+with both fingers touching, also by a global search over the outline's symmetry period
+without the prior (:func:`.outline_pose.fit_pose_global`), taken when it fits the readings
+better (a square tipped over its corner 30 deg further than the rolling estimate said).
 It replaces the per-step circle (:mod:`.sensing`) where that one was false on a square:
 
 * the hold check of phases 2/3 (the held object must not move): the holding fingertip's
@@ -24,10 +27,16 @@ import numpy as np
 
 from planner.exploration.planar.outline_pose import (
     FLAT_TOL,
+    TIE_COST,
     Outline,
     Readings,
     contacts,
     fit_pose,
+    fit_pose_global,
+    nearest_on_polygon,
+    pad_window,
+    residuals,
+    symmetry_order,
 )
 
 #: a nominal outline whose ``roundness`` is below this is a circle (no tracker) [-]
@@ -36,6 +45,9 @@ ROUND_TOL = 0.03
 TIP_TOUCH = 0.05
 #: weight of the rotation prior [m/rad] (a rotation 0.1 rad off the prior costs 1 mm)
 THETA_WEIGHT = 0.01
+#: a fingertip sensing no force touches the posed outline when this near it
+#: (``readings(geometric=True)``) [m]
+GEOM_TOUCH = 5e-4
 #: a fit whose residual norm exceeds this is not used [m]
 FIT_TOL = 3e-3
 #: offsets of the rotation starts of a fit from the prior [rad]
@@ -71,6 +83,8 @@ class ShapeTracker:
         self.cost = 0.0
         self.fits = 0
         self.rejected = 0
+        self.global_fits = 0  # fits taken from the global search
+        self.order = symmetry_order(outline)  # rotational symmetry of the nominal outline
 
     @classmethod
     def of(cls, nominal, hand, pad_u_max: float | None = None):
@@ -84,20 +98,47 @@ class ShapeTracker:
             return None
         return cls(outline, (0.0, rest_height(nominal), 0.0), hand, pad_u_max)
 
-    def readings(self, est, palm: bool) -> Readings:
-        """The sensed constraints of the estimate ``est`` (a ``GraspEstimate``)."""
+    def readings(self, est, palm: bool, geometric: bool = False) -> Readings:
+        """The sensed constraints of the estimate ``est`` (a ``GraspEstimate``); with
+        ``geometric``, a fingertip that senses no force but lies within
+        :data:`GEOM_TOUCH` of the posed outline touches it too (the start grasp, placed on
+        the object at rest before any squeeze), the pad's centroid then the middle of the
+        outline's support set on it."""
         touch = est.pad_touch
         tip = float(est.normal_force[1]) > TIP_TOUCH
+        u = float(est.u) if touch else float("nan")
+        if geometric and not (touch and tip):
+            W = self.outline.posed(self.pose)
+            if not tip:
+                tip = abs(nearest_on_polygon(W, est.tips[1])[1] - self.r) < GEOM_TOUCH
+            if not touch:
+                touch, u = self._pad_by_geometry(W, est)
         return Readings(
             pad_point=est.tips[0].copy() if touch else None,
             pad_angle=float(est.phi[0]),
-            pad_u=float(est.u) if touch else float("nan"),
+            pad_u=u,
             pad_half_width=self.pad_w,
             pad_u_max=self.u_max,
             tip_centre=est.tips[1].copy() if tip else None,
             tip_radius=self.r,
             palm=palm,
         )
+
+    def _pad_by_geometry(self, W: np.ndarray, est) -> tuple[bool, float]:
+        """Whether the flat pad (its centre ``est.tips[0]``, angle ``est.phi[0]``) lies
+        on the posed outline ``W`` within :data:`GEOM_TOUCH`, and the middle of the
+        outline's support set on it from the pad centre [m] (clipped to the taxels)."""
+        c, s = math.cos(float(est.phi[0])), math.sin(float(est.phi[0]))
+        n, t = np.array([s, -c]), np.array([c, s])
+        p = np.asarray(est.tips[0], float)
+        Wp = pad_window(W, p, t, self.pad_w)
+        if len(Wp) == 0:
+            return False, float("nan")
+        h = Wp @ n
+        if abs(float(h.max()) - float(n @ p)) >= GEOM_TOUCH:
+            return False, float("nan")
+        along = (Wp[h >= h.max() - FLAT_TOL] - p) @ t
+        return True, float(np.clip(0.5 * (along.min() + along.max()), -self.u_max, self.u_max))
 
     def update(self, est, theta: float, palm: bool = True) -> bool:
         """Refit the pose to ``est``; ``theta`` [rad] is the executor's rotation estimate
@@ -114,6 +155,8 @@ class ShapeTracker:
         fits = [fit_pose(self.outline, rd, (guess[0], guess[1], prior + d), prior, THETA_WEIGHT,
                          max_step=0.05 + abs(d)) for d in THETA_STARTS]  # fmt: skip
         fit = min(fits, key=lambda f: f.cost if f.success else math.inf)
+        if rd.pad_point is not None and rd.tip_centre is not None:
+            fit = self._global(rd, fit, prior)
         self.cost = fit.cost
         self._theta, self._centre = theta, est.centre.copy()
         if not fit.success or fit.cost > FIT_TOL:
@@ -123,6 +166,21 @@ class ShapeTracker:
         self.fits += 1
         self.pose = fit.pose
         return True
+
+    def _global(self, rd: Readings, local, prior: float):
+        """The better of the ``local`` fit (started at the rolling prior) and
+        :func:`.outline_pose.fit_pose_global` (starts over the symmetry period, no prior),
+        by the sensed residuals alone: the global one is taken when the local one failed or
+        fits the readings :data:`.outline_pose.TIE_COST` worse (the 6 cm square tipped 42
+        deg where the rolling estimate said 12: the local fit stayed 30 mm off)."""
+        glob = fit_pose_global(self.outline, rd, self.pose, prior, self.order)
+        if not glob.success:
+            return local
+        sensed = float(np.linalg.norm(residuals(self.outline, local.pose, rd)))
+        if not local.success or glob.cost < sensed - TIE_COST:
+            self.global_fits += 1
+            return glob
+        return local
 
     def right_palm_epsilon(self, est, mu: float) -> float:
         """Grasp quality of the right tip and the palm holding the posed outline [-]."""
@@ -134,13 +192,14 @@ class ShapeTracker:
         return float(epsilon_two_planar(c["tip"], -c["tip_normal"], c["palm"],
                                         np.array([0.0, 1.0]), mu))  # fmt: skip
 
-    def local_circle(self, est, r: float, R0: float, span=(0.3, 4.0)):
+    def local_circle(self, est, r: float, R0: float, span=(0.3, 4.0), geometric=False):
         """The circle the phase-1 NLP plans on (the documented reduction of rolling on the
         outline: the local curvature between the two contacts): tangent to the pad at its
         sensed contact and touching the round tip (``|T - p + R n| = R + r``), its radius
         clamped to ``span`` times ``R0`` [m]. Returns ``(centre (2,), R, beta (2,), u)`` or
-        None (no pad or tip contact on the posed outline)."""
-        rd = self.readings(est, True)
+        None (no pad or tip contact on the posed outline; ``geometric``: as in
+        :meth:`readings`)."""
+        rd = self.readings(est, True, geometric)
         if rd.pad_point is None or rd.tip_centre is None:
             return None
         c, s = math.cos(rd.pad_angle), math.sin(rd.pad_angle)
