@@ -61,7 +61,8 @@ class DetectedFeature:
 
     Attributes:
         angle: polar angle on the object (object frame) [rad].
-        kind: ``"convex"`` or ``"concave"``.
+        kind: ``"convex"`` or ``"concave"`` (curvature features, ch. 3's detector on the
+            pad's trace) or ``"ridge"`` or ``"groove"`` (macro features, :mod:`.macro`).
         truth_angle: angle of the nearest true feature [rad] (NaN if none).
         error: wrapped ``angle - truth_angle`` [rad].
     """
