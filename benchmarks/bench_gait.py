@@ -56,10 +56,10 @@ import numpy as np  # noqa: E402
 sys.path.insert(0, str(Path(__file__).parent))
 from _common import arg_parser, load_average, write_report  # noqa: E402
 
-#: joint ranges of the batch hand (right finger; the left mirrors it) [deg]: the
-#: ball_with_ridge hand (the default 110-deg ranges fit only 4-5 cm round objects)
-HAND_LOWER_DEG = (-40.0, 0.0, -10.0)
-HAND_UPPER_DEG = (90.0, 150.0, 130.0)
+#: joint ranges of the batch hand (right finger; the left mirrors it) [deg]: the gait's
+#: hand, ``explore_object``'s default (``robots.planar_hand.GAIT_LOWER_DEG`` / ``_UPPER_DEG``)
+from robots.planar_hand import GAIT_LOWER_DEG as HAND_LOWER_DEG  # noqa: E402
+from robots.planar_hand import GAIT_UPPER_DEG as HAND_UPPER_DEG  # noqa: E402
 
 
 @dataclass(frozen=True)
@@ -104,9 +104,10 @@ def objects(quick: bool) -> list[BatchObject]:
 
 
 def batch_hand(mu: float = 1.0):
-    from planner.kinds.gait import HandConfig
+    """The gait's hand with friction ``mu`` [-] (``robots.planar_hand.gait_hand_params``)."""
+    from robots.planar_hand import PlanarHand, gait_hand_params
 
-    return HandConfig(joint_lower_deg=HAND_LOWER_DEG, joint_upper_deg=HAND_UPPER_DEG).hand(mu)
+    return PlanarHand(gait_hand_params(mu))
 
 
 def map_verdict(profile, hand, mu: float) -> tuple[bool, str]:

@@ -101,9 +101,9 @@ def test_gait_kind_bad_input_exits_2(cli, tmp_path):
 
 # --------------------------------------------------------------- regrasp heuristics (§2.2.3)
 def _ball_hand():
-    from planner.kinds.gait import HandConfig
+    from robots.planar_hand import PlanarHand, gait_hand_params
 
-    return HandConfig(joint_lower_deg=(-40, 0, -10), joint_upper_deg=(90, 150, 130)).hand(1.0)
+    return PlanarHand(gait_hand_params())
 
 
 def test_stable_pair_is_the_cone_condition_of_a_circle():

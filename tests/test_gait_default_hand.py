@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 
+from planner.errors import InvalidParameter
 from planner.exploration import explore_object
 from planner.geometry import shapes
 from planner.kinds.gait import HandConfig
@@ -31,6 +32,15 @@ def test_ranged_hand_mirrors_the_left_finger_and_keeps_the_geometry():
     for side, f in (("left", p.left), ("right", p.right)):
         d = default_finger(side)
         assert (f.base, f.lengths, f.tip, f.tip_radius) == (d.base, d.lengths, d.tip, d.tip_radius)
+
+
+def test_ranged_hand_rejects_bad_ranges_and_friction():
+    with pytest.raises(InvalidParameter, match="friction"):
+        gait_hand_params(-0.1)
+    with pytest.raises(InvalidParameter, match="lower < upper"):
+        ranged_hand_params((10.0, 0.0, 0.0), (5.0, 90.0, 90.0))
+    with pytest.raises(InvalidParameter, match="3 pairs"):
+        ranged_hand_params((0.0, 0.0), (90.0, 90.0, 90.0))
 
 
 def test_scenario_default_and_library_default_are_the_gait_hand():

@@ -18,9 +18,9 @@ from planner.geometry import shapes
 
 @pytest.fixture(scope="module")
 def short_run():
-    from planner.kinds.gait import HandConfig
+    from robots.planar_hand import PlanarHand, gait_hand_params
 
-    hand = HandConfig(joint_lower_deg=(-40, 0, -10), joint_upper_deg=(90, 150, 130)).hand(1.0)
+    hand = PlanarHand(gait_hand_params())
     profile = shapes.circle(0.05)
     return explore_object(profile, hand=hand, mu=1.0, nominal=shapes.circle(0.05), duration=1.8)
 

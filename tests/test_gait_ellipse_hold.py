@@ -123,9 +123,9 @@ def test_degenerate_input_is_one_clear_error():
 
 
 def _window_hand():
-    from planner.kinds.gait import HandConfig
+    from robots.planar_hand import PlanarHand, gait_hand_params
 
-    return HandConfig(joint_lower_deg=(-40, 0, -10), joint_upper_deg=(90, 150, 130)).hand(1.0)
+    return PlanarHand(gait_hand_params())
 
 
 WINDOW = {

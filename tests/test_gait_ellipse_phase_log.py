@@ -16,9 +16,9 @@ from planner.geometry import shapes
 @pytest.fixture(scope="module")
 def circle_run():
     from planner.exploration.planar.machine import explore_object
-    from planner.kinds.gait import HandConfig
+    from robots.planar_hand import PlanarHand, gait_hand_params
 
-    hand = HandConfig(joint_lower_deg=(-40, 0, -10), joint_upper_deg=(90, 150, 130)).hand(1.0)
+    hand = PlanarHand(gait_hand_params())
     return explore_object(shapes.circle(0.05), hand=hand, mu=1.0, duration=3.0, seed=0)
 
 

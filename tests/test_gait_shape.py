@@ -234,10 +234,10 @@ def test_square_nlp_needs_its_points(square_plan):
 @pytest.fixture(scope="module")
 def polygon_plan():
     from planner.exploration.planar.heuristics import best_margin_ik, pad_angle
-    from planner.kinds.gait import HandConfig
     from planner.trajectory import OutlineNLP
+    from robots.planar_hand import PlanarHand, gait_hand_params
 
-    hand = HandConfig(joint_lower_deg=(-40, 0, -10), joint_upper_deg=(90, 150, 130)).hand(1.0)
+    hand = PlanarHand(gait_hand_params())
     r = hand.params.right.tip_radius
     yl, yr = 0.08, 0.05  # the pad flat on the left face, the tip on the right face
     qL = hand.inverse_kinematics("left", np.array([-A, yl]), angle=pad_angle(math.pi, -math.pi / 2))

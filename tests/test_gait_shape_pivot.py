@@ -13,8 +13,7 @@ from hypothesis import strategies as st
 from planner.errors import InvalidParameter
 from planner.exploration.planar import pivot_reach as pr
 from planner.exploration.planar.pivot_grasps import pivot_grasps
-from robots.planar_hand import PlanarHand
-from robots.planar_hand.params import HandParams, default_finger
+from robots.planar_hand import PlanarHand, gait_hand_params
 
 A = 0.055  # half-width of the 11 cm square [m]
 SQUARE = np.array([[-A, 0.0], [A, 0.0], [A, 2 * A], [-A, 2 * A]])  # resting on the palm
@@ -22,16 +21,8 @@ R_TIP = 0.025
 
 
 def scenario_hand() -> PlanarHand:
-    """The square_gait hand (right finger's ranges; the left one mirrors them)."""
-    lo = tuple(math.radians(v) for v in (-40.0, 0.0, -10.0))
-    hi = tuple(math.radians(v) for v in (90.0, 150.0, 130.0))
-    right = default_finger("right")
-    left = default_finger("left")
-    from dataclasses import replace
-
-    right = replace(right, lower=lo, upper=hi)
-    left = replace(left, lower=tuple(-v for v in hi), upper=tuple(-v for v in lo))
-    return PlanarHand(HandParams(left=left, right=right, friction=1.0))
+    """The square_gait hand (the gait's hand: right finger's ranges, the left one mirrors)."""
+    return PlanarHand(gait_hand_params(1.0))
 
 
 HAND = scenario_hand()

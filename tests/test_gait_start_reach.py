@@ -18,9 +18,9 @@ from planner.geometry import shapes
 
 @pytest.fixture(scope="module")
 def hand():
-    from planner.kinds.gait import HandConfig
+    from robots.planar_hand import PlanarHand, gait_hand_params
 
-    return HandConfig(joint_lower_deg=(-40, 0, -10), joint_upper_deg=(90, 150, 130)).hand(1.0)
+    return PlanarHand(gait_hand_params())
 
 
 @pytest.mark.parametrize("radius", [0.02, 0.05])
@@ -166,9 +166,9 @@ def test_phase1_extent_and_handoffs_follow_plan_gaits_rules(hand, profile):
 def test_more_friction_never_turns_less(mu, extra):
     """Every force-closure grasp (two contacts, or a finger with the palm) stays one with a
     larger mu and the reach tables do not depend on it: the graph only grows."""
-    from planner.kinds.gait import HandConfig
+    from robots.planar_hand import PlanarHand, gait_hand_params
 
-    h = HandConfig(joint_lower_deg=(-40, 0, -10), joint_upper_deg=(90, 150, 130)).hand(1.0)
+    h = PlanarHand(gait_hand_params())
     prof = shapes.ellipse(0.05, 0.05 / 1.5)
     low, high = start_reach(prof, h, mu), start_reach(prof, h, mu + extra)
     assert high.rotation >= low.rotation and high.start_grasps >= low.start_grasps

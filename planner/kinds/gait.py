@@ -137,6 +137,8 @@ class HandConfig(StrictModel):
     fit the hand and 4-5 cm ones stall after 16-42 deg (every phase 1 ends at a joint stop).
     """
 
+    # robots.planar_hand's GAIT_LOWER_DEG / GAIT_UPPER_DEG, written out: importing robots here
+    # would load Pinocchio on every CLI start (tests/test_gait_default_hand.py checks they agree)
     joint_lower_deg: tuple[float, float, float] = Field((-40.0, 0.0, -10.0))
     joint_upper_deg: tuple[float, float, float] = Field((90.0, 150.0, 130.0))
 
@@ -235,6 +237,7 @@ def run(config: Config, ctx):
     nominal = config.nominal.profile() if config.nominal is not None else None
     duration = config.quick_duration if ctx.quick else config.duration
     s = config.settings()
+    hand = _hand(config)
     seed = int(ctx.rng.integers(2**31))
     bar = ctx.progress(total=round(duration, 1), desc="gait [sim s]")
     done = [0.0]
@@ -245,19 +248,19 @@ def run(config: Config, ctx):
 
     with ctx.timer("simulation"), bar:
         if config.task == "explicit_rolling":
-            res = explicit_rolling(profile, hand=_hand(config), mu=config.mu,
+            res = explicit_rolling(profile, hand=hand, mu=config.mu,
                                    amplitude=config.rolling.amplitude,
                                    period=config.rolling.period, duration=duration, seed=seed,
                                    settings=s)  # fmt: skip
         else:
-            res = explore_object(profile, hand=_hand(config), mu=config.mu, nominal=nominal,
+            res = explore_object(profile, hand=hand, mu=config.mu, nominal=nominal,
                                  seed=seed,
                                  duration=duration, settings=s,
                                  max_rotation=math.radians(config.max_rotation_deg),
                                  on_progress=advance)  # fmt: skip
     from planner.kinds._gait_report import report
 
-    return report(config, ctx, res, profile, duration, _hand(config), noise_seed=seed)
+    return report(config, ctx, res, profile, duration, hand, noise_seed=seed)
 
 
 def _hand(config: Config):

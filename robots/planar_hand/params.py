@@ -26,10 +26,11 @@ Coordinates of the hand plane: x to the right, y up (away from the palm), z out 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from planner import checks
 from planner.errors import InvalidParameter
 
 FINGERS = ("left", "right")
@@ -154,14 +155,11 @@ GAIT_UPPER_DEG = (90.0, 150.0, 130.0)
 def ranged_hand_params(lower_deg, upper_deg, friction: float = 1.0) -> HandParams:
     """The default fingers with the right finger's joint ranges ``lower_deg``..``upper_deg``
     [deg] (3 each; the left finger mirrors them) and ``friction`` [-]."""
-    import dataclasses
-
+    friction = checks.nonnegative("friction", friction)
     lo = tuple(float(np.deg2rad(v)) for v in lower_deg)
     hi = tuple(float(np.deg2rad(v)) for v in upper_deg)
-    right = dataclasses.replace(default_finger("right"), lower=lo, upper=hi)
-    left = dataclasses.replace(
-        default_finger("left"), lower=tuple(-v for v in hi), upper=tuple(-v for v in lo)
-    )
+    right = replace(default_finger("right"), lower=lo, upper=hi)
+    left = replace(default_finger("left"), lower=tuple(-v for v in hi), upper=tuple(-v for v in lo))
     return HandParams(left=left, right=right, friction=float(friction))
 
 

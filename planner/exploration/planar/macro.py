@@ -55,6 +55,12 @@ PAD_PASS = 1_000_000
 MACRO_MIN_PASSES = 2
 
 
+def pass_numbers(kind) -> np.ndarray:
+    """(N,) the pass (phase) number of every trace row: 0 for the first run of equal
+    ``kind``, counting up at every change."""
+    return np.concatenate([[0], np.cumsum(np.diff(np.asarray(kind)) != 0)])
+
+
 def sensed_heights(trace: dict, theta, radius: float, tip_radius: float, band) -> tuple:
     """Object-frame polar angles [rad], heights above the model [m] and pass numbers (the
     phase each row belongs to) of every row where a finger explores (``band``: normal-force
@@ -62,7 +68,7 @@ def sensed_heights(trace: dict, theta, radius: float, tip_radius: float, band) -
     t_kind = trace["kind"]
     c, s = np.cos(-theta), np.sin(-theta)
     out_a, out_h, out_p = [], [], []
-    passes = np.concatenate([[0], np.cumsum(np.diff(t_kind) != 0)])
+    passes = pass_numbers(t_kind)
     pad = (t_kind == 3) & (trace["pad_touch"] > 0)
     pad &= (trace["fnL"] >= band[0]) & (trace["fnL"] <= band[1])
     px, py = trace["pLx"] - trace["cx"], trace["pLy"] - trace["cy"]
@@ -124,9 +130,7 @@ def suspect_passes(trace: dict) -> frozenset:
     kind = np.asarray(trace["kind"])
     if kind.size == 0:
         return frozenset()
-    passes = np.concatenate([[0], np.cumsum(np.diff(kind) != 0)])
-    first = np.flatnonzero(np.r_[True, np.diff(passes) != 0])
-    pass_kind = kind[first]  # the kind of every pass, in order
+    pass_kind = kind[np.r_[True, np.diff(kind) != 0]]  # the kind of every pass, in order
     out = set()
     for q in np.flatnonzero(pass_kind == 0):
         for n in (q - 1, q + 1):

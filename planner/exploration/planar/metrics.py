@@ -29,18 +29,18 @@ def coverage_mask(log, body: str, profile, cells: int = 360, phases=None) -> np.
     contact counts (phase-1 rolling and the holder sense the outline too)."""
     hit = np.zeros(cells, dtype=bool)
     pose = log.poses[body]
+    when = {}  # phase kind -> (T,) rows inside a phase of that kind
+    for ph in phases or ():
+        rows = (log.t >= ph.start) & (log.t <= ph.end)
+        when[ph.kind] = when[ph.kind] | rows if ph.kind in when else rows
     for j, pair in enumerate(log.pairs):
         a, b = pair.split("|")
         if body not in (a, b) or not any(x.endswith((".left", ".right")) for x in (a, b)):
             continue
         touch = (log.contact_pair == j) & (log.normal_force > 0)
-        if phases is not None:
+        if phases is not None:  # the right finger explores in phases 2, the left in 3
             kind = 2 if any(x.endswith(".right") for x in (a, b)) else 3
-            when = np.zeros(len(log.t), dtype=bool)
-            for ph in phases:
-                if ph.kind == kind:
-                    when |= (log.t >= ph.start) & (log.t <= ph.end)
-            touch &= when[:, None]
+            touch &= when.get(kind, np.zeros(len(log.t), dtype=bool))[:, None]
         rows, slots = np.nonzero(touch)
         if rows.size == 0:
             continue
@@ -118,6 +118,12 @@ MIN_SLIDE_SPEED = 0.002
 MERGE_ANGLE = math.radians(3.0)
 
 
+def phase_runs(kind) -> list[np.ndarray]:
+    """The row indices of each run of equal ``kind`` (the trace's phase column), in order."""
+    kind = np.asarray(kind)
+    return np.split(np.arange(kind.size), np.flatnonzero(np.diff(kind) != 0) + 1)
+
+
 def object_rotation(trace: dict, radius: float) -> np.ndarray:
     """The sensed object rotation [rad] of every trace row, chained over the phases from
     the first row's estimate; each phase adds its own sensed increment:
@@ -143,7 +149,7 @@ def object_rotation(trace: dict, radius: float) -> np.ndarray:
         return th
     out = np.empty_like(th)
     acc = th[0]
-    runs = np.split(np.arange(th.size), np.flatnonzero(np.diff(kind) != 0) + 1)
+    runs = phase_runs(kind)
     pad = pad_rolling(trace, radius) if np.any(kind == 2) else None
     for run in runs:
         k = kind[run[0]]
@@ -217,7 +223,7 @@ def held_still(trace: dict, limit: float) -> np.ndarray:
     if kind.size == 0:
         return out
     cx, cy = np.asarray(trace["cx"], float), np.asarray(trace["cy"], float)
-    for run in np.split(np.arange(kind.size), np.flatnonzero(np.diff(kind) != 0) + 1):
+    for run in phase_runs(kind):
         if kind[run[0]] == 3:
             moved = np.hypot(cx[run] - cx[run[0]], cy[run] - cy[run[0]]).max()
             out[run] = moved <= limit

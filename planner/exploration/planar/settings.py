@@ -30,8 +30,9 @@ class GaitSettings:
             11.6 deg each); keeping it raised in every phase 1 after the first trigger (the
             3 cm circle: 27.5 of 27.5 deg per phase 1, 373 deg in 30.3 s) failed seeds 2
             and 3 after their full turn. With this rule the ball triggers it once or twice
-            (seed 0 at 253 and 383 deg, seeds 1-3 at 363 deg); seed 1 then shows a phantom
-            concave feature 12 deg from the ridge.
+            (seed 0 at 253 and 383 deg, seeds 1-3 at 363 deg); the phantom concave feature
+            it gave seed 1 (a phase 3 whose held ball moved 4.5 mm) is gone since the
+            curvature detector skips such phases (:func:`.metrics.held_still`).
         carry_margin: the squeeze is ``1 + carry_margin`` times the carrying one [-].
         max_squeeze: cap of the raised squeeze [N].
         hold_force: force of the right finger pressing the object against the palm in
