@@ -179,8 +179,8 @@ def test_prior_grasp_in_world_angles():
 
 
 def test_object_rotation_of_a_ball_rolling_on_the_palm():
-    """Phases 2/3: a ball rolling on the palm turns by -dx / R; phase-1 rows keep the
-    controller's estimate."""
+    """Phases 2/3: a ball rolling on the palm turns by -dx / R; phase-1 rows without the
+    fingertips' readings keep the controller's estimate."""
     from planner.exploration.planar.metrics import object_rotation
 
     R = 0.05

@@ -16,10 +16,13 @@ from hypothesis import strategies as st
 from planner.errors import InvalidParameter
 from planner.exploration.planar.angles import circular_median
 from planner.exploration.planar.metrics import (
+    PAD_CENTROID_EDGE,
+    held_pad_rolling,
     object_rotation,
     pad_rolling,
     pad_shadow,
     round_tip_shadow,
+    tip_rolling,
 )
 from planner.exploration.planar.plots import fig214_measures
 from planner.exploration.planar.segments import hold_tangential_force, palm_moment
@@ -108,9 +111,12 @@ def test_palm_moment_closed_form():
 
 
 # --------------------------------------------------------------------- rotation estimate
+R_TIP = 0.025
+
+
 def _rolling_on_the_pad(turn: np.ndarray) -> dict:
     """A ball turning by ``turn`` (N,) [rad] while rolling up a fixed vertical pad at its
-    left (its centre rises by R turn, as on a ball that slides on the palm)."""
+    left (its centre rises by R turn, as on a ball lifted off the palm)."""
     n = turn.size
     cy = R + R * turn
     nL = np.tile([-1.0, 0.0], (n, 1))  # outward object normal at the pad
@@ -122,39 +128,118 @@ def _rolling_on_the_pad(turn: np.ndarray) -> dict:
             "pad_touch": np.ones(n), "theta": np.zeros(n)}  # fmt: skip
 
 
+def _dragged_on_the_palm(turn: np.ndarray, tilt: float, edge: float = 0.00875) -> dict:
+    """A ball on the palm (centre ``(0, R)``, sliding on it) turned by ``turn`` (N,) [rad]
+    by a pad at polar angle ``pi + tilt`` that rolls with it (no slip at the pad: the pad
+    moves along its axis, the contact's place on it is ``-R turn``); the tactile centroid
+    sticks at +-``edge`` [m], and the sensed contact and pad-based centre are built on it
+    as the sensing does (``p_L = pad origin + u axis``, ``c = p_L - R n_L``)."""
+    n = turn.size
+    nL = np.tile([-math.cos(tilt), -math.sin(tilt)], (n, 1))
+    axis = np.column_stack([-nL[:, 1], nL[:, 0]])
+    contact = np.array([0.0, R]) + R * nL  # fixed in the world
+    u_true = -R * turn
+    origin = contact - u_true[:, None] * axis
+    u = np.clip(u_true, -edge, edge)
+    pL = origin + u[:, None] * axis
+    c = pL - R * nL
+    return {"t": np.linspace(0, 1, n), "kind": np.full(n, 2), "cx": c[:, 0], "cy": c[:, 1],
+            "pLx": pL[:, 0], "pLy": pL[:, 1], "nLx": nL[:, 0], "nLy": nL[:, 1], "u": u,
+            "pad_touch": np.ones(n), "theta": np.zeros(n)}  # fmt: skip
+
+
+def _rolling_between_the_fingers(turn: np.ndarray, beta_r: float = 0.3) -> dict:
+    """Phase 1: a ball (centre ``(0, R)``) turned by ``turn`` [rad] between the pad of
+    :func:`_rolling_on_the_pad`'s kind (here it moves along its axis, the centre stays) and
+    the round right tip at polar angle ``beta_r``, both rolling without slip: two circles in
+    external contact turn oppositely, ``d(phi_R) = -(R / r) d(turn)``, and the tip-frame
+    arclength comes from the sensing's ``round_contact_arclength``."""
+    from planner.exploration.planar.sensing import round_contact_arclength
+
+    tr = _dragged_on_the_palm(turn, 0.0, edge=1.0)
+    phi = 0.4 - (R / R_TIP) * turn
+    pR = _polar(beta_r)
+    tr.update(kind=np.full(turn.size, 1), pRx=np.full(turn.size, pR[0]),
+              pRy=np.full(turn.size, pR[1]),
+              sR=np.array([round_contact_arclength(beta_r, p, R_TIP) for p in phi]))  # fmt: skip
+    return tr
+
+
 def test_phase2_rotation_rolls_on_the_holding_pad():
-    """A ball dragged round while it slides on the palm (its centre does not move
-    sideways): the palm's -dx / R says 0, rolling on the pad says the turn."""
-    turn = np.linspace(0.0, 0.3, 21)
+    """A ball rolling on the holding pad with the contact inside the tactile array: the
+    rolling on the pad says the turn (the palm's -dx / R would say 0)."""
+    turn = np.linspace(0.0, 0.1, 21)  # the contact moves 5 mm: inside the array
     tr = _rolling_on_the_pad(turn)
     np.testing.assert_allclose(pad_rolling(tr, R) - pad_rolling(tr, R)[0], turn, atol=1e-12)
     np.testing.assert_allclose(object_rotation(tr, R), turn, atol=1e-12)
 
 
+@settings(max_examples=30, deadline=None)
+@given(st.floats(0.1, 0.6), st.floats(-0.5, 0.5), st.sampled_from([1.0, -1.0]))
+def test_a_dragged_ball_is_read_past_the_arrays_edge(total, tilt, sign):
+    """A held ball dragged round on the palm until the contact runs off the tactile array:
+    the centroid sticks at the outermost taxel and the pad's rolling reads too little
+    (``PAD_CENTROID_EDGE``); from the palm and the pad's line the turn is exact."""
+    turn = sign * np.linspace(0.0, total, 41)
+    tr = _dragged_on_the_palm(turn, tilt)
+    held = held_pad_rolling(tr, R)
+    np.testing.assert_allclose(held - held[0], turn, atol=1e-9)
+    pad = pad_rolling(tr, R)  # stops where the centroid sticks: 8.75 mm, 0.175 rad
+    np.testing.assert_allclose(pad - pad[0], np.clip(turn, -0.175, 0.175), atol=1e-9)
+
+
+def test_a_held_ball_is_read_from_the_centroid_inside_the_array():
+    """Inside the array the tactile centroid is the contact, even with the ball off the
+    palm (lifted: the palm's contact would be wrong)."""
+    turn = np.linspace(0.0, 0.12, 13)  # 6 mm < PAD_CENTROID_EDGE
+    tr = _rolling_on_the_pad(turn)
+    assert np.abs(tr["u"]).max() < PAD_CENTROID_EDGE
+    held = held_pad_rolling(tr, R)
+    np.testing.assert_allclose(held - held[0], turn, atol=1e-12)
+
+
+def test_phase1_rotation_averages_the_two_rolling_fingertips():
+    """Both fingertips roll without slip (eq. 2.4): the pad's ``beta_L - u / R`` and the
+    tip's ``beta_R + s_R / R`` each say the turn; a tactile centroid jump (the ridge under
+    the pad) counts half."""
+    turn = np.linspace(0.0, -0.3, 31)
+    tr = _rolling_between_the_fingers(turn)
+    tip = tip_rolling(tr, R)
+    np.testing.assert_allclose(tip - tip[0], turn, atol=1e-12)
+    np.testing.assert_allclose(object_rotation(tr, R), turn, atol=1e-12)
+    jumped = {**tr, "u": tr["u"] + np.where(np.arange(31) >= 15, 0.003, 0.0)}
+    th = object_rotation(jumped, R)
+    np.testing.assert_allclose(th[-1] - turn[-1], -0.5 * 0.003 / R, atol=1e-12)
+
+
 def test_rotation_is_chained_over_phases():
-    """Phase 1 adds the controller's increments, phase 2 the pad's, phase 3 the palm's
-    (-dx / R), each from where the last one ended; rows without the pad hold its value."""
-    t1 = np.linspace(-0.1, -0.4, 5)  # phase 1: the controller's estimate (starts at -0.1)
+    """Phase 1 adds both fingertips' rolling, phase 2 the pad's, phase 3 the palm's
+    (-dx / R), each from its own first row (not from the last phase's readings); rows
+    without the pad hold its value."""
+    tr1 = _rolling_between_the_fingers(np.linspace(0.0, -0.3, 5))
+    tr1["u"] = tr1["u"] + 0.004  # the centroid of phase 1 differs from phase 2's last one
     tr2 = _rolling_on_the_pad(np.linspace(0.0, 0.05, 5))
     tr2["pad_touch"][2] = 0.0
     tr2["u"][2] = 99.0  # a non-touching row's u is stale
     cx3 = np.linspace(0.0, -R * 0.02, 4)  # phase 3: rolls left on the palm by 0.02 rad
-    n1, n3 = 5, 4
+    n3 = 4
     tr = {
-        "t": np.linspace(0, 1, 13),
-        "kind": np.r_[np.full(n1, 1), np.full(5, 2), np.full(n3, 3)],
-        "theta": np.r_[t1, np.full(5, 7.0), np.full(n3, 7.0)],  # held values are ignored
-        "cx": np.r_[np.zeros(n1), tr2["cx"], cx3],
-        "cy": np.r_[np.full(n1, R), tr2["cy"], np.full(n3, R)],
+        "t": np.linspace(0, 1, 14),
+        "kind": np.r_[np.full(5, 1), np.full(5, 2), np.full(n3, 3)],
+        "theta": np.r_[np.full(5, -0.1), np.full(5, 7.0), np.full(n3, 7.0)],
+        "cx": np.r_[tr1["cx"], tr2["cx"], cx3],
+        "cy": np.r_[tr1["cy"], tr2["cy"], np.full(n3, R)],
     }
     for k in ("pLx", "pLy", "nLx", "nLy", "u", "pad_touch"):
         other = {"nLx": -1.0, "pLx": -R, "pLy": R, "pad_touch": 1.0}.get(k, 0.0)
-        tr[k] = np.r_[np.full(n1, other), tr2[k], np.full(n3, other)]
+        tr[k] = np.r_[tr1[k], tr2[k], np.full(n3, other)]
+    for k in ("pRx", "pRy", "sR"):
+        tr[k] = np.r_[tr1[k], np.full(5 + n3, np.nan)]
     th = object_rotation(tr, R)
-    np.testing.assert_allclose(th[:n1], t1)
+    np.testing.assert_allclose(th[:5], -0.1 + np.linspace(0.0, -0.3, 5), atol=1e-12)
     expect2 = -0.4 + np.linspace(0.0, 0.05, 5)
     expect2[2] = expect2[1]  # held while the pad does not touch
-    np.testing.assert_allclose(th[n1 : n1 + 5], expect2, atol=1e-12)
+    np.testing.assert_allclose(th[5:10], expect2, atol=1e-12)
     np.testing.assert_allclose(th[-n3:], -0.35 + np.linspace(0.0, 0.02, n3), atol=1e-12)
 
 

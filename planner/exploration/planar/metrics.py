@@ -126,22 +126,32 @@ def phase_runs(kind) -> list[np.ndarray]:
 
 def object_rotation(trace: dict, radius: float) -> np.ndarray:
     """The sensed object rotation [rad] of every trace row, chained over the phases from
-    the first row's estimate; each phase adds its own sensed increment:
+    the first row's estimate; each phase adds its own sensed increment, from its first row:
 
-    * phase 1: the controller's rolling estimate (eq. 2.4: the pad's polar angle minus its
-      rolled arclength over ``R``);
-    * phase 2: the same rolling estimate on the holding left pad,
-      ``d(beta_L) - d(u) / R`` (:func:`pad_rolling`);
+    * phase 1: the rolling of both fingertips (eq. 2.4), averaged: the flat pad's
+      ``d(beta_L) - d(u) / R`` (:func:`pad_rolling`) and the round tip's
+      ``d(beta_R) + d(s_R) / R`` (:func:`tip_rolling`);
+    * phase 2: the ball held on the palm by the pad rolls on the pad,
+      :func:`held_pad_rolling` (the pad's rolling, and past the tactile array's edge the
+      same relation on the centre from the palm and the pad's line);
     * phase 3: the ball lies on the palm and rolls on it, ``-(c_x - c_x0) / R`` from the
       phase's first row (the holder is the round right tip, whose contact says little).
 
-    Why the pad in phase 2: when the sliding right tip drags the ball over the ridge
-    ("object moved"), the ball slides on the palm while it turns; the palm estimate then
-    read +19.4 deg of turning as -10.6 deg, and every later sensed angle was 30 deg off
-    (the ridge was found 25-29 deg from its place). On ``ball_with_ridge`` the chained
-    error at the end of the turn was 1-3 deg with the pad (seeds 0-3, 0.6 N hold) against
-    32-38 deg with the palm; a normal phase 2 turned the ball 0.5-1.0 deg and the pad
-    read it within 0.35 deg, the palm 0.6-0.9 deg too low.
+    A trace without the fingertips' columns keeps the controller's estimate in phase 1.
+    This is the mapping estimate: every sensed angle on the object (features, coverage of
+    the sensed outline) uses it. The controller integrates its own causal estimate, the
+    pad's rolling only (``trace["theta"]``), for the object impedance and the planning.
+
+    Why both fingertips in phase 1: with the ridge under the pad, the tactile centroid
+    jumps onto the ridge and the pad's rolling reads it as rotation; the tip's rolling,
+    built on the pad-based centre, errs the other way. Per phase 1 of ``ball_with_ridge``
+    with the ridge at 0-315 deg (seeds 0-1, 308 phases), error RMS / max: pad 2.6 / 31
+    deg, tip 1.6 / 14 deg, their mean 0.84 / 8.5 deg. Why :func:`held_pad_rolling` in
+    phase 2: when the sliding right tip drags the ball over the ridge (``"object
+    moved"``), the ball slides on the palm while it turns (the palm's ``-dx / R`` read
+    +19.4 deg of turning as -10.6 deg) and the contact runs off the array; 311 phases:
+    RMS 2.2 -> 0.7 deg. Together (``bench_gait_ridge.py``, ridge at 0-315 deg, seeds 0-1):
+    ridges within 5 deg 12 -> 16/16 found (defaults) and 2 -> 16/16 found (the scenario).
     """
     th = np.array(trace["theta"], float)
     kind = np.asarray(trace["kind"])
@@ -149,19 +159,90 @@ def object_rotation(trace: dict, radius: float) -> np.ndarray:
         return th
     out = np.empty_like(th)
     acc = th[0]
-    runs = phase_runs(kind)
-    pad = pad_rolling(trace, radius) if np.any(kind == 2) else None
-    for run in runs:
+    cols = ("u", "pad_touch", "pLx", "pLy", "nLx", "nLy", "pRx", "pRy", "cx", "cy", "sR")
+    for run in phase_runs(kind):
         k = kind[run[0]]
-        if k == 2 and pad is not None:
-            inc = pad[run] - pad[run[0]]
-        elif k > 1:
+        if k == 3:
             inc = -(trace["cx"][run] - trace["cx"][run[0]]) / radius
-        else:
+        elif k not in (1, 2):
+            inc = np.zeros(run.size)
+        elif k == 1 and not all(c in trace for c in cols):  # no fingertip readings
             inc = th[run] - th[run[0]]
+        else:  # each phase from its own first reading (the last phase's centre and
+            # centroid came from another source: the palm, an array edge)
+            sub = {c: np.asarray(trace[c], float)[run] for c in cols if c in trace}
+            if k == 2:
+                inc = held_pad_rolling(sub, radius)
+            else:
+                inc = 0.5 * (pad_rolling(sub, radius) + tip_rolling(sub, radius))
+            inc = inc - inc[0]
         out[run] = acc + inc
         acc = out[run[-1]]
     return out
+
+
+def tip_rolling(trace: dict, radius: float) -> np.ndarray:
+    """The rotation [rad] of an object of ``radius`` [m] rolling on the round right tip, up
+    to a constant, per trace row: ``beta_R + s_R / R`` (eq. 2.4 for two circles: the
+    contact's polar angle about the sensed centre and its arclength on the tip from the
+    apex, ``trace["sR"]``); rows without ``s_R`` (no rolling reference) hold the last
+    value."""
+    b = np.unwrap(np.arctan2(trace["pRy"] - trace["cy"], trace["pRx"] - trace["cx"]))
+    val = b + np.asarray(trace["sR"], float) / radius
+    ok = np.isfinite(val)
+    if not ok.any():
+        return np.zeros_like(val)
+    last = np.maximum.accumulate(np.where(ok, np.arange(val.size), -1))
+    first = int(np.flatnonzero(ok)[0])
+    return val[np.where(last >= 0, last, first)]
+
+
+#: largest tactile centroid [m] across the pad that :func:`held_pad_rolling` reads as the
+#: contact: 0.8 of the 8x8 array's outermost taxel centre (8.75 mm at 2.5 mm pitch). Beyond
+#: it the contact patch runs off the array, the centroid sticks at 8.75 mm and the centre
+#: ``p_L - R n_L`` built on it is millimetres off (a ball dragged 23 deg along the palm
+#: read 10.6 deg)
+PAD_CENTROID_EDGE = 0.8 * 0.00875
+
+
+def held_pad_rolling(trace: dict, radius: float, edge: float = PAD_CENTROID_EDGE) -> np.ndarray:
+    """The rotation [rad] of an object of ``radius`` [m] held by the flat left pad against
+    the palm (phase 2), up to a constant, per trace row: rolling on the pad (eq. 2.4,
+    ``beta_L - u / R`` with ``beta_L`` the polar angle of the pad's outward normal ``n_L``),
+    with the contact ``u`` from the tactile centroid while it lies within ``edge`` [m] of
+    the pad's middle (the increments of :func:`pad_rolling`), and otherwise from the palm
+    and the pad's line: the centre ``c = (c_x, R)`` at ``R`` from the line,
+    ``c_x = (p_L . n_L - R - R n_Ly) / n_Lx``, touches the pad at ``c + R n_L``, whose
+    place along the pad's axis ``(-n_Ly, n_Lx)`` is the contact. Rows where the pad does
+    not touch hold the last touching value.
+
+    Why: the right tip sliding over the ridge drags the held ball 16-26 deg along the palm
+    (``"object moved"``); the contact then runs off the array's edge, the centroid sticks
+    at its outermost taxel and the pad-only estimate read 3-17 deg too little. On 311
+    phases 2 of ``ball_with_ridge`` with the ridge at 0-315 deg (seeds 0-1) the error's
+    RMS went from 2.2 to 0.7 deg. The palm's contact alone is 3 deg off at a phase's start,
+    where the ball still drops onto the palm from phase 1's lift; hence the centroid
+    wherever it can be read."""
+    u = np.asarray(trace["u"], float)
+    touch = np.asarray(trace["pad_touch"]) > 0
+    if not touch.any():
+        return np.zeros_like(u)
+    R = radius
+    nx, ny = np.asarray(trace["nLx"], float), np.asarray(trace["nLy"], float)
+    px, py = np.asarray(trace["pLx"], float), np.asarray(trace["pLy"], float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cx = (px * nx + py * ny - R - R * ny) / nx
+    # the palm's contact along the pad: u + (foot - p_L) . axis, foot = c + R n_L
+    u_palm = u + (cx + R * nx - px) * -ny + (R + R * ny - py) * nx
+    normal = np.unwrap(np.arctan2(ny, nx))
+    rows = np.flatnonzero(touch)
+    inside = np.abs(u[rows]) <= edge
+    use_tactile = inside[1:] & inside[:-1]
+    inc = np.where(use_tactile, -np.diff(u[rows]), -np.diff(u_palm[rows])) / R
+    inc = np.diff(normal[rows]) + np.where(np.isfinite(inc), inc, 0.0)
+    at = np.concatenate([[0.0], np.cumsum(inc)]) + normal[rows[0]] - u[rows[0]] / R
+    last = np.maximum.accumulate(np.where(touch, np.arange(u.size), -1))
+    return at[np.searchsorted(rows, np.where(last >= 0, last, rows[0]))]
 
 
 def pad_rolling(trace: dict, radius: float) -> np.ndarray:
@@ -476,7 +557,9 @@ __all__ = [
     "VIRTUAL_RADIUS",
     "coverage_mask",
     "coverage_of",
+    "held_pad_rolling",
     "object_rotation",
+    "tip_rolling",
     "pad_rolling",
     "outline_bins",
     "pad_shadow",
