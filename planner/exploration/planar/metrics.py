@@ -150,8 +150,12 @@ def object_rotation(trace: dict, radius: float) -> np.ndarray:
     phase 2: when the sliding right tip drags the ball over the ridge (``"object
     moved"``), the ball slides on the palm while it turns (the palm's ``-dx / R`` read
     +19.4 deg of turning as -10.6 deg) and the contact runs off the array; 311 phases:
-    RMS 2.2 -> 0.7 deg. Together (``bench_gait_ridge.py``, ridge at 0-315 deg, seeds 0-1):
-    ridges within 5 deg 12 -> 16/16 found (defaults) and 2 -> 16/16 found (the scenario).
+    RMS 2.2 -> 0.75 deg. Together (``bench_gait_ridge.py``, ridge at 0-315 deg, seeds 0-1):
+    ridges within 5 deg 2 -> 8/16 with the scenario's settings, 12 -> 11/16 with the
+    defaults; ``ball_with_ridge`` seeds 0-3: 3.6/1.1/1.4/0.9 -> 2.7/0.1/0.1/0.0 deg. Not
+    used (measured): phase 3's end corrected by the centre from the exploring pad's line
+    (per phase RMS 0.89 -> 0.55 deg; defaults 11 -> 13/16 within 5 deg, but a phantom
+    concave feature on ``ball_with_ridge`` seed 0).
     """
     th = np.array(trace["theta"], float)
     kind = np.asarray(trace["kind"])
