@@ -116,8 +116,8 @@ class GainsConfig(StrictModel):
     rolling: tuple[float, float, float] = Field((1.0, 0.05, 0.04), description="eq. 2.8")
     hold_kp: float = Field(0.3, ge=0, le=5, description="[N m/rad]")
     hold_kv: float = Field(0.004, ge=0, le=0.1, description="[N m s/rad]")
-    tip_kp: float = Field(60.0, gt=0, le=1000, description="[N/m]")
-    tip_kv: float = Field(2.0, ge=0, le=50, description="[N s/m]")
+    tip_kp: float = Field(200.0, gt=0, le=1000, description="[N/m]")
+    tip_kv: float = Field(4.0, ge=0, le=50, description="[N s/m]")
 
     @model_validator(mode="after")
     def _ranges(self):
