@@ -76,7 +76,12 @@ class GaitSettings:
             on ``ball_with_ridge`` (with ``stroke_overlap``) it raised the explorer-only
             coverage to 0.992-0.994 (seeds 0-3) but on seed 0 its rows beside the wall
             diluted the Fig. 2.14 ridge measures (tangential 0.27 vs 0.28 N off the ridge,
-            elongation 1.26) and the ridge came out 6.0 deg off.
+            elongation 1.26) and the ridge came out 6.0 deg off. Re-measured 2026-11-24
+            with the mapping estimate (:func:`.metrics.object_rotation`): both options on
+            ``ball_with_ridge`` seeds 0-3 give the explorer-only coverage 0.992-0.994, the
+            ridge 3.8/0.3/0.1/2.7 deg off, no other feature, tangential 0.43-0.46 vs
+            0.28-0.30 N and elongation 2.0 at the ridge, 382-384 deg in the 60 s; Fig.
+            2.14's sign change at 52 of 87 switches (80 of 91 without): kept off.
         explore_force: normal force of the exploring finger (0.3 N, §2.3.2) [N].
         object_mass: the planner's guess of the object mass [kg].
         object_kp, object_kv: object impedance gains (eq. 2.7).
