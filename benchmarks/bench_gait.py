@@ -177,14 +177,14 @@ def run_object(
     elif turn >= 359.0:
         verdict = "full turn"
     else:
-        rotating = [p for p in res.phases if p.kind == 1 and -p.rotation >= math.radians(5)]
+        rotating = [p for p in res.phases if p.phase == 1 and -p.rotation >= math.radians(5)]
         cycled = len(rotating) >= 2
         verdict = "turning" if turn >= min_rotation_deg or cycled else "stalled"
     ends = [p.event for p in res.phases]
     row.update(
         verdict=verdict, status=res.status, reason=res.reason, rotation_deg=round(turn, 1),
         coverage=round(res.coverage, 3), phases=len(res.phases),
-        phase1=sum(1 for p in res.phases if p.kind == 1), transitions_4=res.transitions4,
+        phase1=sum(1 for p in res.phases if p.phase == 1), transitions_4=res.transitions4,
         min_epsilon=round(res.min_epsilon, 3) if np.isfinite(res.min_epsilon) else "",
         end_events=_count(ends), sim_s=round(sim, 2), wall_s=round(wall, 1),
         rtf=round(sim / wall, 3) if wall > 0 else "",

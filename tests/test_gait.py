@@ -221,3 +221,28 @@ def test_macro_regions_find_a_ridge_seen_twice():
     w = np.remainder(a + (math.pi - 1.0) + math.pi, 2 * math.pi) - math.pi
     wrapped = macro_regions(np.r_[w, w], np.r_[h, h], np.r_[np.zeros(400), np.ones(400)])
     assert len(wrapped) == 1 and abs(math.remainder(wrapped[0][0] - math.pi, 2 * math.pi)) < 0.01
+
+
+def test_a_phase_entered_by_transition_4_is_kind_4():
+    """The issue's phase kinds 1/2/3/4-skip: a phase 1 entered through transition 4 is
+    kind 4 (``skip``), and its ``phase`` is still 1 (both fingers rotate)."""
+    from planner.exploration.planar.result import PHASE_KINDS, PhaseRecord
+
+    rec = PhaseRecord(kind=1, skip=True, start=0.0, end=1.0, rotation=-0.2,
+                      planned_rotation=-0.3, event="path finished")  # fmt: skip
+    assert (rec.kind, rec.phase, rec.skip) == (4, 1, True)
+    assert rec.to_json()["kind"] == 4 and rec.to_json()["phase"] == 1
+    assert rec.to_json()["name"] == PHASE_KINDS[4]
+    four = PhaseRecord(kind=4, skip=False, start=0.0, end=1.0, rotation=0.0,
+                       planned_rotation=0.0, event="x")  # fmt: skip
+    assert four.skip and four.phase == 1
+    for kind in (1, 2, 3):
+        plain = PhaseRecord(kind=kind, skip=False, start=0.0, end=1.0, rotation=0.0,
+                            planned_rotation=0.0, event="x")  # fmt: skip
+        assert (plain.kind, plain.phase, plain.skip) == (kind, kind, False)
+    with pytest.raises(ValueError, match="1, 2, 3 or 4"):
+        PhaseRecord(kind=5, skip=False, start=0.0, end=1.0, rotation=0.0,
+                    planned_rotation=0.0, event="x")  # fmt: skip
+    with pytest.raises(ValueError, match="only a phase 1"):
+        PhaseRecord(kind=2, skip=True, start=0.0, end=1.0, rotation=0.0,
+                    planned_rotation=0.0, event="x")  # fmt: skip

@@ -314,7 +314,7 @@ def test_fig214_counts_sign_changes_at_the_2_to_3_switches():
     trace["image_t"] = np.array([1.55, 1.8])
     trace["images"] = np.array([line, round_])
     ph = [
-        SimpleNamespace(kind=k, start=float(a), end=float(a + 1))
+        SimpleNamespace(kind=k, phase=k, start=float(a), end=float(a + 1))
         for a, k in enumerate((2, 3, 2, 3))
     ]
     res = SimpleNamespace(trace=trace, phases=ph)

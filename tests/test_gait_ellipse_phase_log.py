@@ -26,7 +26,7 @@ def test_one_row_per_phase_with_the_records_values(circle_run):
     rows = phase_rows(circle_run)
     assert len(rows) == len(circle_run.phases) >= 3
     for row, rec in zip(rows, circle_run.phases, strict=True):
-        assert (row.kind, row.skip, row.event) == (rec.kind, rec.skip, rec.event)
+        assert (row.kind, row.skip, row.event) == (rec.phase, rec.skip, rec.event)
         assert row.rotation == rec.rotation and row.start == rec.start and row.end == rec.end
         assert rec.event in row.line()
     assert math.isnan(rows[-1].sensed_rotation)

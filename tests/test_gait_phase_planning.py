@@ -36,10 +36,10 @@ def _row(kind: int, cx: float) -> list[float]:
 
 def _records(last_phase1_event: str = "workspace limit"):
     """Phase records: a phase 1 that ended with ``last_phase1_event``, then phases 2/3."""
-    return [SimpleNamespace(kind=1, event="path finished"),
-            SimpleNamespace(kind=1, event=last_phase1_event),
-            SimpleNamespace(kind=2, event="path finished"),
-            SimpleNamespace(kind=3, event="workspace limit")]  # fmt: skip
+    return [SimpleNamespace(kind=1, phase=1, event="path finished"),
+            SimpleNamespace(kind=1, phase=1, event=last_phase1_event),
+            SimpleNamespace(kind=2, phase=2, event="path finished"),
+            SimpleNamespace(kind=3, phase=3, event="workspace limit")]  # fmt: skip
 
 
 def _runner(last_plan, trace_rows, settings=None, shape=None, event="workspace limit"):

@@ -138,7 +138,7 @@ def test_snapshot_panels_are_start_and_end_of_each_phase(short_ball):
     used = [ax for ax in fig.axes if ax.axison]
     assert len(used) == len(res.phases)
     for ax, ph in zip(used, res.phases, strict=True):
-        assert ax.get_title().startswith(f"phase {ph.kind}")
+        assert ax.get_title().startswith(f"phase {ph.phase}")
         styles = {line.get_linestyle() for line in ax.lines}
         assert styles == {"--", "-"}  # start dashed, end solid
     plt.close(fig)

@@ -148,7 +148,8 @@ def _events(res) -> list:
         events.append(Event(str(e["kind"]), str(e.get("message", "")), t=float(e["t"]),
                             data=data))  # fmt: skip
     for k, ph in enumerate(res.phases):
-        events.append(Event("phase", f"phase {ph.kind}: {ph.event}", t=ph.end,
+        four = " (transition 4)" if ph.skip else ""
+        events.append(Event("phase", f"phase {ph.phase}{four}: {ph.event}", t=ph.end,
                             data={"index": k, **ph.to_json()}))  # fmt: skip
     events.sort(key=lambda e: e.t if e.t is not None else 0.0)
     return events

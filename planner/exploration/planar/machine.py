@@ -125,14 +125,14 @@ def explore_object(
     features = detect_pad_features(trace, profile, start["rest"], R, s.explore_force, tip_r, moved)
     timings = {
         "nlp_build_s": nlp_build,
-        "nlp_solve_ms": [1e3 * p.nlp_time_s for p in runner.records if p.kind == 1],
-        "nlp_solve_cpu_ms": [1e3 * p.nlp_cpu_s for p in runner.records if p.kind == 1],
-        "nlp_iterations": [p.nlp_iterations for p in runner.records if p.kind == 1],
+        "nlp_solve_ms": [1e3 * p.nlp_time_s for p in runner.records if p.phase == 1],
+        "nlp_solve_cpu_ms": [1e3 * p.nlp_cpu_s for p in runner.records if p.phase == 1],
+        "nlp_iterations": [p.nlp_iterations for p in runner.records if p.phase == 1],
         "control_step_us": list(1e6 * np.asarray(ctrl.step_times)),
         "control_steps_compiled": ctrl.compiled_calls,
         "wall_s": time.perf_counter() - wall0,
     }
-    eps = [p.epsilon for p in runner.records if p.kind == 1 and np.isfinite(p.epsilon)]
+    eps = [p.epsilon for p in runner.records if p.phase == 1 and np.isfinite(p.epsilon)]
     return ExplorationResult(
         status=runner.status,
         reason=runner.reason,
@@ -233,7 +233,7 @@ class _Runner:
         """Whether the last ``STALL_CYCLES`` cycles (phase-1 start to phase-1 start) together
         turned the object less than ``STALL_ROTATION`` (phases 2/3 rolled it back as far as
         phase 1 turned it)."""
-        starts = [i for i, p in enumerate(self.records) if p.kind == 1]
+        starts = [i for i, p in enumerate(self.records) if p.phase == 1]
         if len(starts) <= STALL_CYCLES:
             return False
         net = sum(p.rotation for p in self.records[starts[-STALL_CYCLES - 1] : starts[-1]])

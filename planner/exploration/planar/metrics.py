@@ -32,7 +32,7 @@ def coverage_mask(log, body: str, profile, cells: int = 360, phases=None) -> np.
     when = {}  # phase kind -> (T,) rows inside a phase of that kind
     for ph in phases or ():
         rows = (log.t >= ph.start) & (log.t <= ph.end)
-        when[ph.kind] = when[ph.kind] | rows if ph.kind in when else rows
+        when[ph.phase] = when[ph.phase] | rows if ph.phase in when else rows
     for j, pair in enumerate(log.pairs):
         a, b = pair.split("|")
         if body not in (a, b) or not any(x.endswith((".left", ".right")) for x in (a, b)):

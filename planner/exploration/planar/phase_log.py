@@ -112,7 +112,7 @@ def phase_rows(result) -> list[PhaseRow]:
         err = math.hypot(float(tr["cx"][k]) - true_c[0], float(tr["cy"][k]) - true_c[1])
         cone, normal = _cones(log, p.start, p.end)
         out.append(PhaseRow(
-            index=i, kind=p.kind, skip=p.skip, event=p.event, start=p.start, end=p.end,
+            index=i, kind=p.phase, skip=p.skip, event=p.event, start=p.start, end=p.end,
             rotation=p.rotation, sensed_rotation=sensed, planned_rotation=p.planned_rotation,
             centre_error=err, cone=cone, normal=normal,
         ))  # fmt: skip

@@ -161,7 +161,7 @@ def carry_squeeze(r, plan, miss: float | None) -> float | None:
     """
     if not r.s.carry_weight or r.shape is not None or miss is None:
         return None
-    last = next((p for p in reversed(r.records) if p.kind == 1), None)
+    last = next((p for p in reversed(r.records) if p.phase == 1), None)
     if last is None or last.event != "workspace limit" or miss <= r.nlp.travel:
         return None
     f = phase1_squeeze(plan.beta, r.s, PHASE1_LIFT)

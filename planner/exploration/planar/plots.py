@@ -109,7 +109,7 @@ def plot_snapshots(result, profile, hand, max_panels: int = 12):
             drawn.append(_scene(ax, hand, profile, log, _row(log, t), style, alpha))
         ax.plot([-w, w], [0, 0], "k-", lw=3)
         skip = " (transition 4)" if ph.skip else ""
-        ax.set_title(f"phase {ph.kind}{skip}, {ph.start:.2f}-{ph.end:.2f} s\n"
+        ax.set_title(f"phase {ph.phase}{skip}, {ph.start:.2f}-{ph.end:.2f} s\n"
                      f"{math.degrees(ph.rotation):+.1f} deg, {ph.event}", fontsize=7)  # fmt: skip
     if not phases:
         axes[0, 0].text(0.5, 0.5, "no phase executed", ha="center", transform=axes[0, 0].transAxes)
@@ -132,13 +132,13 @@ def plot_snapshots(result, profile, hand, max_panels: int = 12):
 
 def _bands(ax, phases) -> None:
     for ph in phases:
-        ax.axvspan(ph.start, ph.end, color=_COLORS[ph.kind], lw=0)
+        ax.axvspan(ph.start, ph.end, color=_COLORS[ph.phase], lw=0)
 
 
 def _band_legend(ax, phases) -> None:
     from matplotlib.patches import Patch
 
-    kinds = sorted({ph.kind for ph in phases})
+    kinds = sorted({ph.phase for ph in phases})
     handles = [Patch(color=_COLORS[k], label=f"phase {k}") for k in kinds]
     ax.legend(handles=handles + ax.get_legend_handles_labels()[0], fontsize=7,
               loc="upper right", ncol=2)  # fmt: skip
@@ -322,8 +322,8 @@ def plot_timeline(result):
     fig, ax = plt.subplots(figsize=(8, 2.8))
     span = max((result.phases[-1].end - result.phases[0].start) if result.phases else 1.0, 1e-9)
     for ph in result.phases:
-        y = {1: 3, 2: 2, 3: 1}[ph.kind]
-        ax.barh(y, ph.end - ph.start, left=ph.start, color=_COLORS[ph.kind],
+        y = {1: 3, 2: 2, 3: 1}[ph.phase]
+        ax.barh(y, ph.end - ph.start, left=ph.start, color=_COLORS[ph.phase],
                 edgecolor="k" if ph.skip else "0.6", hatch="//" if ph.skip else None)  # fmt: skip
         if (ph.end - ph.start) / span > 0.08 or ph is result.phases[-1]:  # room for a label
             ax.text(ph.end, y, ph.event, fontsize=6, va="center", ha="right")
@@ -352,7 +352,7 @@ def plot_timeline(result):
 def _phase_at(phases, t: float) -> str:
     for ph in phases:
         if ph.start <= t <= ph.end:
-            return f"phase {ph.kind}" + (" (4)" if ph.skip else "")
+            return f"phase {ph.phase}" + (" (4)" if ph.skip else "")
     return ""
 
 

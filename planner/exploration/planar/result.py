@@ -6,8 +6,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-#: names of the phase kinds (Fig. 2.3); 4 marks a phase entered by transition 4 (skip)
-PHASE_KINDS = {1: "rotate (left-right)", 2: "right explores", 3: "left explores"}
+#: names of the phase kinds (Fig. 2.3); kind 4 is a phase 1 entered by transition 4 (phase 3
+#: skipped: the object is rotated again with two fingers)
+PHASE_KINDS = {
+    1: "rotate (left-right)",
+    2: "right explores",
+    3: "left explores",
+    4: "rotate again (transition 4)",
+}
 
 
 @dataclass(frozen=True)
@@ -15,8 +21,11 @@ class PhaseRecord:
     """One executed phase.
 
     Attributes:
-        kind: 1, 2 or 3 (Fig. 2.3).
-        skip: entered through transition 4 (the nominal next phase was skipped).
+        kind: 1, 2 or 3 (Fig. 2.3), or 4: a phase 1 entered through transition 4 (phase 3
+            was skipped and the object is rotated again with two fingers). :attr:`phase`
+            is the phase the fingers run (1 for kind 4).
+        skip: entered through transition 4 (``kind == 4``; a record built with ``kind=1,
+            skip=True`` gets kind 4).
         start, end: world time at its start and end [s].
         rotation: true object rotation during it [rad] (negative: clockwise).
         planned_rotation: what its plan expected [rad] (phase 1; 0 otherwise).
@@ -42,9 +51,25 @@ class PhaseRecord:
     nlp_cpu_s: float = 0.0
     nlp_iterations: int = 0
 
+    def __post_init__(self) -> None:
+        if self.kind not in PHASE_KINDS:
+            raise ValueError(f"PhaseRecord.kind must be 1, 2, 3 or 4, got {self.kind!r}")
+        if self.skip and self.kind == 1:
+            object.__setattr__(self, "kind", 4)
+        if self.kind == 4:
+            object.__setattr__(self, "skip", True)
+        elif self.skip:
+            raise ValueError(f"only a phase 1 is entered by transition 4, got kind {self.kind}")
+
+    @property
+    def phase(self) -> int:
+        """The phase the fingers run (1, 2 or 3): kind 4 is a phase 1."""
+        return 1 if self.kind == 4 else self.kind
+
     def to_json(self) -> dict:
         return {
-            "kind": self.kind, "name": PHASE_KINDS[self.kind], "skip": self.skip,
+            "kind": self.kind, "phase": self.phase, "name": PHASE_KINDS[self.kind],
+            "skip": self.skip,
             "start_s": round(self.start, 4), "end_s": round(self.end, 4),
             "rotation_deg": round(float(np.rad2deg(self.rotation)), 3),
             "planned_rotation_deg": round(float(np.rad2deg(self.planned_rotation)), 3),
