@@ -142,20 +142,20 @@ def object_rotation(trace: dict, radius: float) -> np.ndarray:
     the sensed outline) uses it. The controller integrates its own causal estimate, the
     pad's rolling only (``trace["theta"]``), for the object impedance and the planning.
 
-    Why both fingertips in phase 1: with the ridge under the pad, the tactile centroid
-    jumps onto the ridge and the pad's rolling reads it as rotation; the tip's rolling,
-    built on the pad-based centre, errs the other way. Per phase 1 of ``ball_with_ridge``
-    with the ridge at 0-315 deg (seeds 0-1, 308 phases), error RMS / max: pad 2.6 / 31
-    deg, tip 1.6 / 14 deg, their mean 0.84 / 8.5 deg. Why :func:`held_pad_rolling` in
-    phase 2: when the sliding right tip drags the ball over the ridge (``"object
-    moved"``), the ball slides on the palm while it turns (the palm's ``-dx / R`` read
-    +19.4 deg of turning as -10.6 deg) and the contact runs off the array; 311 phases:
-    RMS 2.2 -> 0.75 deg. Together (``bench_gait_ridge.py``, ridge at 0-315 deg, seeds 0-1):
-    ridges within 5 deg 2 -> 8/16 with the scenario's settings, 12 -> 11/16 with the
-    defaults; ``ball_with_ridge`` seeds 0-3: 3.6/1.1/1.4/0.9 -> 2.7/0.1/0.1/0.0 deg. Not
-    used (measured): phase 3's end corrected by the centre from the exploring pad's line
-    (per phase RMS 0.89 -> 0.55 deg; defaults 11 -> 13/16 within 5 deg, but a phantom
-    concave feature on ``ball_with_ridge`` seed 0).
+    Why both fingertips in phase 1: with the ridge under the pad, the tactile centroid jumps
+    onto the ridge and the pad's rolling reads it as rotation; the tip's rolling, built on
+    the pad-based centre, errs the other way. Per phase 1 of ``ball_with_ridge`` with the
+    ridge at 0-315 deg (seeds 0-1, 308 phases), error RMS / max: pad 2.6 / 31 deg, tip 1.6 /
+    14 deg, their mean 0.84 / 8.5 deg. Why :func:`held_pad_rolling` in phase 2: when the
+    sliding right tip drags the ball over the ridge (``"object moved"``), the ball slides on
+    the palm while it turns (the palm's ``-dx / R`` read +19.4 deg of turning as -10.6 deg)
+    and the contact runs off the array; 311 phases: RMS 2.2 -> 0.75 deg. Together
+    (``bench_gait_ridge.py``, ridge at 0-315 deg, seeds 0-1): ridges within 5 deg 2 -> 8/16
+    with the scenario's settings, 12 -> 11/16 with the defaults of then (a 60 N/m exploring
+    tip); ``ball_with_ridge`` seeds 0-3: 3.6/1.1/1.4/0.9 -> 2.7/0.1/0.1/0.0 deg. Not used
+    (measured): phase 3's end corrected by the centre from the exploring pad's line (per
+    phase RMS 0.89 -> 0.55 deg; defaults 11 -> 13/16 within 5 deg, but a phantom concave
+    feature on ``ball_with_ridge`` seed 0).
     """
     th = np.array(trace["theta"], float)
     kind = np.asarray(trace["kind"])
@@ -224,7 +224,7 @@ def held_pad_rolling(trace: dict, radius: float, edge: float = PAD_CENTROID_EDGE
     (``"object moved"``); the contact then runs off the array's edge, the centroid sticks
     at its outermost taxel and the pad-only estimate read 3-17 deg too little. On 311
     phases 2 of ``ball_with_ridge`` with the ridge at 0-315 deg (seeds 0-1) the error's
-    RMS went from 2.2 to 0.7 deg. The palm's contact alone is 3 deg off at a phase's start,
+    RMS went from 2.2 to 0.75 deg. The palm's contact alone is 3 deg off at a phase's start,
     where the ball still drops onto the palm from phase 1's lift; hence the centroid
     wherever it can be read."""
     u = np.asarray(trace["u"], float)
