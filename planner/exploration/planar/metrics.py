@@ -7,6 +7,7 @@ import math
 import numpy as np
 
 from planner.exploration.planar.result import DetectedFeature
+from robots.sensors import TactileArray
 
 #: radius of the virtual fingertip the pad's trace is offset by for the detection [m]
 VIRTUAL_RADIUS = 0.003
@@ -193,20 +194,15 @@ def tip_rolling(trace: dict, radius: float) -> np.ndarray:
     value."""
     b = np.unwrap(np.arctan2(trace["pRy"] - trace["cy"], trace["pRx"] - trace["cx"]))
     val = b + np.asarray(trace["sR"], float) / radius
-    ok = np.isfinite(val)
-    if not ok.any():
-        return np.zeros_like(val)
-    last = np.maximum.accumulate(np.where(ok, np.arange(val.size), -1))
-    first = int(np.flatnonzero(ok)[0])
-    return val[np.where(last >= 0, last, first)]
+    return _held(val, np.isfinite(val))
 
 
 #: largest tactile centroid [m] across the pad that :func:`held_pad_rolling` reads as the
-#: contact: 0.8 of the 8x8 array's outermost taxel centre (8.75 mm at 2.5 mm pitch). Beyond
-#: it the contact patch runs off the array, the centroid sticks at 8.75 mm and the centre
-#: ``p_L - R n_L`` built on it is millimetres off (a ball dragged 23 deg along the palm
-#: read 10.6 deg)
-PAD_CENTROID_EDGE = 0.8 * 0.00875
+#: contact: 0.8 of the pad array's outermost taxel centre (``robots.sensors.TactileArray``:
+#: 8.75 mm for 8 columns at 2.5 mm pitch, so 7 mm). Beyond it the contact patch runs off
+#: the array, the centroid sticks at the outer taxel and the centre ``p_L - R n_L`` built
+#: on it is millimetres off (a ball dragged 23 deg along the palm read 10.6 deg)
+PAD_CENTROID_EDGE = 0.8 * float(np.abs(TactileArray().u).max())
 
 
 def held_pad_rolling(trace: dict, radius: float, edge: float = PAD_CENTROID_EDGE) -> np.ndarray:
@@ -244,9 +240,9 @@ def held_pad_rolling(trace: dict, radius: float, edge: float = PAD_CENTROID_EDGE
     use_tactile = inside[1:] & inside[:-1]
     inc = np.where(use_tactile, -np.diff(u[rows]), -np.diff(u_palm[rows])) / R
     inc = np.diff(normal[rows]) + np.where(np.isfinite(inc), inc, 0.0)
-    at = np.concatenate([[0.0], np.cumsum(inc)]) + normal[rows[0]] - u[rows[0]] / R
-    last = np.maximum.accumulate(np.where(touch, np.arange(u.size), -1))
-    return at[np.searchsorted(rows, np.where(last >= 0, last, rows[0]))]
+    val = np.zeros_like(u)
+    val[rows] = np.concatenate([[0.0], np.cumsum(inc)]) + normal[rows[0]] - u[rows[0]] / R
+    return _held(val, touch)
 
 
 def pad_rolling(trace: dict, radius: float) -> np.ndarray:
@@ -255,13 +251,16 @@ def pad_rolling(trace: dict, radius: float) -> np.ndarray:
     angle of the pad's contact about the sensed centre, ``u`` the contact's place on the
     pad [m]); rows where the pad does not touch hold the last touching value."""
     b = np.unwrap(np.arctan2(trace["pLy"] - trace["cy"], trace["pLx"] - trace["cx"]))
-    val = b - np.asarray(trace["u"], float) / radius
-    touch = np.asarray(trace["pad_touch"]) > 0
-    if not touch.any():
+    return _held(b - np.asarray(trace["u"], float) / radius, np.asarray(trace["pad_touch"]) > 0)
+
+
+def _held(val: np.ndarray, ok: np.ndarray) -> np.ndarray:
+    """``val`` where ``ok``; elsewhere the last ``ok`` value (before the first: the first
+    one); all zeros when no row is ``ok``."""
+    if not ok.any():
         return np.zeros_like(val)
-    last = np.maximum.accumulate(np.where(touch, np.arange(val.size), -1))
-    first = int(np.flatnonzero(touch)[0])
-    return val[np.where(last >= 0, last, first)]
+    last = np.maximum.accumulate(np.where(ok, np.arange(val.size), -1))
+    return val[np.where(last >= 0, last, int(np.flatnonzero(ok)[0]))]
 
 
 def steady_sliding(trace: dict, explore_force: float = 0.3) -> np.ndarray:
