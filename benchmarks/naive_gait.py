@@ -86,6 +86,7 @@ class NaiveGaitController(GaitController):
         e = self.sensing.est
         self._theta = segment.theta0
         self._u0, self._beta0 = e.u, e.beta[0]
+        self._ref = False  # phase 1's rolling reference: its own first touching reading
         self._holder = 0 if segment.kind == 2 else 1
         self._hold_tip = e.tips[self._holder].copy()
         self._weak, self._trigger = 0.0, None
@@ -99,6 +100,8 @@ class NaiveGaitController(GaitController):
         e = self.sensing.est
         tl, R = t - self.t0, self.sensing.radius
         if seg.kind == 1 and e.pad_touch:
+            if not self._ref:
+                self._u0, self._beta0, self._ref = e.u, e.beta[0], True
             self._theta = seg.theta0 + (e.beta[0] - self._beta0) - (e.u - self._u0) / R
         f_des = seg.hold_force(tl)
         if seg.kind == 1:

@@ -170,3 +170,28 @@ def test_replay_with_the_step_run_from_python(recording):
     for call, tau, _, event in gait_replay.replay(ctrl, short):
         np.testing.assert_allclose(tau, call["tau"], rtol=0, atol=1e-9)
         assert event == call["event"]
+
+
+def test_phase1_rolling_reference_is_the_phases_own_first_reading(recording):
+    """Phase 1 does not depend on the contact estimate the last phase left: its rolling
+    reference (eq. 2.4) is its own first touching reading. A stale centroid 7 mm off (phase
+    3's pad ended with it at the array's edge on a ridge) gives the recorded torques and a
+    first estimate equal to the segment's theta0 (before: a 7.9 deg jump)."""
+    ctrl = gait_replay.make_controller(recording)
+    # phases 1 whose pad touches from the first call on (a pad that does not touch yet
+    # places its contact at the last estimate, stale or not)
+    windows = [w for w in recording["windows"] if w["kind"] == 1 and w["calls"][0]["trace"][3]]
+    assert len(windows) >= 2
+    for w in windows:
+        ctrl.sensing.est.u = w["pre"]["u"]
+        ctrl._last_tau = w["pre"]["last_tau"].copy()
+        if w["sense"] is not None:
+            obs, source = w["sense"]
+            ctrl.sensing.update(gait_replay.observation(obs), source)
+        ctrl.sensing.est.u = ctrl.sensing.est.u + 7e-3  # stale
+        ctrl.start(gait_replay.replay_segment(w), w["t0"])
+        for i, c in enumerate(w["calls"]):
+            tau = np.array(ctrl(c["t"], gait_replay.observation(c["obs"])))
+            np.testing.assert_allclose(tau, c["tau"], rtol=0, atol=1e-9)
+            if i == 0:
+                assert ctrl.theta == pytest.approx(w["theta0"], abs=1e-12)

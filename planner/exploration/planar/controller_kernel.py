@@ -57,7 +57,10 @@ S_FLAG = 61  # DAQP exit flag of the step
 K_STEP_FN, K_STEP_ARG, K_TAU_BOUND = 62, 63, 64  # the compiled step (0: run by Python)
 # --- ks: the exploring pad's contact servo (phase constants and state; K_USERVO 0: off)
 K_USERVO, K_UTARGET, S_UINT = 65, 66, 67
-N_KS = 68
+#: 1 once phase 1 took its rolling reference (``S_U0``, ``S_BETA0``) from its own first
+#: touching reading (0: not yet)
+S_REF = 68
+N_KS = 69
 #: contact servo of the exploring pad: proportional gain [-], integral gain [1/s] and the
 #: largest orientation correction [rad] (:func:`_contact_servo`)
 USERVO_KP, USERVO_KI, USERVO_MAX = 0.5, 10.0, 0.2
@@ -150,6 +153,8 @@ def gait_kernel(  # pragma: no cover
     R, r = ks[K_R], ks[K_RTIP]
     u, cx = b[0], b[10]
     if kind == 1 and b[1] != 0.0:  # rolling integration (eq. 2.4)
+        if ks[S_REF] == 0.0:  # from the phase's own first reading (see GaitController.start)
+            ks[S_U0], ks[S_BETA0], ks[S_REF] = u, b[12], 1.0
         ks[S_THETA] = ks[K_THETA0] + (b[12] - ks[S_BETA0]) - (u - ks[S_U0]) / R
     theta = ks[S_THETA]
     f_des = sv[V_FDES]
