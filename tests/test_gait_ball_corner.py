@@ -22,6 +22,7 @@ from planner.exploration.planar.corner_probe import (
     PROBE_EDGE,
     STALL_ROWS,
     CornerProbe,
+    jumped_walls,
     probe_segment,
     wall_stall,
 )
@@ -126,6 +127,60 @@ def test_no_stall_without_the_end_held_and_a_jump():
     held = _rows(np.r_[np.full(100, 2.75), np.linspace(2.75, 2.9, 50)],
                  np.r_[np.full(100, 8.75e-3), np.zeros(50)])  # fmt: skip
     assert wall_stall(held, R, W_PAD) is None
+
+
+def _jump(land_deg: float | None, wall: float = math.radians(167.7), theta: float = 0.3):
+    """Rows of one phase 3 at rotation ``theta`` [rad]: the pad slides, its end stalls at
+    ``wall`` [rad] for 0.2 s, it flies 20 rows and lands ``land_deg`` past the wall (None:
+    it never lands)."""
+    n_fly = 20
+    end = wall - 1.25e-3 / R
+    slide = np.linspace(wall - 0.25, wall - 0.2, 60)
+    fly = np.linspace(wall, wall + 0.4, n_fly)
+    land = [] if land_deg is None else list(wall + np.radians(land_deg) + np.linspace(0, 0.05, 30))
+    angles = np.r_[slide, np.full(100, end), fly, land]
+    u = np.r_[np.zeros(60), np.full(100 + n_fly, 8.75e-3), np.zeros(len(land))]
+    touch = np.r_[np.ones(160), np.zeros(n_fly), np.ones(len(land))]
+    return _rows(angles, u, theta=theta, touch=touch)
+
+
+def _as_trace(*phases) -> tuple[dict, np.ndarray]:
+    tr = np.vstack(phases)
+    return {k: tr[:, i] for k, i in _COL.items()}, tr[:, _COL["theta"]]
+
+
+def test_a_wall_the_pad_jumped_and_landed_past_is_a_jumped_wall():
+    """The pad's end stalls at the ridge's near wall, flies, and lands 26 deg past it (as
+    on ball_with_ridge): one wall, where :func:`wall_stall` puts it."""
+    wall = math.radians(167.7)
+    trace, theta = _as_trace(_jump(26.0, wall))
+    (found,) = jumped_walls(trace, theta, R, W_PAD)
+    assert found == pytest.approx(wall, abs=math.radians(0.05))
+
+
+@pytest.mark.parametrize("land", [None, 4.0])
+def test_a_pad_that_lifts_off_or_lands_short_jumped_nothing(land):
+    """A stall followed by lift-off (the phase's end: the pad never touches again) or by a
+    landing within MIN_BEYOND of the wall (4 deg: a pad that lifted and came back down on
+    the same smooth surface) is no jumped wall."""
+    trace, theta = _as_trace(_jump(land))
+    assert 4.0 < math.degrees(MIN_BEYOND)
+    assert jumped_walls(trace, theta, R, W_PAD) == []
+
+
+def test_jumped_walls_reads_every_phase_3_and_skips_excluded_rows():
+    """Two phases 3 with a jump each, a phase 2 between them: two walls, each in the object
+    frame of its own phase (the rotation estimate per row). The same rows marked kind 0
+    (a phase that ended "object moved") are left out."""
+    w1, w2 = math.radians(167.7), math.radians(40.0)
+    a, b = _jump(26.0, w1), _jump(20.0, w2, theta=0.7)  # b: a later phase, turned
+    hold = _rows(np.full(10, 1.0), np.zeros(10))
+    hold[:, _COL["kind"]] = 2
+    trace, theta = _as_trace(a, hold, b)
+    found = jumped_walls(trace, theta, R, W_PAD)
+    assert found == pytest.approx([w1, w2], abs=math.radians(0.05))
+    trace["kind"][: len(a)] = 0.0
+    assert jumped_walls(trace, theta, R, W_PAD) == pytest.approx([w2], abs=math.radians(0.05))
 
 
 def test_the_probe_aims_once_at_a_wall_the_pad_got_past():

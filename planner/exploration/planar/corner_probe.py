@@ -129,6 +129,47 @@ def wall_stall(rows: np.ndarray, radius: float, pad_half_width: float, columns: 
     return math.remainder(float(np.median(e[best])), 2 * math.pi), direction
 
 
+def jumped_walls(trace: dict, theta, radius: float, pad_half_width: float, columns: int = 8):
+    """The walls the exploring pad's end stalled at and then jumped, over a whole trace:
+    object-frame polar angles [rad], one per phase 3 at most.
+
+    Args:
+        trace: the controller's sensed series (:data:`TRACE_NAMES` columns; rows of kind 0
+            are left out, e.g. phases whose held object moved).
+        theta: (N,) the sensed object rotation per row [rad] (the mapping estimate,
+            :func:`.metrics.object_rotation`, which in phase 3 is its first row's value
+            minus the centre's roll on the palm, as :func:`wall_stall` integrates it).
+        radius: the estimate's radius [m]; pad_half_width: half the pad's length [m];
+            columns: taxel columns across the pad.
+
+    A phase 3 counts when :func:`wall_stall` finds a stall followed by a jump AND the pad
+    touches again at least :data:`MIN_BEYOND` past the wall along its motion: it got past
+    something that stands out of the surface. A pad stalling at its stroke's end and
+    lifting off (the phase's end) lands nowhere; on a smooth outline the sliding pad's
+    contact moves on without gaps.
+    """
+    kind = np.asarray(trace["kind"])
+    theta = np.asarray(theta, float)
+    if kind.size == 0:
+        return []
+    table = np.column_stack([np.asarray(trace[k], float) for k in TRACE_NAMES])
+    out = []
+    for run in np.split(np.arange(kind.size), np.flatnonzero(np.diff(kind) != 0) + 1):
+        if kind[run[0]] != 3 or run.size < STALL_ROWS:
+            continue
+        rows = table[run].copy()
+        rows[:, _COL["theta"]] = theta[run[0]]  # wall_stall adds the palm roll itself
+        found = wall_stall(rows, radius, pad_half_width, columns)
+        if found is None:
+            continue
+        wall, direction = found
+        touch, a, _ = _phase_rows(rows, radius, pad_half_width, columns)
+        past = direction * (np.remainder(a[touch] - wall + math.pi, 2 * math.pi) - math.pi)
+        if np.any(past >= MIN_BEYOND):
+            out.append(wall)
+    return out
+
+
 @dataclass
 class CornerProbe:
     """The executor's memory of the walls the pad's end stalled at, and which it probed.
@@ -222,4 +263,11 @@ def probe_segment(est, q, aim: float, target: float, theta0: float, settings, ha
     return seg
 
 
-__all__ = ["CornerProbe", "approach_segment", "probe_segment", "wall_ahead", "wall_stall"]
+__all__ = [
+    "CornerProbe",
+    "approach_segment",
+    "jumped_walls",
+    "probe_segment",
+    "wall_ahead",
+    "wall_stall",
+]

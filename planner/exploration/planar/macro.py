@@ -17,7 +17,9 @@ above the model is what both traces show clearly (3 mm, against 0.1-0.3 mm of no
 A ridge seen in one pass only (the pad stopped on it with few usable samples: seeds 0 and 2
 of ``ball_with_ridge`` missed it) is reported when the pad's tactile images confirm it
 (§2.3.2, Fig. 2.14: the pressure image changes from a round to a line-like pattern over the
-ridge): :func:`.sensed_features.image_ridges`, :func:`.sensed_features.fuse_image_ridges`.
+ridge): :func:`.sensed_features.image_ridges`, :func:`.sensed_features.fuse_image_ridges`;
+so is one whose only pass was the pad's end stalling at the ridge's near wall and jumping
+over it (:func:`.corner_probe.jumped_walls`).
 """
 
 from __future__ import annotations
@@ -254,9 +256,27 @@ def detect_macro_features(
     a, h, p = sensed_heights(trace, theta, radius, tip_radius, band)
     found = macro_regions(a, h, p, suspect_passes(trace))
     single = [ang for ang, sign, _ in pass_regions(a, h, p) if sign > 0]
-    found += fuse_image_ridges(image_ridges(trace, theta, band), found, single)
+    found += fuse_image_ridges(
+        image_ridges(trace, theta, band), found, single + _walls(trace, theta, radius)
+    )
     truth = _truth_clusters(profile)
     return [as_feature(ang, "ridge" if sign > 0 else "groove", truth) for ang, sign in found]
+
+
+def _walls(trace: dict, theta, radius: float) -> list[float]:
+    """The walls the pad's end stalled at and jumped (:func:`.corner_probe.jumped_walls`),
+    [rad]: they confirm an image ridge as a single-pass height region does. A pad that
+    stops at a ridge's near wall touches it with its end, 1 mm up the 3 mm wall (sensed
+    heights 0.3-0.8 mm, under :data:`MACRO_HEIGHT`), and flies over the top: on the ridge
+    ball with the ridge at 0, 45 and 315 deg (``explore_object`` defaults) the only pass
+    over it was such a jump, the images saw the ridge and no height region confirmed it."""
+    if "images" not in trace or not all(k in trace for k in ("u", "nLx", "theta")):
+        return []
+    from planner.exploration.planar.corner_probe import jumped_walls
+    from planner.exploration.planar.sensed_features import PAD_HALF_WIDTH
+
+    columns = int(np.shape(trace["images"])[-1]) if np.size(trace["images"]) else 8
+    return jumped_walls(trace, theta, radius, PAD_HALF_WIDTH, columns)
 
 
 def as_feature(angle: float, kind: str, truth: list[float]) -> DetectedFeature:

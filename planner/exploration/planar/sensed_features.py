@@ -248,10 +248,12 @@ def fuse_image_ridges(image: list[float], found: list, single: list[float]) -> l
     An image ridge within :data:`IMAGE_MERGE` of a feature in ``found`` (``[(angle, sign)]``,
     the trace's features seen in two passes) is that feature (the trace places it from the
     ridge's whole top). Otherwise the image evidence replaces the trace's second pass: a
-    single-pass ridge region (``single``, angles [rad]) within :data:`FUSE_ANGLE` confirms
-    it, and it is reported where the images saw it (the pad rests on the ridge there; the
-    region of a pass that ended on the ridge is off by up to 10 deg); without one it is
-    dropped (:data:`FUSE_ANGLE`).
+    single-pass ridge region or a wall the pad's end stalled at and jumped (``single``,
+    angles [rad]; :func:`.macro.detect_macro_features` passes both, the walls from
+    :func:`.corner_probe.jumped_walls`) within :data:`FUSE_ANGLE` confirms it, and it is
+    reported where the images saw it (the pad rests on the ridge there; the region of a
+    pass that ended on the ridge is off by up to 10 deg); without one it is dropped
+    (:data:`FUSE_ANGLE`).
     """
     out = []
     for a in image:
