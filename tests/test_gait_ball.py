@@ -18,6 +18,8 @@ from planner.exploration.planar.angles import circular_median
 from planner.exploration.planar.metrics import (
     PAD_CENTROID_EDGE,
     held_pad_rolling,
+    held_tip_centre_x,
+    line_like_rows,
     object_rotation,
     pad_rolling,
     pad_shadow,
@@ -241,6 +243,84 @@ def test_rotation_is_chained_over_phases():
     expect2[2] = expect2[1]  # held while the pad does not touch
     np.testing.assert_allclose(th[5:10], expect2, atol=1e-12)
     np.testing.assert_allclose(th[-n3:], -0.35 + np.linspace(0.0, 0.02, n3), atol=1e-12)
+
+
+def _rolling_on_the_palm(turn: np.ndarray, lift: np.ndarray, pad_at: float = 2.6) -> dict:
+    """Phase 3: a ball on the palm rolling by ``turn`` (N,) [rad] (centre ``(-R turn, R)``),
+    held by the round right tip whose centre estimate (``cx``) is ``lift`` (N,) [m] off (a
+    ridge under the tip), explored by the pad touching it at polar angle ``pad_at`` [rad]
+    with its contact at the pad's middle (``u = 0``), clean round images."""
+    n = turn.size
+    x = -R * turn
+    nL = np.tile([math.cos(pad_at), math.sin(pad_at)], (n, 1))
+    pL = np.column_stack([x, np.full(n, R)]) + R * nL
+    return {"t": np.linspace(0, 1, n), "kind": np.full(n, 3), "cx": x + lift,
+            "cy": np.full(n, R), "pLx": pL[:, 0], "pLy": pL[:, 1], "nLx": nL[:, 0],
+            "nLy": nL[:, 1], "u": np.zeros(n), "pad_touch": np.ones(n),
+            "theta": np.zeros(n)}  # fmt: skip
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    h=st.floats(1e-3, 3.5e-3),
+    sign=st.sampled_from([1.0, -1.0]),
+    start=st.integers(0, 30),
+    width=st.integers(1, 25),
+    total=st.floats(-0.2, 0.2),
+)
+def test_a_bump_under_the_holding_tip_is_taken_out_of_phase_3(h, sign, start, width, total):
+    """The holding tip's centre lifted by ``h`` (1-3.5 mm, a ridge under the tip) over any
+    window shorter than half the phase, at its start, middle or end: corrected by the
+    pad's centre, phase 3's rotation is the palm's roll exactly (uncorrected it is off by
+    h / R, 1.1-4 deg)."""
+    n = 61
+    turn = np.linspace(0.0, total, n)
+    lift = np.zeros(n)
+    lift[start : start + width] = sign * h
+    tr = _rolling_on_the_palm(turn, lift)
+    no_line = np.zeros(n, bool)
+    cx = held_tip_centre_x(tr, R, no_line)
+    np.testing.assert_allclose(cx, -R * turn, atol=1e-12)
+    # without images (nothing tells a ridge under the pad) the tip's centre stands
+    np.testing.assert_allclose(object_rotation(tr, R), turn - (lift - lift[0]) / R, atol=1e-12)
+    tr_img = {**tr, "image_t": tr["t"][::5], "images": np.ones((len(tr["t"][::5]), 8, 8))}
+    th = object_rotation(tr_img, R)  # round images: the correction applies
+    np.testing.assert_allclose(th, turn, atol=1e-12)
+
+
+def test_the_tip_centre_stays_where_the_pad_cannot_tell():
+    """Rows where the pad's image is line-like (a ridge under the pad), its centroid lies
+    past PAD_CENTROID_EDGE, or it does not touch keep the tip's centre; with fewer than 10
+    clean rows nothing is corrected; a departure within TIP_LIFT is noise, kept."""
+    from planner.exploration.planar.metrics import TIP_LIFT
+
+    n = 40
+    lift = np.r_[np.zeros(20), np.full(20, 2e-3)]
+    tr = _rolling_on_the_palm(np.linspace(0.0, 0.1, n), lift)
+    line = np.r_[np.zeros(30, bool), np.ones(10, bool)]
+    cx = held_tip_centre_x(tr, R, line)
+    np.testing.assert_allclose(cx[:30], -R * np.linspace(0.0, 0.1, n)[:30], atol=1e-12)
+    np.testing.assert_allclose(cx[30:], tr["cx"][30:], atol=0)
+    edge = {**tr, "u": np.where(np.arange(n) >= 30, PAD_CENTROID_EDGE + 1e-4, 0.0)}
+    np.testing.assert_allclose(held_tip_centre_x(edge, R, np.zeros(n, bool))[30:],
+                               tr["cx"][30:], atol=0)  # fmt: skip
+    few = {**tr, "pad_touch": np.r_[np.ones(9), np.zeros(n - 9)]}
+    np.testing.assert_array_equal(held_tip_centre_x(few, R, np.zeros(n, bool)), tr["cx"])
+    small = _rolling_on_the_palm(np.zeros(n), np.r_[np.zeros(20), np.full(20, 0.9 * TIP_LIFT)])
+    np.testing.assert_array_equal(held_tip_centre_x(small, R, np.zeros(n, bool)), small["cx"])
+
+
+def test_line_like_rows_take_the_nearest_image():
+    """Each trace row reads the image nearest in time: round (one taxel) or line-like
+    (a row of 8 taxels: elongation 8); None without images."""
+    line_img = np.zeros((8, 8))
+    line_img[3, :] = 1.0
+    dot = np.zeros((8, 8))
+    dot[3, 3] = 1.0
+    tr = {"t": np.array([0.0, 0.01, 0.024, 0.026, 0.05]), "image_t": np.array([0.0, 0.02, 0.03]),
+          "images": np.stack([dot, line_img, dot])}  # fmt: skip
+    np.testing.assert_array_equal(line_like_rows(tr), [False, True, True, False, False])
+    assert line_like_rows({"t": tr["t"]}) is None
 
 
 # --------------------------------------------------------------------- image ridges
