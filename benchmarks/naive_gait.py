@@ -85,7 +85,6 @@ class NaiveGaitController(GaitController):
         super().start(segment, t)
         e = self.sensing.est
         self._theta = segment.theta0
-        self._u0, self._beta0 = e.u, e.beta[0]
         self._ref = False  # phase 1's rolling reference: its own first touching reading
         self._holder = 0 if segment.kind == 2 else 1
         self._hold_tip = e.tips[self._holder].copy()

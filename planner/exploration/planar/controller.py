@@ -176,13 +176,12 @@ class GaitController:
         ks[ck.K_GRASP] = 1.0 if kind == 1 else 0.0
         ks[ck.K_THETA0] = ks[ck.S_THETA] = segment.theta0
         ks[ck.K_DURATION] = segment.duration
-        # the rolling reference is taken by the phase's first touching reading, not from
-        # the last estimate: phase 3's pad ends with its centroid wherever its stroke left
-        # it (on a ridge at the array's edge: 8.75 mm), phase 1's squeeze moves it onto
-        # the ball's contact (1.9 mm), and a reference from before read that as 7.9 deg
-        # of rotation (ridge at 225 deg: the object impedance chased it into the right
-        # finger's joint limit, three times, "no progress")
-        ks[ck.S_U0], ks[ck.S_BETA0] = e.u, e.beta[0]
+        # phase 1's rolling reference (S_U0, S_BETA0) is taken by the kernel at the phase's
+        # first touching reading, not from the last estimate: phase 3's pad ends with its
+        # centroid wherever its stroke left it (on a ridge at the array's edge: 8.75 mm),
+        # phase 1's squeeze moves it onto the ball's contact (1.9 mm), and a reference from
+        # before read that as 7.9 deg of rotation (ridge at 225 deg: the object impedance
+        # chased it into the right finger's joint limit, three times, "no progress")
         ks[ck.S_REF] = 0.0
         ks[ck.S_HOLD : ck.S_HOLD + 2] = e.tips[holder]
         ks[ck.S_INT] = 0.0  # the internal-force PI restarts

@@ -137,8 +137,9 @@ def jumped_walls(trace: dict, theta, radius: float, pad_half_width: float, colum
         trace: the controller's sensed series (:data:`TRACE_NAMES` columns; rows of kind 0
             are left out, e.g. phases whose held object moved).
         theta: (N,) the sensed object rotation per row [rad] (the mapping estimate,
-            :func:`.metrics.object_rotation`, which in phase 3 is its first row's value
-            minus the centre's roll on the palm, as :func:`wall_stall` integrates it).
+            :func:`.metrics.object_rotation`); each phase 3 starts from its value at the
+            phase's first row, and :func:`wall_stall` adds the roll of the trace's centre
+            on the palm.
         radius: the estimate's radius [m]; pad_half_width: half the pad's length [m];
             columns: taxel columns across the pad.
 
