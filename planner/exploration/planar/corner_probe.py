@@ -149,13 +149,15 @@ def jumped_walls(trace: dict, theta, radius: float, pad_half_width: float, colum
     lifting off (the phase's end) lands nowhere; on a smooth outline the sliding pad's
     contact moves on without gaps.
     """
+    from planner.exploration.planar.metrics import phase_runs
+
     kind = np.asarray(trace["kind"])
     theta = np.asarray(theta, float)
     if kind.size == 0:
         return []
     table = np.column_stack([np.asarray(trace[k], float) for k in TRACE_NAMES])
     out = []
-    for run in np.split(np.arange(kind.size), np.flatnonzero(np.diff(kind) != 0) + 1):
+    for run in phase_runs(kind):
         if kind[run[0]] != 3 or run.size < STALL_ROWS:
             continue
         rows = table[run].copy()

@@ -270,9 +270,11 @@ def _walls(trace: dict, theta, radius: float) -> list[float]:
     heights 0.3-0.8 mm, under :data:`MACRO_HEIGHT`), and flies over the top: on the ridge
     ball with the ridge at 0, 45 and 315 deg (``explore_object`` defaults) the only pass
     over it was such a jump, the images saw the ridge and no height region confirmed it."""
-    if "images" not in trace or not all(k in trace for k in ("u", "nLx", "theta")):
-        return []
+    from planner.exploration.planar.controller import TRACE_NAMES
     from planner.exploration.planar.corner_probe import jumped_walls
+
+    if "images" not in trace or not all(k in trace for k in TRACE_NAMES):
+        return []  # no images to confirm, or a partial trace (every column is read)
     from planner.exploration.planar.sensed_features import PAD_HALF_WIDTH
 
     columns = int(np.shape(trace["images"])[-1]) if np.size(trace["images"]) else 8

@@ -170,19 +170,19 @@ def object_rotation(trace: dict, radius: float) -> np.ndarray:
     line = line_like_rows(trace)
     for run in phase_runs(kind):
         k = kind[run[0]]
+        # each phase from its own first reading (the last phase's centre and centroid came
+        # from another source: the palm, an array edge)
+        sub = {c: np.asarray(trace[c], float)[run] for c in cols if c in trace}
         if k == 3:
-            cx = np.asarray(trace["cx"], float)[run]
-            if line is not None and all(c in trace for c in cols[:6]):
-                sub = {c: np.asarray(trace[c], float)[run] for c in cols[:6] + ("cx",)}
+            cx = sub["cx"]
+            if line is not None and all(c in sub for c in cols[:6]):
                 cx = held_tip_centre_x(sub, radius, line[run])
             inc = -(cx - cx[0]) / radius
         elif k not in (1, 2):
             inc = np.zeros(run.size)
-        elif k == 1 and not all(c in trace for c in cols):  # no fingertip readings
+        elif k == 1 and len(sub) < len(cols):  # no fingertip readings
             inc = th[run] - th[run[0]]
-        else:  # each phase from its own first reading (the last phase's centre and
-            # centroid came from another source: the palm, an array edge)
-            sub = {c: np.asarray(trace[c], float)[run] for c in cols if c in trace}
+        else:
             if k == 2:
                 inc = held_pad_rolling(sub, radius)
             else:

@@ -152,7 +152,10 @@ class GraspSensing:
         square's face does not touch it at its centre, and square_gait (posed outline)
         turned +29.7 deg the wrong way with it (-30.9 deg without). Not called by
         ``explore_object`` yet: with it ellipse_gait's seeds 0-3 failed at -99 to -63 deg
-        (-101 to -107 without) and the ball was neutral (measured 2026-11-23)."""
+        (-101 to -107 without) and the ball was neutral (measured 2026-11-23). Since
+        2026-11-24 phase 1's rolling reference is its own first touching reading
+        (``controller_kernel.S_REF``), so the first touch no longer jumps the rotation
+        estimate; only the centre's source still switches there."""
         self.buffer[B_U] = 0.0
         self.buffer[B_TOUCH] = PLACED
 
