@@ -236,7 +236,10 @@ def test_exploration_switches_reach_the_gait_settings():
 
     base = {"kind": "gait", "name": "switches", "object": {"shape": "circle", "radius": 0.05}}
     s = Config.model_validate(base).settings()
-    assert (s.corner_probe, s.stroke_overlap, s.wall_approach) == (True, False, False)
-    flipped = {"corner_probe": False, "stroke_overlap": True, "wall_approach": True}
+    assert (s.corner_probe, s.stroke_overlap, s.wall_approach, s.left_regrasp) == (
+        True, False, False, True)  # fmt: skip
+    flipped = {"corner_probe": False, "stroke_overlap": True, "wall_approach": True,
+               "left_regrasp": False}  # fmt: skip
     s = Config.model_validate({**base, **flipped}).settings()
-    assert (s.corner_probe, s.stroke_overlap, s.wall_approach) == (False, True, True)
+    assert (s.corner_probe, s.stroke_overlap, s.wall_approach, s.left_regrasp) == (
+        False, True, True, False)  # fmt: skip

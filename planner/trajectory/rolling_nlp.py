@@ -110,6 +110,7 @@ class RollingNLP:
         pad_use: float = 0.6,
         tol: float = 1e-5,
         palm_points: int = 0,
+        relax_start: bool = False,
     ) -> None:
         import casadi as cs
 
@@ -120,6 +121,7 @@ class RollingNLP:
         self.max_tip_angle = checks.in_range("max_tip_angle", max_tip_angle, 0.0, math.pi, "rad")
         self.travel = checks.positive("travel", travel, "m")
         self.K = K = checks.integer("palm_points", palm_points, 0)
+        self.relax_start = relax_start = bool(relax_start)
         pad = hand.params.left.pad_half_width
         N = self.N
         nk = 12  # theta, cx, cy, q(6), betaL, betaR, u
@@ -180,15 +182,31 @@ class RollingNLP:
                 add(q[i] - cs.fmax(lim[i, 1] - qm, q0[i]), -cs.inf, 0)
             add(u, -pad_use * pad, pad_use * pad)
             # round contact near the tip axis: angle of (-n_R) in the tip frame vs +y
-            add(cs.cos((bR + math.pi - phR) - math.pi / 2), math.cos(self.max_tip_angle), 1.0)
+            cos_tip = cs.cos((bR + math.pi - phR) - math.pi / 2)
+            if k == 0:
+                cos_tip0 = cos_tip
+            if relax_start and k > 0:  # no farther round the tip than at the start
+                add(cos_tip - cs.fmin(math.cos(self.max_tip_angle), cos_tip0), 0, cs.inf)
+            elif not relax_start:
+                add(cos_tip, math.cos(self.max_tip_angle), 1.0)
+            else:
+                add(cos_tip, -cs.inf, cs.inf)
             # stability: contact line inside both cones with a margin
             cL = c + R * nL
             cR = c + (R + 0.0) * nR
             d = cR - cL
             ud = d / cs.sqrt(cs.sumsqr(d) + 1e-12)
-            lo_st = 0 if k > 0 else -cs.inf  # the start is what it is
-            add(cs.dot(-nL, ud) - cos_cone, lo_st, cs.inf)
-            add(cs.dot(nR, ud) - cos_cone, lo_st, cs.inf)
+            stL, stR = cs.dot(-nL, ud) - cos_cone, cs.dot(nR, ud) - cos_cone
+            if k == 0:
+                st0 = (stL, stR)  # the start is what it is
+                add(stL, -cs.inf, cs.inf)
+                add(stR, -cs.inf, cs.inf)
+            elif relax_start:  # no worse than at the start
+                add(stL - cs.fmin(0.0, st0[0]), 0, cs.inf)
+                add(stR - cs.fmin(0.0, st0[1]), 0, cs.inf)
+            else:
+                add(stL, 0, cs.inf)
+                add(stR, 0, cs.inf)
             lows = [c[1] + cs.sin(th) * v[0] + cs.cos(th) * v[1] for v in V]
             if k > 0 and K:
                 for v, low in zip(V, lows, strict=True):  # the outline above the palm

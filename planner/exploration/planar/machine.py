@@ -203,14 +203,17 @@ class _Runner:
                 self._posed = self.shape.update(est, self.theta)
                 self._again = self._again and kind == 2
             seg, planned, nlp_t, why = self._plan(kind, est, obs.q)
+            if seg is None and kind == 1 and self._after_no_plan(1, failures + 1, dry=True) is None:
+                seg, planned, nlp_t, why = self._last_resort(est, obs.q, why)
             if seg is None:
                 failures += 1
                 self.events.append({"t": self.world.time, "kind": "no_plan", "phase": kind,
                                     "message": why})  # fmt: skip
-                if failures >= 2:
+                nxt = self._after_no_plan(kind, failures)
+                if nxt is None:
                     self._end("failed", f"no stable grasp within the workspace ({why})")
                     return
-                kind, skip = (2 if kind == 1 else 1), False
+                kind, skip = nxt, False
                 continue
             event, rec = self._run(kind, skip, seg, planned, nlp_t)
             if event in ("contact lost", "object dropped", "sim fault"):
@@ -228,6 +231,50 @@ class _Runner:
                     self._end(*stall_outcome(self.rotation()))
                     return
             kind, skip = self._next(kind, event, est)
+
+    def _last_resort(self, est, q, why: str):
+        """The phase-1 plan of :meth:`_plan` once more, with the start's violations of the
+        planning cones and of the tip's rolling range allowed (``RollingNLP(relax_start=
+        True)``: the plan may not make them worse), when the gait would otherwise end
+        (round nominal shapes; ``settings.last_resort``)."""
+        if not self.s.last_resort or self.shape is not None:
+            return None, 0.0, 0.0, why
+        if "relaxed" not in self.nlps:
+            from planner.trajectory import RollingNLP
+
+            self.nlps["relaxed"] = RollingNLP(self.hand, knots=self.s.nlp_knots,
+                                              relax_start=True)  # fmt: skip
+        nlp, self.nlp = self.nlp, self.nlps["relaxed"]
+        try:
+            seg, planned, nlp_t, why2 = phase_planning.plan(self, 1, est, q)
+        finally:
+            self.nlp = nlp
+        if seg is None:
+            return None, 0.0, nlp_t, why
+        self.events.append({"t": self.world.time, "kind": "last_resort", "phase": 1,
+                            "message": f"{why}: planned from the grasp as it is (outside "
+                            "the planning cones or the tip's range, not worse)"})  # fmt: skip
+        return seg, planned, nlp_t, why2
+
+    def _after_no_plan(self, kind: int, failures: int, dry: bool = False) -> int | None:
+        """The phase to run after phase ``kind`` could not be planned, the ``failures``-th
+        failure in a row, or None: the gait ends (§2.2.3, "If a stable grasp within the
+        finger workspace still cannot be found, the algorithm terminates"). A phase 1
+        without a plan is followed by the right finger's regrasp (phase 2); after the
+        second, with ``settings.left_regrasp``, by the left pad's (phase 3, an event says
+        so); a phase 2/3 without a plan by phase 1."""
+        if kind != 1:
+            return 1 if failures < 2 else None
+        if failures == 1:
+            return 2
+        if failures == 2 and self.s.left_regrasp:
+            if dry:
+                return 3
+            self.events.append({"t": self.world.time, "kind": "regrasp", "phase": 3,
+                                "message": "no phase-1 plan after the right finger's regrasp: "
+                                "the left pad regrasps too before giving up"})  # fmt: skip
+            return 3
+        return None
 
     def _stalled(self) -> bool:
         """Whether the last ``STALL_CYCLES`` cycles (phase-1 start to phase-1 start) together

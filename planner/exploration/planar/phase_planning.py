@@ -217,9 +217,23 @@ def blocking(r, est, q, mu: float) -> str:
     j = int(np.argmin(margin))
     if margin[j] < r.s.joint_margin + 0.02:
         return f"blocking: workspace ({joint_at_limit(q, lim, j)})"
+    off = tip_contact_angle(r.hand, q, float(est.beta[1]))
+    if abs(off) > r.nlp.max_tip_angle:
+        return (f"blocking: workspace (the right tip touches {math.degrees(abs(off)):.0f} deg "
+                f"from its axis; phase 1 rolls it within {math.degrees(r.nlp.max_tip_angle):.0f}"
+                " deg)")  # fmt: skip
     if left_regrasp_angle(r, est, fallback=False) is None:
         return "blocking: reach (no stable left grasp within the pad's reach)"
     return "blocking: none of force closure / workspace / reach at the start (IPOPT failed)"
+
+
+def tip_contact_angle(hand, q, beta_right: float) -> float:
+    """Angle [rad] of the round right contact from its tip's axis (the tip frame's +y), the
+    quantity the phase-1 NLP bounds by ``max_tip_angle``: ``beta_R + pi/2 - phi_R`` wrapped
+    to (-pi, pi], with ``beta_R`` the contact's world polar angle about the object centre
+    [rad] and ``phi_R`` the tip's orientation at joint angles ``q`` (6,) [rad]."""
+    phi = hand.fingertip_pose(q, "right").angle
+    return math.remainder(beta_right + 0.5 * math.pi - phi, 2 * math.pi)
 
 
 def joint_at_limit(q, limits, j: int) -> str:
