@@ -4,7 +4,7 @@ map-space verdicts, the phase-1 NLP timings, and optionally the ball-with-ridge 
 
 Rows:
 
-* ``batch`` (§2.3.1): >= 30 objects - circles, squares sharp and rounded, ellipses 1.5-4:1,
+* ``batch`` (§2.3.1): >= 30 objects - circles, squares sharp and rounded, ellipses 1.1-4:1,
   polygons; half-sizes (radius, half-width, semi-major axis) 2-8 cm - each executed for a
   bounded simulated time (``--duration``, hard wall cap ``--wall-cap`` per object) with
   its outcome (status, reason, rotation, coverage, phases, transitions 4) and the verdict:
@@ -81,7 +81,7 @@ def _polygon(n: int, radius: float):
 
 
 def objects(quick: bool) -> list[BatchObject]:
-    """The §2.3.1 batch (31 objects; every 4th with ``quick``)."""
+    """The §2.3.1 batch (32 objects; every 4th with ``quick``)."""
     from planner.geometry import shapes
 
     out = [BatchObject(f"circle r={r}cm", "circle", r, shapes.circle(r / 100))
@@ -94,6 +94,9 @@ def objects(quick: bool) -> list[BatchObject]:
         w = 2 * h / 100
         out.append(BatchObject(f"square {2 * h}cm rounded", "square rounded", h,
                                shapes.rounded_rectangle(w, w, w / 5)))  # fmt: skip
+    # the bundled ellipse_gait (11 x 10 cm): where the executor's eccentricity ends
+    out.append(BatchObject("ellipse 1.1:1 a=5.5cm", "ellipse 1.1:1", 5.5,
+                           shapes.ellipse(0.055, 0.05)))  # fmt: skip
     for a in (5, 7):
         for ratio in (1.5, 2, 3, 4):
             out.append(BatchObject(f"ellipse {ratio:g}:1 a={a}cm", f"ellipse {ratio:g}:1", a,

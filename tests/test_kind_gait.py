@@ -236,10 +236,9 @@ def test_exploration_switches_reach_the_gait_settings():
 
     base = {"kind": "gait", "name": "switches", "object": {"shape": "circle", "radius": 0.05}}
     s = Config.model_validate(base).settings()
-    assert (s.corner_probe, s.stroke_overlap, s.wall_approach, s.left_regrasp) == (
-        True, False, False, True)  # fmt: skip
-    flipped = {"corner_probe": False, "stroke_overlap": True, "wall_approach": True,
-               "left_regrasp": False}  # fmt: skip
+    names = ("corner_probe", "stroke_overlap", "wall_approach", "left_regrasp", "last_resort")
+    defaults = (True, False, False, True, True)
+    assert tuple(getattr(s, n) for n in names) == defaults
+    flipped = {n: not d for n, d in zip(names, defaults, strict=True)}
     s = Config.model_validate({**base, **flipped}).settings()
-    assert (s.corner_probe, s.stroke_overlap, s.wall_approach, s.left_regrasp) == (
-        False, True, True, False)  # fmt: skip
+    assert tuple(getattr(s, n) for n in names) == tuple(not d for d in defaults)

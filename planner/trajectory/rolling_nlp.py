@@ -98,6 +98,9 @@ class RollingNLP:
         pad_use: fraction of the pad's half-width the contact may use [-].
         palm_points: number K of outline points kept above the palm (0: the circle's
             ``c_y`` constraint; see the module docstring).
+        relax_start: the round contact's ``max_tip_angle`` relaxed to the start like the
+            joint limits: a start farther round the tip may stay there but not roll further
+            (the executor's last resort, ``GaitSettings.last_resort``).
     """
 
     def __init__(
@@ -181,14 +184,16 @@ class RollingNLP:
                 add(q[i] - cs.fmin(lim[i, 0] + qm, q0[i]), 0, cs.inf)
                 add(q[i] - cs.fmax(lim[i, 1] - qm, q0[i]), -cs.inf, 0)
             add(u, -pad_use * pad, pad_use * pad)
-            # round contact near the tip axis: angle of (-n_R) in the tip frame vs +y
+            # round contact near the tip axis: angle of (-n_R) in the tip frame vs +y; with
+            # relax_start a contact that starts farther round may stay there but not roll
+            # further (the start is what it is)
             cos_tip = cs.cos((bR + math.pi - phR) - math.pi / 2)
             if k == 0:
                 cos_tip0 = cos_tip
-            if relax_start and k > 0:  # no farther round the tip than at the start
-                add(cos_tip - cs.fmin(math.cos(self.max_tip_angle), cos_tip0), 0, cs.inf)
-            elif not relax_start:
+            if not relax_start:
                 add(cos_tip, math.cos(self.max_tip_angle), 1.0)
+            elif k > 0:
+                add(cos_tip - cs.fmin(math.cos(self.max_tip_angle), cos_tip0), 0, cs.inf)
             else:
                 add(cos_tip, -cs.inf, cs.inf)
             # stability: contact line inside both cones with a margin
@@ -196,17 +201,9 @@ class RollingNLP:
             cR = c + (R + 0.0) * nR
             d = cR - cL
             ud = d / cs.sqrt(cs.sumsqr(d) + 1e-12)
-            stL, stR = cs.dot(-nL, ud) - cos_cone, cs.dot(nR, ud) - cos_cone
-            if k == 0:
-                st0 = (stL, stR)  # the start is what it is
-                add(stL, -cs.inf, cs.inf)
-                add(stR, -cs.inf, cs.inf)
-            elif relax_start:  # no worse than at the start
-                add(stL - cs.fmin(0.0, st0[0]), 0, cs.inf)
-                add(stR - cs.fmin(0.0, st0[1]), 0, cs.inf)
-            else:
-                add(stL, 0, cs.inf)
-                add(stR, 0, cs.inf)
+            lo_st = 0 if k > 0 else -cs.inf  # the start is what it is
+            add(cs.dot(-nL, ud) - cos_cone, lo_st, cs.inf)
+            add(cs.dot(nR, ud) - cos_cone, lo_st, cs.inf)
             lows = [c[1] + cs.sin(th) * v[0] + cs.cos(th) * v[1] for v in V]
             if k > 0 and K:
                 for v, low in zip(V, lows, strict=True):  # the outline above the palm

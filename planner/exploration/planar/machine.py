@@ -233,10 +233,11 @@ class _Runner:
             kind, skip = self._next(kind, event, est)
 
     def _last_resort(self, est, q, why: str):
-        """The phase-1 plan of :meth:`_plan` once more, with the start's violations of the
-        planning cones and of the tip's rolling range allowed (``RollingNLP(relax_start=
-        True)``: the plan may not make them worse), when the gait would otherwise end
-        (round nominal shapes; ``settings.last_resort``)."""
+        """The phase-1 plan of :meth:`_plan` once more, the round tip's contact allowed to
+        start beyond its rolling range but not to roll further (``RollingNLP(relax_start=
+        True)``), when the gait would otherwise end (round nominal shapes;
+        ``settings.last_resort``). Returns what :meth:`_plan` returns (the first reason
+        when this plan fails too)."""
         if not self.s.last_resort or self.shape is not None:
             return None, 0.0, 0.0, why
         if "relaxed" not in self.nlps:
@@ -252,8 +253,8 @@ class _Runner:
         if seg is None:
             return None, 0.0, nlp_t, why
         self.events.append({"t": self.world.time, "kind": "last_resort", "phase": 1,
-                            "message": f"{why}: planned from the grasp as it is (outside "
-                            "the planning cones or the tip's range, not worse)"})  # fmt: skip
+                            "message": f"{why}: planned with the right tip's contact "
+                            "beyond its rolling range (not rolling further)"})  # fmt: skip
         return seg, planned, nlp_t, why2
 
     def _after_no_plan(self, kind: int, failures: int, dry: bool = False) -> int | None:

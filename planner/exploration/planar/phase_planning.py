@@ -219,7 +219,7 @@ def blocking(r, est, q, mu: float) -> str:
         return f"blocking: workspace ({joint_at_limit(q, lim, j)})"
     off = tip_contact_angle(r.hand, q, float(est.beta[1]))
     if abs(off) > r.nlp.max_tip_angle:
-        return (f"blocking: workspace (the right tip touches {math.degrees(abs(off)):.0f} deg "
+        return (f"blocking: workspace (the right tip touches {math.degrees(abs(off)):.1f} deg "
                 f"from its axis; phase 1 rolls it within {math.degrees(r.nlp.max_tip_angle):.0f}"
                 " deg)")  # fmt: skip
     if left_regrasp_angle(r, est, fallback=False) is None:

@@ -91,6 +91,17 @@ class GaitSettings:
             1.2:1, seeds 0-2, 60 s): full turns 9 instead of 8, the mean turn 192 deg
             instead of 176; a run that never fails to plan twice in a row is unchanged
             (``ball_with_ridge``).
+        last_resort: where the gait would end for want of a phase-1 plan (after both
+            regrasps), phase 1 is planned once more from the grasp as it is, with the round
+            tip's contact allowed to start beyond the tip's rolling range but not to roll
+            further (``RollingNLP(relax_start=True)``; round nominal shapes): a phase 2 that
+            ends at a joint stop can leave the tip touching the object 92-107 deg from its
+            axis where the NLP's range is 69 deg. The friction cones stay as they are.
+            Measured with ``left_regrasp`` on the 27 runs above: 10 full turns instead of
+            9. Also relaxing the start's planning cones gave 12, but the long thin ellipse
+            (``long_thin_gait``) then jammed in the simulator instead of failing on force
+            closure; the tip's relaxation in every plan (not only the last) gave 6 (the
+            regrasp it replaces was the better move where it was possible).
         explore_force: normal force of the exploring finger (0.3 N, §2.3.2) [N].
         object_mass: the planner's guess of the object mass [kg].
         object_kp, object_kv: object impedance gains (eq. 2.7).
