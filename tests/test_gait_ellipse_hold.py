@@ -70,9 +70,10 @@ def test_standing_ellipse_against_its_closed_form(beta_deg):
 
 
 def test_standing_12x10_ellipse_puts_the_holder_on_its_cone_edge():
-    """ellipse_gait's description (its 12 x 10 cm ellipse): with the object on its end the right holder at beta = 20
-    deg pushes 44 deg off its normal (tan 44 deg = 0.97, the measured T/N 0.95-0.97 at
-    mu = 1), where the circle model says 35 deg; lying flat it is 24 deg."""
+    """ellipse_gait's description (its 12 x 10 cm ellipse): with the object on its end the
+    right holder at beta = 20 deg pushes 44 deg off its normal (tan 44 deg = 0.97, the
+    measured T/N 0.95-0.97 at mu = 1), where the circle model says 35 deg; lying flat it is
+    24 deg."""
     e = shapes.ellipse(0.06, 0.05)
     beta = math.radians(20.0)
     standing = palm_press_angle(*resting_contact(e, -0.5 * math.pi, beta))
@@ -136,8 +137,9 @@ WINDOW = {
 
 
 def test_grasp_window_shrinks_when_the_ellipse_stands_on_its_end():
-    """ellipse_gait's description (its 12 x 10 cm ellipse): 13 of the 195 pairs lying flat, 2-6 between
-    -60 and -120 deg, every one with the right contact >= 35 deg (the executor holds at 24)."""
+    """ellipse_gait's description (its 12 x 10 cm ellipse): 13 of the 195 pairs lying flat,
+    2-6 between -60 and -120 deg, every one with the right contact >= 35 deg (the executor
+    holds at 24)."""
     hand, e = _window_hand(), shapes.ellipse(0.06, 0.05)
     flat = grasp_window(e, hand, 0.0, 1.0, **WINDOW)
     assert len(flat) == 13

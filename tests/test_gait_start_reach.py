@@ -89,8 +89,8 @@ def test_bad_arguments_raise(hand, kwargs):
 
 
 def test_the_scenario_descriptions_numbers(hand):
-    """The 12 x 10 cm ellipse (ellipse_gait until 2026-11-24) turns a full turn from rest even with the executor's
-    friction reserve; long_thin_gait (16 x 10 cm) does not, and less with it."""
+    """The 12 x 10 cm ellipse (ellipse_gait until 2026-11-24) turns a full turn from rest even
+    with the executor's friction reserve; long_thin_gait (16 x 10 cm) does not, and less with it."""
     eg = start_reach(shapes.ellipse(0.06, 0.05), hand, 0.8, min_epsilon=0.02)
     assert eg.full_turn
     assert [round(math.degrees(b)) for b in eg.start] == [135, 5]
