@@ -18,7 +18,8 @@ position ``u_k`` across the flat left pad [m]. Constraints, at every knot:
   ``R d(beta - theta) + d s_f = 0``;
 * joint limits with a margin (a joint that starts inside the margin band may stay there but
   not move further toward its limit), the pad contact within the pad, the round contact
-  within ``max_tip_angle`` of the tip's axis;
+  within ``max_tip_angle`` of the tip's axis (with ``relax_start``, relaxed to the start
+  the same way);
 * stability (Yoshikawa-Nagai, eq. 2.9): the contact line within the friction cones with an
   angular margin, ``(-n_i) . u_i >= cos(atan(mu) - margin)``;
 * the object above the palm (``c_y >= R``) and near its start, set down at the end (its

@@ -6,9 +6,10 @@ its next grasp while the left finger holds the object against the palm, phase 3 
 A phase ends on an event (path finished, workspace limit, grasp stability lost, contact
 lost). When phase 2 ends before the right finger can hold the object with the palm, phase 3
 is skipped (transition 4) and the object is rotated again with two fingers; when no stable
-grasp remains (phase 1 cannot be planned twice in a row, or a contact is lost) the gait
-terminates with the reason. The planner knows only the nominal shape and what was sensed;
-the world holds the true shape.
+grasp remains (phase 1 cannot be planned after the right finger's and then the left pad's
+regrasp and a last relaxed try, or a contact is lost) the gait terminates with the reason.
+The planner knows only the nominal shape and what was sensed; the world holds the true
+shape.
 """
 
 from __future__ import annotations
