@@ -212,3 +212,16 @@ def test_blocking_names_the_tip_beyond_its_range(hand):
     why = blocking(r, est, q, 0.8)
     assert why == ("blocking: workspace (the right tip touches 100.0 deg from its axis; "
                    "phase 1 rolls it within 69 deg)")  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    "name", ["left_regrasp", "last_resort", "corner_probe", "carry_weight", "sensed_features"]
+)
+@pytest.mark.parametrize("value", ["false", 0, None])
+def test_settings_switches_must_be_booleans(name, value):
+    """A switch given "false" (a string: true in Python) or 0 is refused, named."""
+    from planner.errors import InvalidParameter
+
+    with pytest.raises(InvalidParameter, match=rf"^{name}: expected true or false"):
+        GaitSettings(**{name: value})
+    assert getattr(GaitSettings(**{name: False}), name) is False

@@ -24,7 +24,7 @@ Keys (SI units)::
     stroke_overlap: false        # phase-3 strokes first go back into the pad's last one
     wall_approach: false         # the pad leads with its end towards a known wall
     left_regrasp: true           # no phase-1 plan twice: the left pad regrasps before giving up
-    last_resort: true            # then phase 1 planned from the grasp as it is (GaitSettings)
+    last_resort: true            # then phase 1 with the tip's range relaxed (GaitSettings)
     object_mass: 0.05            # [kg]
     rotation_speed: 0.4          # phase-1 rotation speed [rad/s]
     explore_speed: 0.03          # exploring contact speed [m/s]
@@ -192,7 +192,7 @@ class Config(ScenarioBase):
     stroke_overlap: bool = Field(False, description="overlapping phase-3 strokes")
     wall_approach: bool = Field(False, description="pad's end first towards a known wall")
     left_regrasp: bool = Field(True, description="left pad regrasp before giving up")
-    last_resort: bool = Field(True, description="last phase-1 plan from the grasp as it is")
+    last_resort: bool = Field(True, description="last phase-1 plan, tip's range relaxed")
     object_mass: float = Field(0.05, gt=0, le=2, description="[kg]")
     rotation_speed: float = Field(0.4, gt=0, le=3, description="[rad/s]")
     explore_speed: float = Field(0.03, gt=0, le=0.5, description="[m/s]")

@@ -195,8 +195,6 @@ class RollingNLP:
                 add(cos_tip, math.cos(self.max_tip_angle), 1.0)
             elif k > 0:
                 add(cos_tip - cs.fmin(math.cos(self.max_tip_angle), cos_tip0), 0, cs.inf)
-            else:
-                add(cos_tip, -cs.inf, cs.inf)
             # stability: contact line inside both cones with a margin
             cL = c + R * nL
             cR = c + (R + 0.0) * nR

@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from planner import checks
+from planner.grasp.workspace import rotation
 
 #: points of the outline within this of the support value lie on the pad [m] (the tactile
 #: array sees a face as flat when its ends are this close to the pad)
@@ -260,16 +261,10 @@ def symmetry_order(outline: Outline, tol: float = 1e-4, max_order: int = 12) -> 
     P = outline.points
     c = outline.centroid()
     for n in range(max_order, 1, -1):
-        Q = c + (P - c) @ rotation_matrix(2 * math.pi / n).T
+        Q = c + (P - c) @ rotation(2 * math.pi / n).T
         if max(distances_to_polygon(P, Q)) <= tol:
             return n
     return 1
-
-
-def rotation_matrix(theta: float) -> np.ndarray:
-    """(2, 2) rotation by ``theta`` [rad]."""
-    c, s = math.cos(theta), math.sin(theta)
-    return np.array([[c, -s], [s, c]])
 
 
 def distances_to_polygon(W: np.ndarray, points: np.ndarray) -> np.ndarray:
@@ -284,7 +279,7 @@ def symmetric_pose(outline: Outline, pose, turns: int, order: int) -> np.ndarray
     x, y, th = (float(v) for v in pose)
     a = 2 * math.pi * turns / order
     c = outline.centroid()
-    X = np.array([x, y]) + rotation_matrix(th) @ c - rotation_matrix(th + a) @ c
+    X = np.array([x, y]) + rotation(th) @ c - rotation(th + a) @ c
     return np.array([X[0], X[1], th + a])
 
 
@@ -293,7 +288,7 @@ def start_position(outline: Outline, theta: float, rd: Readings, guess) -> np.nd
     the outline on the palm (``min y = 0``, when ``rd.palm``) and the abscissa that puts
     its support on the pad's line (when the pad touches and its normal is not vertical);
     the ``guess`` (2,) [m] where a reading is missing."""
-    P = outline.points @ rotation_matrix(theta).T
+    P = outline.points @ rotation(theta).T
     x, y = float(guess[0]), float(guess[1])
     if rd.palm:
         y = -float(P[:, 1].min())
@@ -375,7 +370,6 @@ __all__ = [
     "nearest_on_polygon",
     "pad_window",
     "residuals",
-    "rotation_matrix",
     "start_position",
     "symmetric_pose",
     "symmetry_order",

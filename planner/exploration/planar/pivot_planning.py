@@ -59,42 +59,41 @@ def tip_face(shape, est, geometric: bool = False):
     if not pr.is_sharp(W, pr.palm_corner(W)):  # a rounded corner rolls: no pivot
         return None
     con = contacts(shape.outline, shape.pose, rd)
-    x, y, a = shape.pose
-    c, s = math.cos(a), math.sin(a)
-    Rt = np.array([[c, s], [-s, c]])  # world -> object frame
-    face = shape._face(Rt @ (con["tip"] - (x, y)))
-    if face is None:
+    f = _face_at(shape, W, con["tip"])
+    if f is None:
         return None
-    A, B = (Rt.T @ p + (x, y) for p in face)
-    f = pr.Face.between(A, B, W.mean(axis=0))
     return f, float((con["tip"] - f.start) @ f.tangent)
+
+
+def _face_at(shape, W, point):
+    """The straight face (world frame) of the posed outline ``W`` through the world
+    ``point`` (2,) [m] (:meth:`.ShapeTracker.face_at` in the object frame), or None."""
+    x, y, a = shape.pose
+    Rt = pr.rotation(-a)  # world -> object frame
+    ends = shape.face_at(Rt @ (np.asarray(point, float) - (x, y)))
+    if ends is None:
+        return None
+    A, B = (Rt.T @ p + (x, y) for p in ends)
+    return pr.Face.between(A, B, W.mean(axis=0))
 
 
 def next_face(shape, face):
     """The straight face of the posed outline (world frame) beyond the far end of ``face``
-    (the end away from the palm corner, ``face.start + face.length * face.tangent``), or
-    None (no straight face there). A square pivoted towards 45 deg is held next with the
-    round tip on this face (the top face: it becomes the right face when the square lies on
-    its next face; :mod:`.pivot_grasps`: the pad on the left face with the tip on the top
-    face is stable from 0 to 90 deg for the 4 and 6 cm squares)."""
+    (the end away from the palm corner, ``face.end``), or None (no straight face there).
+    A square pivoted towards 45 deg is held next with the round tip on this face (the top
+    face: it becomes the right face when the square lies on its next face;
+    :mod:`.pivot_grasps`: the pad on the left face with the tip on the top face is stable
+    from 0 to 90 deg for the 4 and 6 cm squares)."""
     from planner.exploration.planar.outline_segments import PolylinePath
 
     W = shape.outline.posed(shape.pose)
-    far = face.start + face.length * face.tangent
     path = PolylinePath(W)
-    s = path.arclength_of(far)
-    x, y, a = shape.pose
-    c, sn = math.cos(a), math.sin(a)
-    Rt = np.array([[c, sn], [-sn, c]])  # world -> object frame
+    s = path.arclength_of(face.end)
     for ds in (NEXT_FACE_STEP, -NEXT_FACE_STEP):
         p = np.asarray(path.at(s + ds)[0])
         if abs(float((p - face.start) @ face.normal)) < 1e-5:  # still on ``face``
             continue
-        ends = shape._face(Rt @ (p - (x, y)))
-        if ends is None:
-            return None
-        A, B = (Rt.T @ q + (x, y) for q in ends)
-        return pr.Face.between(A, B, W.mean(axis=0))
+        return _face_at(shape, W, p)
     return None
 
 

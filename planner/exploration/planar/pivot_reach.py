@@ -127,6 +127,11 @@ class Face:
         """(2,) unit tangent ``e = R(+90 deg) m``."""
         return np.array([-self.normal[1], self.normal[0]])
 
+    @property
+    def end(self) -> np.ndarray:
+        """(2,) the face's far end ``start + length e`` [m]."""
+        return self.start + self.length * self.tangent
+
     def tip_centre(self, corner, theta, d, r: float) -> np.ndarray:
         """(..., 2) centre [m] of a round tip of radius ``r`` touching the face at distance
         ``d`` [m] after the object turned by ``theta`` [rad] about ``corner``

@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 from planner import checks
 from planner.control.internal_force import InternalForceGains
+from planner.errors import InvalidParameter
 
 
 @dataclass(frozen=True)
@@ -176,6 +177,10 @@ class GaitSettings:
     max_phases: int = 200
 
     def __post_init__(self) -> None:
+        for f in fields(self):  # the switches: a string "false" would read as true
+            v = getattr(self, f.name)
+            if f.type == "bool" and not isinstance(v, bool):
+                raise InvalidParameter(f"{f.name}: expected true or false, got {v!r}")
         checks.positive("mu", self.mu)
         checks.in_range("friction_margin", self.friction_margin, 0.0, 0.9)
         for name in ("internal_force", "hold_force", "left_hold_force", "explore_force",

@@ -179,7 +179,7 @@ def _best_regrasp(runner, W, face, q):
     if NEXT_FACE_REGRASP:
         nxt = pivot_planning.next_face(runner.shape, face)
         if nxt is not None:  # the tip goes around the far corner
-            faces.append((nxt, (face.start + face.length * face.tangent, face.normal)))
+            faces.append((nxt, (face.end, face.normal)))
     out = (face, None)
     for f, via in faces:
         b = pivot_planning.best_tip_regrasp(runner.hand, W, f, q_right=q[3:], via=via)

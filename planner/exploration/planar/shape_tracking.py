@@ -249,7 +249,7 @@ class ShapeTracker:
         cp, sp = math.cos(rd.pad_angle), math.sin(rd.pad_angle)
         h = W @ np.array([sp, -cp])
         sup = (W[h >= h.max() - FLAT_TOL] - rd.pad_point) @ np.array([cp, sp])
-        face = self._face(to_obj(con["tip"]))
+        face = self.face_at(to_obj(con["tip"]))
         if face is None:
             return None
         A, B = face
@@ -267,9 +267,9 @@ class ShapeTracker:
             "tip_range": (lo + FACE_MARGIN, hi - FACE_MARGIN),
         }
 
-    def _face(self, point):
-        """The straight face of the outline (object frame) through ``point``: its two
-        ends ``(A, B)``, or None when shorter than :data:`MIN_FACE`."""
+    def face_at(self, point):
+        """The straight face of the outline (object frame) through ``point`` (2,) [m]: its
+        two ends ``(A, B)`` [m], or None when shorter than :data:`MIN_FACE`."""
         P = self.outline.points
         n = len(P)
         k = int(np.argmin(np.linalg.norm(P - point, axis=1)))
