@@ -3,15 +3,21 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
+import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from planner.exploration.planar import macro
 from planner.exploration.planar.macro import (
+    MACRO_HEIGHT,
     MACRO_MERGE,
+    NOISE_SIGMAS,
     PAD_PASS,
     SUSPECT_WEIGHT,
+    height_threshold,
     isolated,
     macro_regions,
     pass_regions,
@@ -95,6 +101,53 @@ def test_one_ridge_seen_by_several_passes_is_found_at_its_angle(centre, n):
     found = macro_regions(a, h, p)
     assert len(found) == 1 and found[0][1] == 1
     assert abs(math.remainder(found[0][0] - centre, 2 * math.pi)) < math.radians(0.5)
+
+
+@given(st.floats(0.2e-3, 2e-3), st.integers(0, 2**16))
+def test_height_threshold_is_three_sigmas_of_gaussian_scatter(sigma, seed):
+    # N(0, sigma) heights: the robust scatter estimate is sigma (MAD x 1.4826) within a few
+    # per cent at 20 000 samples; a 3 mm ridge on 5 % of them does not move it much
+    h = np.random.default_rng(seed).normal(0.0, sigma, 20_000)
+    expected = max(MACRO_HEIGHT, NOISE_SIGMAS * sigma)
+    assert height_threshold(h) == pytest.approx(expected, rel=0.05)
+    h[:1000] += 3e-3
+    assert height_threshold(h) == pytest.approx(expected, rel=0.12)
+
+
+def test_height_threshold_floor():
+    assert height_threshold(np.array([])) == MACRO_HEIGHT
+    assert height_threshold(np.full(50, 3e-3)) == MACRO_HEIGHT  # no scatter at all
+    assert height_threshold(np.random.default_rng(0).normal(0, 1e-4, 500)) == MACRO_HEIGHT
+
+
+#: sensed heights of two recorded runs (``explore_object``, 60 s, seed 0): the 11 x 10 cm
+#: ellipse (``ellipse_gait``'s object, its circle model posed anew each phase) and
+#: ``ball_with_ridge`` (seed 0, the ridge at 170 deg): ``{name}_angles`` [rad, float32],
+#: ``{name}_heights`` [um, int16], ``{name}_passes`` (:func:`sensed_heights`' numbering)
+RECORDED = Path(__file__).parent / "data" / "macro_heights.npz"
+
+
+def _recorded(name):
+    z = np.load(RECORDED)
+    a = z[f"{name}_angles"].astype(float)
+    return a, z[f"{name}_heights"] * 1e-6, z[f"{name}_passes"].astype(int)
+
+
+def test_recorded_ellipse_has_no_phantom_and_the_ridge_ball_keeps_its_ridge(monkeypatch):
+    a, h, p = _recorded("ellipse")
+    pad = p >= PAD_PASS
+    # the mis-posed model's scatter sets both fingers' thresholds above the 1 mm floor
+    assert height_threshold(h[pad]) > 1.5 * MACRO_HEIGHT
+    assert height_threshold(h[~pad]) > 1.5 * MACRO_HEIGHT
+    assert macro_regions(a, h, p) == []
+    a2, h2, p2 = _recorded("ridge_ball")
+    assert height_threshold(h2[p2 >= PAD_PASS]) == MACRO_HEIGHT  # 0.1-0.2 mm scatter
+    found = macro_regions(a2, h2, p2)
+    assert [sign for _, sign in found] == [1]
+    assert abs(math.remainder(found[0][0] - math.radians(170.0), 2 * math.pi)) < math.radians(5)
+    # with the fixed 1 mm threshold of before, the ellipse had ridges and grooves
+    monkeypatch.setattr(macro, "NOISE_SIGMAS", 0.0)
+    assert len(macro_regions(a, h, p)) >= 3
 
 
 def _trace(kind, cx, cy=None):

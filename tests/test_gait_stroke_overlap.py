@@ -8,7 +8,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from planner.errors import InvalidParameter
@@ -125,11 +125,16 @@ def test_no_way_back_over_a_sensed_feature():
     gap=st.floats(0.0, 20.0),
     theta=st.floats(-7.0, 7.0),
 )
+@example(end=1.125, gap=4.875, theta=0.0)  # the gap from the last sample, not from end
 def test_the_way_back_reaches_the_explored_outline_from_any_gap(end, gap, theta):
     """Invariant: explored ``[end - 20, end)`` deg (object frame), the stroke starting
     ``gap`` deg past ``end``: it goes back iff the gap (in whole cells) exceeds MIN_GAP and
-    is within LOOKBACK, and then turns inside the explored outline, OVERLAP past its end."""
+    is within LOOKBACK, and then turns inside the explored outline, OVERLAP past its end.
+    The gap found is the one from the last touched sample (0.25 deg apart, so up to
+    0.25 deg short of ``end``), in whole cells: within one cell of it (Hypothesis found
+    end = 1.125, gap = 4.875: the last sample at 0.875 deg, the gap 5.125 deg, found 6)."""
     out = _explored(end - 20.0, end, theta)
+    last = float(np.arange(end - 20.0, end, 0.25)[-1])  # the last touched sample [deg]
     here = math.radians(end + gap)
     back = out.back_to(here + theta, here + theta + 0.3, theta)
     found = out.gap_behind(here, 1.0)
@@ -141,7 +146,8 @@ def test_the_way_back_reaches_the_explored_outline_from_any_gap(end, gap, theta)
     turn = math.degrees(math.remainder(back - theta, 2 * math.pi)) % 360.0
     k = int(math.floor(turn + 1e-9)) % 360
     assert out.seen[k]  # the turning point lies on the explored outline
-    assert math.radians(gap) - DEG - 1e-9 <= found <= math.radians(gap) + DEG + 1e-9
+    true_gap = math.radians(end + gap - last)
+    assert true_gap - DEG - 1e-9 <= found <= true_gap + DEG + 1e-9
 
 
 def test_the_outline_validates_its_cells():
