@@ -104,6 +104,55 @@ def test_image_ridges_finds_a_sustained_line_and_nothing_on_a_round_ball():
     assert sf.image_ridges(_trace(a, far), th, BAND) == pytest.approx([0.5, 1.5], abs=0.01)
 
 
+def _walls_trace(sightings, gap: int = 20) -> dict:
+    """A phase-3 trace of line-like images touching the ball (radius 50 mm, centre at the
+    origin) with the pad's end: ``sightings`` ``[(object angle [rad], u [m]), ...]``, each
+    a run of 15 images with the tactile centroid at ``u`` and the touched point (the pad's
+    end, :func:`sf.pad_end_contact`) at that angle; runs apart by ``gap`` round images.
+    The pad's +u axis is the counter-clockwise tangent."""
+    angles, us, line = [], [], []
+    for ang, u in sightings:
+        angles += [ang] * (15 + gap)
+        us += [u] * 15 + [0.0] * gap
+        line += [True] * 15 + [False] * gap
+    a, u, line = np.array(angles), np.array(us), np.array(line)
+    tr = _trace(a, line)
+    end = np.sign(u) * sf.PAD_HALF_WIDTH  # the touched point: the pad's end
+    tangent = np.column_stack([-np.sin(a), np.cos(a)])
+    p = (
+        0.05 * np.column_stack([np.cos(a), np.sin(a)])
+        - (np.where(u != 0, end, 0.0) - u)[:, None] * tangent
+    )
+    tr.update(u=u, pLx=p[:, 0], pLy=p[:, 1])
+    return tr
+
+
+def test_wall_sides_follow_the_pad_end_and_its_direction():
+    tr = _walls_trace([(0.3, 8.75e-3), (0.3, -9e-3), (0.3, 3e-3)], gap=0)
+    side = sf.wall_sides(tr, 8)
+    assert set(side[:15]) == {1.0} and set(side[15:30]) == {-1.0} and set(side[30:]) == {0.0}
+    tr["nLx"], tr["nLy"] = -tr["nLx"], -tr["nLy"]  # the pad's axis reversed: clockwise
+    tr["u"] = -tr["u"]  # the same points, now at the other end of the pad
+    assert np.array_equal(sf.wall_sides(tr, 8), side)
+    tr["u"] = -tr["u"]
+    assert np.array_equal(sf.wall_sides(tr, 8), -side)
+
+
+def test_a_ridge_seen_at_both_walls_lies_between_them():
+    near, far = 1.0, 1.08  # walls of a 4 mm ridge at 1.04 rad on the 50 mm ball
+    # the pad's leading end stalls at the near wall in three passes, its trailing end meets
+    # the far wall in one: midway, not the median of the sightings (the near wall)
+    tr = _walls_trace([(near, 8.75e-3)] * 3 + [(far, -8.75e-3)])
+    th = np.zeros(tr["t"].size)
+    assert sf.image_ridges(tr, th, BAND) == pytest.approx([1.04], abs=2e-3)
+    # only the near wall: the near wall (the ridge's width is unknown)
+    tr = _walls_trace([(near, 8.75e-3)] * 3)
+    assert sf.image_ridges(tr, np.zeros(tr["t"].size), BAND) == pytest.approx([near], abs=2e-3)
+    # walls whose bodies point away from each other enclose nothing: the median
+    tr = _walls_trace([(near, -8.75e-3)] * 3 + [(far, 8.75e-3)])
+    assert sf.image_ridges(tr, np.zeros(tr["t"].size), BAND) == pytest.approx([near], abs=2e-3)
+
+
 def test_fusion_rules():
     r = math.radians
     # a ridge the trace saw in two passes: the image adds nothing

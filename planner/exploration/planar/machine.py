@@ -120,10 +120,12 @@ def explore_object(
     trace = trace_arrays(ctrl)
     # phases whose pad trace is not a tangent contact on a held object: the held object
     # moved, or a back-stroke (the pad touches with its edge; its rows gave a phantom groove)
-    moved = [(p.start, p.end) for p in runner.records
-             if p.event == "object moved" or p.backstroke]  # fmt: skip
+    moved = [(p.start, p.end) for p in runner.records if p.event == "object moved"]
+    back = [(p.start, p.end) for p in runner.records
+            if p.backstroke and p.event != "object moved"]  # fmt: skip
     tip_r = hand.params.right.tip_radius
-    features = detect_pad_features(trace, profile, start["rest"], R, s.explore_force, tip_r, moved)
+    features = detect_pad_features(trace, profile, start["rest"], R, s.explore_force, tip_r,
+                                   moved, keep_images=back)  # fmt: skip
     timings = {
         "nlp_build_s": nlp_build,
         "nlp_solve_ms": [1e3 * p.nlp_time_s for p in runner.records if p.phase == 1],

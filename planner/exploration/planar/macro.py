@@ -283,15 +283,18 @@ def _pass_regions(
 
 
 def detect_macro_features(
-    trace: dict, theta, profile, radius: float, tip_radius: float, band
+    trace: dict, theta, profile, radius: float, tip_radius: float, band, image_kind=None
 ) -> list[DetectedFeature]:
     """Ridges and grooves of the sensed outline (module docstring), each compared with the
-    nearest true feature of ``profile`` (the middle of its cluster of curvature features)."""
+    nearest true feature of ``profile`` (the middle of its cluster of curvature features).
+    ``image_kind``: (N,) the ``kind`` column for the tactile images (default the trace's;
+    back-strokes are left out of the trace's heights but not of the images)."""
     a, h, p = sensed_heights(trace, theta, radius, tip_radius, band)
     found = macro_regions(a, h, p, suspect_passes(trace))
     single = [ang for ang, sign, _ in pass_regions(a, h, p) if sign > 0]
+    images = trace if image_kind is None else {**trace, "kind": image_kind}
     found += fuse_image_ridges(
-        image_ridges(trace, theta, band), found, single + _walls(trace, theta, radius)
+        image_ridges(images, theta, band), found, single + _walls(trace, theta, radius)
     )
     truth = _truth_clusters(profile)
     return [as_feature(ang, "ridge" if sign > 0 else "groove", truth) for ang, sign in found]

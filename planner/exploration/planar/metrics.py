@@ -409,6 +409,7 @@ def detect_pad_features(
     explore_force: float = 0.3,
     tip_radius: float = 0.025,
     exclude=(),
+    keep_images=(),
 ) -> list[DetectedFeature]:
     """Features in the left pad's sensed trace while it explores (phase 3).
 
@@ -421,20 +422,22 @@ def detect_pad_features(
     images' line-like pattern over a ridge, :func:`.sensed_features.image_ridges`).
     ``exclude``: ``(t0, t1)`` windows [s] left out (phases that ended
     with "object moved": the held object moved, so the sensed pose there is wrong - each
-    gave a phantom ridge or groove next to the true ridge).
+    gave a phantom ridge or groove next to the true ridge). ``keep_images``: ``(t0, t1)``
+    windows [s] whose tactile images count for the image ridges although their contact
+    trace is excluded (back-strokes: the pad touches with its end, which made a phantom
+    groove in the trace, but its end meeting the far wall of the feature it returns to is
+    what places the feature between its walls, :func:`.sensed_features.image_ridges`).
     """
     if len(trace.get("t", ())) == 0:
         return []
     trace = {**trace, "theta": object_rotation(trace, radius)}
-    if exclude:  # rows of phases whose estimate is invalid (the held object moved)
-        kind = np.array(trace["kind"], float)
-        for t0, t1 in exclude:
-            kind[(trace["t"] >= t0) & (trace["t"] <= t1)] = 0.0
-        trace["kind"] = kind
+    image_kind = _without(trace, exclude)
+    trace["kind"] = _without(trace, [*exclude, *keep_images])
     from planner.exploration.planar.macro import detect_macro_features
 
     band = (FORCE_BAND[0] * explore_force, FORCE_BAND[1] * explore_force)
-    macro = detect_macro_features(trace, trace["theta"], profile, radius, tip_radius, band)
+    macro = detect_macro_features(trace, trace["theta"], profile, radius, tip_radius, band,
+                                  image_kind=image_kind)  # fmt: skip
     sel = steady_sliding(trace, explore_force) & held_still(trace, CURVATURE_HOLD)
     truth = [math.atan2(f.position[1], f.position[0])
              for f in profile.curvature_features(VIRTUAL_RADIUS)]  # fmt: skip
@@ -472,6 +475,15 @@ def detect_pad_features(
             else:
                 out.append(DetectedFeature(a, "convex" if sign > 0 else "concave"))
     return macro + _merge(out)
+
+
+def _without(trace: dict, windows) -> np.ndarray:
+    """The trace's ``kind`` column with the rows in the ``(t0, t1)`` ``windows`` [s] set to
+    0 (no phase: left out)."""
+    kind = np.array(trace["kind"], float)
+    for t0, t1 in windows:
+        kind[(trace["t"] >= t0) & (trace["t"] <= t1)] = 0.0
+    return kind
 
 
 #: a curvature feature needs this much of the pass on each side [m]: three of the

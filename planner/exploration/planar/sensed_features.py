@@ -197,7 +197,13 @@ def image_ridges(trace: dict, theta, band, pad_half_width: float = PAD_HALF_WIDT
 
     Candidates are located at the pad's end when the tactile centroid lies in an outer
     taxel column (:func:`pad_end_contact`), and a ridge seen in several runs at the median
-    of their angles weighted by :func:`sighting_weight`.
+    of their angles weighted by :func:`sighting_weight`. An image at the pad's end is a
+    *wall* whose body lies beyond that end (:func:`wall_sides`): when a ridge's group has
+    walls of both sides, in order (the body between them), it lies midway between their
+    (weighted) medians. The sliding pad stalls on the near wall with its leading end in
+    most passes and meets the far wall with its trailing end in few, so the median of all
+    sightings was the near wall: with the true rotation every ``explore_object`` run of
+    the ridge ball (ridge at 0-315 deg) placed the 4 mm ridge 2.1 deg short, its half-width.
     """
     ti = np.asarray(trace.get("image_t", ()), float)
     t = np.asarray(trace["t"], float)
@@ -209,21 +215,66 @@ def image_ridges(trace: dict, theta, band, pad_half_width: float = PAD_HALF_WIDT
     ok &= (fn >= band[0]) & (fn <= band[1])
     elong, _ = image_shape(trace["images"])
     ok &= elong >= LINE_ELONGATION
-    px, py = pad_end_contact(trace, trace["images"].shape[-1], pad_half_width)
+    columns = trace["images"].shape[-1]
+    px, py = pad_end_contact(trace, columns, pad_half_width)
     ang = np.arctan2(py - trace["cy"], px - trace["cx"]) - theta
+    side = wall_sides(trace, columns, pad_half_width)
     idx = np.flatnonzero(ok)
     runs = np.split(idx, np.flatnonzero(np.diff(idx) > 1) + 1) if idx.size else []
     theta = np.asarray(theta, float)
-    found = sorted(
-        (
-            circular_median(ang[rows[r]]),
-            sighting_weight(float(np.median(theta[rows[r]]) - theta[0])),
-        )
-        for r in runs
-        if r.size >= IMAGE_MIN_RUN
-    )
+    found = []
+    for r in runs:
+        if r.size < IMAGE_MIN_RUN:
+            continue
+        rr = rows[r]
+        w = sighting_weight(float(np.median(theta[rr]) - theta[0]))
+        found.append((circular_median(ang[rr]), w, 0))
+        for sd in (1, -1):  # the run's wall images of each side, when it has enough
+            m = side[rr] == sd
+            if np.count_nonzero(m) >= WALL_MIN_IMAGES:
+                found.append((circular_median(ang[rr][m]), w, sd))
+    found.sort()
     groups = circular_groups(found, IMAGE_MERGE, angle=lambda f: f[0])
-    return [circular_median([a for a, _ in g], [w for _, w in g]) for g in groups]
+    return [_ridge_of(g) for g in groups]
+
+
+#: a run's images at one end of the pad count as a wall sighting when there are this many
+#: (a tenth of a second at the 100 Hz image rate; the near wall held the pad's end for
+#: 0.1-0.5 s, the far wall 0.12-0.15 s) [-]
+WALL_MIN_IMAGES = 10
+
+
+def wall_sides(trace: dict, columns: int, pad_half_width: float = PAD_HALF_WIDTH) -> np.ndarray:
+    """(N,) per trace row: +1 when the pad's contact lies at its end (the tactile centroid
+    in an outer taxel column, :func:`pad_end_contact`) with the object beyond that end at
+    larger polar angles (counter-clockwise about the sensed centre), -1 at smaller ones,
+    0 for a contact inside the pad. An edge touching the pad's end is a wall of a bump
+    whose body lies beyond the end. The pad's axis is ``(-n_y, n_x)`` (:mod:`.sensing`)."""
+    u = np.asarray(trace["u"], float)
+    pitch = 2.0 * pad_half_width / columns
+    end = np.abs(u) > pad_half_width - pitch
+    px, py = pad_end_contact(trace, columns, pad_half_width)
+    rx, ry = px - np.asarray(trace["cx"], float), py - np.asarray(trace["cy"], float)
+    ax, ay = -np.asarray(trace["nLy"], float), np.asarray(trace["nLx"], float)
+    ccw = np.sign(rx * ay - ry * ax)  # +1: the pad's +u axis turns counter-clockwise
+    return np.where(end, np.sign(u) * ccw, 0.0)
+
+
+def _ridge_of(group: list) -> float:
+    """The angle [rad] of one ridge from its sightings ``(angle, weight, side)``: midway
+    between its walls when both sides were seen in order (the side +1 wall below the side
+    -1 one, less than :data:`IMAGE_MERGE` apart), else the weighted median of all."""
+    walls = {}
+    for sd in (1, -1):
+        sel = [(a, w) for a, w, s in group if s == sd]
+        if sel:
+            walls[sd] = circular_median([a for a, _ in sel], [w for _, w in sel])
+    if len(walls) == 2:
+        span = math.remainder(walls[-1] - walls[1], 2 * math.pi)
+        if 0.0 < span < IMAGE_MERGE:
+            return math.remainder(walls[1] + 0.5 * span, 2 * math.pi)
+    runs = [(a, w) for a, w, s in group if s == 0]
+    return circular_median([a for a, _ in runs], [w for _, w in runs])
 
 
 #: rotation [rad] over which the dead-reckoned rotation estimate's error grows to about
