@@ -318,3 +318,42 @@ def test_fast_record_and_pairs_equal_the_generic_ones(scene):
             assert np.allclose(a[key], b[key], rtol=0, atol=1e-15, equal_nan=True), key
     assert world.active_pairs() == WorldBase.active_pairs(world)
     assert world.active_pairs()  # the scene is in contact
+
+
+def _squeezed_disc(y0: float, compiled: bool):
+    """A 10 cm disc between a floor (y = 0) and a ceiling at y = 95 mm, 5 mm closer than its
+    diameter, its centre at ``y0`` [m]: a jam, no displacement removes both overlaps."""
+    world = PlanarWorld(gravity=(0.0, -G), compiled=compiled)
+    flat = shapes.plane(0.0, 0.2)
+    world.add_fixed(flat, name="floor")
+    world.add_fixed(flat, pose=(0.0, 0.095, math.pi), name="ceiling")
+    world.add_body(shapes.circle(0.05), pose=(0.0, y0, 0.0), mass=0.1, name="disc")
+    return world
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+@pytest.mark.parametrize("y0", [0.0475, 0.046, 0.0485])
+def test_a_jammed_disc_shares_the_overlap_and_the_run_goes_on(compiled, y0):
+    """The position projection of a jam has no solution (it raised "Lemke stopped on a
+    ray"); its compliant answer, equal stiff springs at the two contacts, shares the 5 mm
+    overlap equally whatever the start (closed form: the centre midway, 47.5 mm; gravity
+    moves it by g h^2 per step, ~1e-5 mm), the run goes on and says so once."""
+    world = _squeezed_disc(y0, compiled)
+    log = world.run(0.05)
+    assert log.status == "ok"
+    jams = [e for e in log.events if e.kind == "jammed"]
+    assert len(jams) == 1 and jams[0].data["penetration"] == pytest.approx(2.5e-3, abs=1e-6)
+    x, y, a = log.poses["disc"][-1]
+    assert y == pytest.approx(0.0475, abs=1e-7) and abs(x) < 1e-7 and abs(a) < 1e-9
+    pen = dict(((a_, b_), d) for a_, b_, d in world.penetrations())
+    assert pen[("floor", "disc")] == pytest.approx(-2.5e-3, abs=1e-7)
+    assert pen[("ceiling", "disc")] == pytest.approx(-2.5e-3, abs=1e-7)
+
+
+def test_a_disc_that_fits_is_projected_out_exactly_and_no_jam_is_reported():
+    world = PlanarWorld(gravity=(0.0, -G), compiled=False)
+    world.add_fixed(shapes.plane(0.0, 0.2), name="floor")
+    world.add_body(shapes.circle(0.05), pose=(0.0, 0.048, 0.0), mass=0.1, name="disc")
+    log = world.run(0.01)
+    assert log.status == "ok" and not [e for e in log.events if e.kind == "jammed"]
+    assert log.poses["disc"][1, 1] >= 0.05 - 1e-6  # the 2 mm overlap removed in one step

@@ -17,6 +17,7 @@ EVENT_KINDS = (
     "contact_lost",
     "object_dropped",
     "joint_limit",
+    "jammed",
     "torque_saturated",
     "blow_up",
     "singular",

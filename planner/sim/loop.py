@@ -6,8 +6,8 @@ every step in a preallocated :class:`SimLog`, and turns faults into :class:`SimE
 
 * ``contact_made`` / ``contact_lost``: a body pair starts / stops carrying force;
 * ``torque_saturated``: the command exceeded a joint's torque limit (once per onset);
-* world-specific events (``joint_limit``, ``object_dropped``, ``singular``) drained from the
-  world after each step;
+* world-specific events (``joint_limit``, ``object_dropped``, ``singular``, ``jammed``)
+  drained from the world after each step;
 * ``blow_up``: non-finite or runaway state (``|v| > max_speed``) -> status ``"failed"``;
 * ``stopped``: the controller raised a :class:`planner.errors.HapexError` or returned a bad
   command, or the world failed a step (status ``"failed"``), or the user's ``stop``

@@ -36,7 +36,15 @@ projection (post-stabilization, Cline & Pai 2003) when a gap is below
 relative, :func:`planner.sim.lcp.lcp_residual`); a projection whose Lemke path fails is
 retried on the regularized ``N M^-1 N^T + eps I`` and still checked on the original problem;
 a step whose problem has no verified answer raises :class:`planner.errors.InfeasibleProblem`
-(a ``stopped`` event of the run), never returns an unchecked impulse. Open outlines (pads,
+(a ``stopped`` event of the run), never returns an unchecked impulse. One exception, where
+no answer exists: a *jam*, contacts and joint limits that oppose each other so that no
+displacement removes every penetration (a disc squeezed between walls closer than its
+diameter; a finger at its joint limit pressing the object into the palm). Its projection
+is the exact answer of the regularized problem (equal stiff springs at the penetrating
+rows: what can be removed is, the rest is shared), the world emits a ``jammed`` event with
+the penetration left, and the step's LCP keeps that from growing (its fallback closes gaps
+only). Until 2026-11-24 a jam raised ("position projection: Lemke stopped on a ray") and
+ended a gait as a simulator fault instead of on its own reason. Open outlines (pads,
 the palm) are one-sided faces: beyond their ends the distance to them is unsigned
 (:func:`_unsigned_at_open_end`), so no phantom penetration enters a projection.
 
@@ -281,7 +289,7 @@ def _limit_rows(world, nv, h):
     return np.array(rows), np.array(phi), np.array(idx)
 
 
-def _solve(M, q, what, regularize: float = 0.0):
+def _solve(M, q, what, regularize: float = 0.0, compliant: bool = False):
     """Lemke's solution of the LCP (M, q), verified (see :func:`planner.sim.lcp.solve_lcp`).
 
     With ``regularize > 0`` a failed solve is retried on ``M + eps I`` (eps = ``regularize``
@@ -289,6 +297,12 @@ def _solve(M, q, what, regularize: float = 0.0):
     ``N M^-1 N^T`` is only positive semidefinite when contacts jam, that makes it a P-matrix
     with a unique solution - a projection that is exact to eps, which is all a projection
     needs. The answer is still checked on the original problem (residual <= 1e-6).
+
+    With ``compliant``, a regularized answer that fails that check (the original problem
+    has no solution: no displacement removes every penetration, e.g. a disc squeezed
+    between two walls closer than its diameter) is returned as it is: the exact solution
+    of ``M + eps I``, i.e. the equilibrium of equal stiff springs at the penetrating rows,
+    which removes what can be removed and shares the rest (:func:`_project`).
     """
     z, status, _ = solve_lcp(M, q)
     if status == 0:
@@ -296,7 +310,7 @@ def _solve(M, q, what, regularize: float = 0.0):
     if regularize > 0.0 and len(q):
         eps = regularize * max(1.0, float(np.abs(np.diag(M)).max()))
         zr, st, _ = solve_lcp(M + eps * np.eye(len(q)), q)
-        if st == 0 and lcp_residual(M, q, zr) <= 1e-6:
+        if st == 0 and (compliant or lcp_residual(M, q, zr) <= 1e-6):
             return zr
     raise InfeasibleProblem(
         f"{what}: Lemke stopped on a {'ray' if status == 1 else 'pivot limit'}",
@@ -306,13 +320,21 @@ def _solve(M, q, what, regularize: float = 0.0):
 
 
 def _project(world, frames, cands, Minv):
-    """Post-stabilization: move positions out of penetration (velocities untouched)."""
+    """Post-stabilization: move positions out of penetration (velocities untouched).
+
+    A jam (no displacement removes every penetration: contacts and joint limits that
+    oppose each other) gets the compliant projection of :func:`_solve`; what penetration
+    it leaves [m] is put in ``world.jam`` for the ``jammed`` event (0 otherwise). The step's
+    LCP then keeps it from growing (its fallback closes gaps only)."""
     nv = Minv.shape[0]
     N, _, _ = _rows(world, frames, cands, nv)
     phi = np.array([c[2] for c in cands])
     L, lphi, _ = _limit_rows(world, nv, 0.0)
     N, phi = np.vstack([N, L]), np.concatenate([phi, lphi])
-    z = _solve(N @ Minv @ N.T, phi, "position projection", regularize=1e-9)
+    G = N @ Minv @ N.T
+    z = _solve(G, phi, "position projection", regularize=1e-9, compliant=True)
+    left = float(-np.min(phi + G @ z, initial=0.0))
+    world.jam = left if lcp_residual(G, phi, z) > 1e-6 else 0.0
     dq = Minv @ (N.T @ z)
     nb = len(world._x)
     world._x += dq[: 3 * nb].reshape(nb, 3)

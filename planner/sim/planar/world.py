@@ -94,6 +94,10 @@ class PlanarWorld(WorldBase):
         self._touch: dict[str, float] = {}
         self._dropped: set[str] = set()
         self._limits_on: set[int] = set()
+        #: penetration [m] a jammed position projection left in the last step (0: none;
+        #: set by :func:`planner.sim.planar.stepper._project`)
+        self.jam = 0.0
+        self._jammed = False
 
     # ------------------------------------------------------------------ last step
     @property
@@ -305,13 +309,22 @@ class PlanarWorld(WorldBase):
         """Advance one step ``dt`` with joint torques ``tau`` (6,) [N m] (None: zeros)."""
         if self.hand is not None:
             tau = np.zeros(6) if tau is None else np.asarray(tau, float)
+        self.jam = 0.0
         res = step_fast(self, tau) if self.compiled else step(self, tau)
         self._last, self._records = res, None
         self.time += self.dt
         self._watch(res)
 
     def _watch(self, res: StepResult) -> None:
-        """World events: joint limits reached, objects dropped by the fingers."""
+        """World events: joint limits reached, objects dropped by the fingers, contacts
+        jammed."""
+        if (self.jam > 0.0) != self._jammed:
+            self._jammed = self.jam > 0.0
+            if self._jammed:
+                self._events.append(
+                    _event(self.time, "jammed", "contacts jammed: no displacement removes every "
+                           f"penetration; {1e3 * self.jam:.3f} mm left", penetration=self.jam)
+                )  # fmt: skip
         lj, lp = res.limit_joints.tolist(), res.limit_impulses.tolist()
         on = {int(k) for k, p in zip(lj, lp, strict=True) if p > 0}
         for k in sorted(on - self._limits_on):
