@@ -263,7 +263,8 @@ def wall_sides(trace: dict, columns: int, pad_half_width: float = PAD_HALF_WIDTH
 def _ridge_of(group: list) -> float:
     """The angle [rad] of one ridge from its sightings ``(angle, weight, side)``: midway
     between its walls when both sides were seen in order (the side +1 wall below the side
-    -1 one, less than :data:`IMAGE_MERGE` apart), else the weighted median of all."""
+    -1 one, less than :data:`IMAGE_MERGE` apart), else the weighted median of the whole
+    runs' sightings (of the walls' when a long run's own median fell into another group)."""
     walls = {}
     for sd in (1, -1):
         sel = [(a, w) for a, w, s in group if s == sd]
@@ -273,7 +274,7 @@ def _ridge_of(group: list) -> float:
         span = math.remainder(walls[-1] - walls[1], 2 * math.pi)
         if 0.0 < span < IMAGE_MERGE:
             return math.remainder(walls[1] + 0.5 * span, 2 * math.pi)
-    runs = [(a, w) for a, w, s in group if s == 0]
+    runs = [(a, w) for a, w, s in group if s == 0] or [(a, w) for a, w, _ in group]
     return circular_median([a for a, _ in runs], [w for _, w in runs])
 
 
@@ -323,4 +324,5 @@ __all__ = [
     "rotation_cap",
     "sensed_bump",
     "sighting_weight",
+    "wall_sides",
 ]
