@@ -176,7 +176,14 @@ def macro_regions(
     """
     if angles.size == 0:
         return []
-    seen = pass_regions(angles, heights, passes)
+    return merge_passes(pass_regions(angles, heights, passes), suspect)
+
+
+def merge_passes(seen: list, suspect: frozenset = frozenset()) -> list:
+    """The features ``[(angle [rad], sign), ...]`` of the single passes' regions ``seen``
+    (:func:`pass_regions`): those of one sign within :data:`MACRO_MERGE` form one, kept when
+    seen in :data:`MACRO_MIN_PASSES` passes (``suspect`` ones weigh :data:`SUSPECT_WEIGHT`;
+    :func:`macro_regions`)."""
     out = []
     for sign in (1, -1):
         pts = sorted((a, q) for a, sg, q in seen if sg == sign)
@@ -290,8 +297,9 @@ def detect_macro_features(
     ``image_kind``: (N,) the ``kind`` column for the tactile images (default the trace's;
     back-strokes are left out of the trace's heights but not of the images)."""
     a, h, p = sensed_heights(trace, theta, radius, tip_radius, band)
-    found = macro_regions(a, h, p, suspect_passes(trace))
-    single = [ang for ang, sign, _ in pass_regions(a, h, p) if sign > 0]
+    seen = pass_regions(a, h, p) if a.size else []
+    found = merge_passes(seen, suspect_passes(trace))
+    single = [ang for ang, sign, _ in seen if sign > 0]
     images = trace if image_kind is None else {**trace, "kind": image_kind}
     found += fuse_image_ridges(
         image_ridges(images, theta, band), found, single + _walls(trace, theta, radius)
@@ -350,6 +358,7 @@ __all__ = [
     "detect_macro_features",
     "height_threshold",
     "macro_regions",
+    "merge_passes",
     "pass_regions",
     "sensed_heights",
     "suspect_passes",

@@ -6,6 +6,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from planner.errors import InvalidParameter
+
 #: names of the phase kinds (Fig. 2.3); kind 4 is a phase 1 entered by transition 4 (phase 3
 #: skipped: the object is rotated again with two fingers)
 PHASE_KINDS = {
@@ -53,13 +55,15 @@ class PhaseRecord:
 
     def __post_init__(self) -> None:
         if self.kind not in PHASE_KINDS:
-            raise ValueError(f"PhaseRecord.kind must be 1, 2, 3 or 4, got {self.kind!r}")
+            raise InvalidParameter(f"PhaseRecord.kind must be 1, 2, 3 or 4, got {self.kind!r}")
         if self.skip and self.kind == 1:
             object.__setattr__(self, "kind", 4)
         if self.kind == 4:
             object.__setattr__(self, "skip", True)
         elif self.skip:
-            raise ValueError(f"only a phase 1 is entered by transition 4, got kind {self.kind}")
+            raise InvalidParameter(
+                f"only a phase 1 is entered by transition 4, got kind {self.kind}"
+            )
 
     @property
     def phase(self) -> int:

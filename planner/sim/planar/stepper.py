@@ -324,7 +324,8 @@ def _project(world, frames, cands, Minv):
 
     A jam (no displacement removes every penetration: contacts and joint limits that
     oppose each other) gets the compliant projection of :func:`_solve`; what penetration
-    it leaves [m] is put in ``world.jam`` for the ``jammed`` event (0 otherwise). The step's
+    leaves beyond ``projection_tolerance`` [m] is put in ``world.jam`` for the ``jammed``
+    event (0 otherwise). The step's
     LCP then keeps it from growing (its fallback closes gaps only)."""
     nv = Minv.shape[0]
     N, _, _ = _rows(world, frames, cands, nv)
@@ -333,8 +334,9 @@ def _project(world, frames, cands, Minv):
     N, phi = np.vstack([N, L]), np.concatenate([phi, lphi])
     G = N @ Minv @ N.T
     z = _solve(G, phi, "position projection", regularize=1e-9, compliant=True)
-    left = float(-np.min(phi + G @ z, initial=0.0))
-    world.jam = left if lcp_residual(G, phi, z) > 1e-6 else 0.0
+    # the deepest penetration left [m] (contact rows; the limit rows' gaps are in rad)
+    left = float(-np.min((phi + G @ z)[: len(cands)], initial=0.0))
+    world.jam = left if left > world.projection_tolerance else 0.0
     dq = Minv @ (N.T @ z)
     nb = len(world._x)
     world._x += dq[: 3 * nb].reshape(nb, 3)
