@@ -225,3 +225,29 @@ def test_settings_switches_must_be_booleans(name, value):
     with pytest.raises(InvalidParameter, match=rf"^{name}: expected true or false"):
         GaitSettings(**{name: value})
     assert getattr(GaitSettings(**{name: False}), name) is False
+
+
+def test_a_simulator_fault_ends_the_gait_with_the_simulators_own_message(monkeypatch):
+    """A phase whose simulation stops (an LCP without a verified answer) ends the gait as
+    failed, the reason naming the phase and the simulator's message (it read "sim fault in
+    phase 2: sim fault")."""
+    import dataclasses
+
+    from planner.exploration import explore_object
+    from planner.geometry import shapes
+    from planner.sim import PlanarWorld
+
+    real = PlanarWorld.run
+    calls = []
+    msg = "step failed at t=0.1 s: contact problem: Lemke stopped on a ray"
+
+    def failing_second_phase(self, *args, **kwargs):
+        log = real(self, *args, **kwargs)
+        calls.append(1)
+        return dataclasses.replace(log, status="failed", reason=msg) if len(calls) == 2 else log
+
+    monkeypatch.setattr(PlanarWorld, "run", failing_second_phase)
+    res = explore_object(shapes.circle(0.05), duration=3.0)
+    assert res.status == "failed"
+    assert res.reason == f"sim fault in phase {res.phases[-1].kind}: {msg}"
+    assert len(res.phases) == 2 and res.phases[-1].event == "sim fault"

@@ -357,3 +357,25 @@ def test_a_disc_that_fits_is_projected_out_exactly_and_no_jam_is_reported():
     log = world.run(0.01)
     assert log.status == "ok" and not [e for e in log.events if e.kind == "jammed"]
     assert log.poses["disc"][1, 1] >= 0.05 - 1e-6  # the 2 mm overlap removed in one step
+
+
+def test_a_degenerate_step_lcp_gets_the_regularized_answer_checked_on_the_original():
+    """A step's contact LCP recorded from a 12 cm rounded square's gait (30 contacts of a
+    corner arc on the flat pad, 3 joint limits, 30 friction rows: condition number ~3e21)
+    on which Lemke stops on a ray in floating point, even with gaps only closed: the run
+    ended as a simulator fault. The step's fallback solves ``A + eps I`` and accepts the
+    answer only if it solves the ORIGINAL problem to the verification tolerance."""
+    from pathlib import Path
+
+    from planner.errors import InfeasibleProblem
+    from planner.sim.lcp import lcp_residual, solve_lcp
+    from planner.sim.planar.stepper import STEP_REGULARIZE, _solve
+
+    data = np.load(Path(__file__).parent / "data" / "step_lcp_degenerate.npz")
+    M, q = data["M"], data["q"]
+    assert solve_lcp(M, q)[1] != 0  # the plain Lemke path fails on it
+    with pytest.raises(InfeasibleProblem, match="Lemke stopped"):
+        _solve(M, q, "contact problem")
+    z = _solve(M, q, "contact problem", regularize=STEP_REGULARIZE)
+    assert lcp_residual(M, q, z) <= 1e-6
+    assert z.min() >= 0.0 and np.min(M @ z + q) >= -1e-6 * max(1.0, np.abs(q).max())

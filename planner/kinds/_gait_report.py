@@ -44,7 +44,7 @@ def report(config, ctx, res, profile, duration: float, hand, noise_seed: int | N
             files["plots/animation.gif"] = gif
     reason = ""
     if res.status == "failed":
-        reason = f"{_failure(res)} (last phase {metrics['last_phase']})"
+        reason = f"{res.reason} (last phase {metrics['last_phase']})"
     return RunResult(status=res.status, reason=reason, metrics=metrics, arrays=arrays,
                      events=events, figures=figures, files=files)  # fmt: skip
 
@@ -85,15 +85,6 @@ def _ridge_coverage(config, res, profile, hand) -> dict:
     found = {f"ridge_{k}" if not k.startswith("coverage") else k: v for k, v in out.items()}
     found["ridge_probe_shadow_deg"] = math.degrees(pad_shadow(R, o.ridge_height, PROBE_EDGE))
     return found
-
-
-def _failure(res) -> str:
-    """The executor's reason, with the simulator's own message when the simulator stopped
-    (``"sim fault in phase 1: sim fault"`` says less than the Lemke ray behind it)."""
-    sim = [str(e.get("message", "")) for e in res.events if e.get("kind") == "sim"]
-    if sim and sim[-1] and sim[-1] not in res.reason:
-        return f"{res.reason} ({sim[-1]})"
-    return res.reason
 
 
 def _rotation(config, res, profile):
