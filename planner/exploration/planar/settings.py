@@ -99,10 +99,15 @@ class GaitSettings:
             ends at a joint stop can leave the tip touching the object 92-107 deg from its
             axis where the NLP's range is 69 deg. The friction cones stay as they are.
             Measured with ``left_regrasp`` on the 27 runs above: 10 full turns instead of
-            9. Also relaxing the start's planning cones gave 12, but the long thin ellipse
-            (``long_thin_gait``) then jammed in the simulator instead of failing on force
-            closure; the tip's relaxation in every plan (not only the last) gave 6 (the
-            regrasp it replaces was the better move where it was possible).
+            9. The tip's relaxation in every plan (not only the last) gave 6 (the regrasp
+            it replaces was the better move where it was possible). Relaxing the start's
+            planning cones the same way (a contact line outside a cone may stay as far out)
+            once gave 12 but jammed ``long_thin_gait``; re-measured 2026-11-24 on today's
+            executor (jams no longer fatal; 18 runs: those rounded squares and ellipses
+            of 1.1/1.15/1.2:1, seeds 0/1, 30 s; and the batch's 12/14 cm rounded squares)
+            it changed nothing: the same 9 runs ok, rotations within 2 deg but one (-78
+            instead of -97 deg); the 12 cm square, stopped 1 deg outside the cones, got
+            its relaxed plan and hit a joint stop 0.2 deg on. Not kept.
         explore_force: normal force of the exploring finger (0.3 N, §2.3.2) [N].
         object_mass: the planner's guess of the object mass [kg].
         object_kp, object_kv: object impedance gains (eq. 2.7).
