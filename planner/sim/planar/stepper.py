@@ -34,8 +34,8 @@ projection (post-stabilization, Cline & Pai 2003) when a gap is below
 
 **Verification.** Every LCP answer is checked (``z >= 0``, ``w >= 0``, ``z.w = 0`` to 1e-9
 relative, :func:`planner.sim.lcp.lcp_residual`); a projection whose Lemke path fails is
-retried on the regularized ``N M^-1 N^T + eps I`` and still checked on the original problem
-(so is a step's LCP that Lemke fails on in floating point, :data:`STEP_REGULARIZE`); a
+retried on the regularized ``N M^-1 N^T + eps I`` and still checked on the original problem,
+to 1e-6 (so is a step's LCP that Lemke fails on in floating point, :data:`STEP_REGULARIZE`); a
 step whose problem has no verified answer raises :class:`planner.errors.InfeasibleProblem`
 (a ``stopped`` event of the run), never returns an unchecked impulse. One exception, where
 no answer exists: a *jam*, contacts and joint limits that oppose each other so that no
