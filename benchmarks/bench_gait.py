@@ -155,19 +155,24 @@ def run_object(
     mu: float,
     nominal: str = "circle",
     phase_log: bool = False,
+    map_space: bool = True,
 ) -> dict:
     """Execute one object (in a worker process); the batch row. ``nominal``: the planner's
     model, ``"circle"`` (a feature-less circle of the object's area) or ``"true"`` (the
     object's outline, posed from the sensed contacts: the §2.3.1 simulation modelled it).
-    ``phase_log``: the row's ``phase_log`` holds one line per phase (:func:`phase_rows`)."""
+    ``phase_log``: the row's ``phase_log`` holds one line per phase (:func:`phase_rows`).
+    ``map_space``: with the map-space columns (:data:`MAP_COLUMNS`; the same for every
+    model of an object, so :func:`bench_batch` has them computed once per object)."""
     from planner.exploration import explore_object
     from planner.exploration.planar.setup import check_fits
 
     hand = batch_hand(mu)
-    feasible, why_map = map_verdict(obj.profile, hand, mu)
     row = {"benchmark": "batch", "object": obj.name, "family": obj.family, "model": nominal,
-           "size_cm": obj.size_cm, "plan_gait": "gait" if feasible else "no gait",
-           "plan_gait_reason": why_map, **rest_reach(obj.profile, hand, mu)}  # fmt: skip
+           "size_cm": obj.size_cm}  # fmt: skip
+    if map_space:
+        feasible, why_map = map_verdict(obj.profile, hand, mu)
+        row.update(plan_gait="gait" if feasible else "no gait", plan_gait_reason=why_map,
+                   **rest_reach(obj.profile, hand, mu))  # fmt: skip
     why = check_fits(obj.profile, mu, hand)
     if why:
         row.update(verdict="does not fit", status="-", reason=why)
@@ -319,14 +324,19 @@ def bench_batch(args) -> list[dict]:
         ]
     )
     models = nominal_models(args.nominal)
-    tasks = [(o, args.duration, args.min_rotation, 1.0, m, args.phase_log)
+    tasks = [(o, args.duration, args.min_rotation, 1.0, m, args.phase_log, m == models[0])
              for o in objs for m in models]  # fmt: skip
     rows = run_parallel(tasks, run_object, args.jobs, args.wall_cap, args.budget)
-    for (o, *_, m, _pl), r in zip(tasks, rows, strict=True):
+    first = {t[0].name: r for t, r in zip(tasks, rows, strict=True) if t[-1]}
+    for t, r in zip(tasks, rows, strict=True):
+        o, m = t[0], t[4]
         r.setdefault("benchmark", "batch")
         r.setdefault("object", o.name)
         r.setdefault("family", o.family)
         r.setdefault("model", m)
+        for k in MAP_COLUMNS:  # computed with the object's first model
+            if k in first[o.name]:
+                r.setdefault(k, first[o.name][k])
         r.setdefault("plan_gait", "?")
         r.setdefault("plan_gait_reason", "")
         r["agree"] = explain(r) if "verdict" in r else ""
@@ -338,6 +348,9 @@ def bench_batch(args) -> list[dict]:
 
 #: the planner's models of the batch objects (``--nominal``)
 MODELS = ("circle", "true")
+#: the columns of map space (``plan_gait`` and the rest reach): one object, any model
+MAP_COLUMNS = ("plan_gait", "plan_gait_reason", "rest_turn_deg", "rest_turn_reserve_deg",
+               "rest_blocking")  # fmt: skip
 
 
 def nominal_models(spec: str) -> list[str]:
@@ -574,8 +587,9 @@ def main() -> None:
                  out=args.out, notes=notes, columns=cols)  # fmt: skip
     for r in rows:
         if r.get("phase_log"):
-            print(f"\n{r['object']} ({r.get('model', '')} model): phases (true vs sensed rotation [deg], centre estimate "
-                  "error, median/max |T|/N per contact)")  # fmt: skip
+            print(f"\n{r['object']} ({r.get('model', '')} model): phases (true vs sensed "
+                  "rotation [deg], centre estimate error, median/max |T|/N per "
+                  "contact)")  # fmt: skip
             print("\n".join(r["phase_log"]))
 
 

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from planner.errors import InvalidParameter
@@ -228,7 +228,8 @@ def _assert_fast_step_equals_reference(
 ):
     """From state ``s0``, the compiled step (``step_fast``) and the Python reference
     (``step``) give the same state, contacts, impulses and limit rows (``atol`` on states
-    and impulses, ``gap_rtol``/``gap_atol`` on the gaps); returns the compiled step's result."""
+    and impulses, also relative to their size: rounding scales with it; ``gap_rtol``/
+    ``gap_atol`` on the gaps); returns the compiled step's result."""
     from planner.sim.planar.stepper import step, step_fast
 
     _set(world, s0)
@@ -237,7 +238,7 @@ def _assert_fast_step_equals_reference(
     _set(world, s0)
     fast = step_fast(world, tau)
     for a, b in zip(s_ref, _state(world), strict=True):
-        assert np.allclose(a, b, rtol=0, atol=atol)
+        assert np.allclose(a, b, rtol=atol, atol=atol)
     assert np.array_equal(ref.body_a, fast.body_a)
     assert np.allclose(ref.gap, fast.gap, rtol=gap_rtol, atol=gap_atol)
     for name in ("p_n", "p_t", "slip", "limit_impulses"):
@@ -248,8 +249,11 @@ def _assert_fast_step_equals_reference(
 
 @settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(scene=st.sampled_from(["pinch", "roll", "slide", "incline"]), seed=st.integers(0, 10**6))
+@example(scene="slide", seed=3580)
 def test_compiled_step_equals_the_python_reference(scene, seed):
-    """Same contacts, impulses and state after a step from random nearby states."""
+    """Same contacts, impulses and state after a step from random nearby states. (Random
+    Hypothesis found seed 3580: joint velocities of 1.5 rad/s 1.05e-12 apart, the two
+    implementations' rounding; the tolerance was 1e-12 absolute, now also relative.)"""
 
     world, ctrl = _scene(scene)
     rng = np.random.default_rng(seed)

@@ -42,7 +42,11 @@ import numpy as np
 
 from planner.exploration.planar.angles import circular_groups, circular_median
 from planner.exploration.planar.result import DetectedFeature
-from planner.exploration.planar.sensed_features import fuse_image_ridges, image_ridges
+from planner.exploration.planar.sensed_features import (
+    PAD_HALF_WIDTH,
+    fuse_image_ridges,
+    image_ridges,
+)
 
 #: a region at least this far above (below) the model is a ridge (groove) [m]
 MACRO_HEIGHT = 1.0e-3
@@ -320,8 +324,6 @@ def _walls(trace: dict, theta, radius: float) -> list[float]:
 
     if "images" not in trace or not all(k in trace for k in TRACE_NAMES):
         return []  # no images to confirm, or a partial trace (every column is read)
-    from planner.exploration.planar.sensed_features import PAD_HALF_WIDTH
-
     columns = int(np.shape(trace["images"])[-1]) if np.size(trace["images"]) else 8
     return jumped_walls(trace, theta, radius, PAD_HALF_WIDTH, columns)
 

@@ -218,7 +218,7 @@ def image_ridges(trace: dict, theta, band, pad_half_width: float = PAD_HALF_WIDT
     columns = trace["images"].shape[-1]
     px, py = pad_end_contact(trace, columns, pad_half_width)
     ang = np.arctan2(py - trace["cy"], px - trace["cx"]) - theta
-    side = wall_sides(trace, columns, pad_half_width)
+    side = _wall_sides(trace, columns, pad_half_width, px, py)
     idx = np.flatnonzero(ok)
     runs = np.split(idx, np.flatnonzero(np.diff(idx) > 1) + 1) if idx.size else []
     theta = np.asarray(theta, float)
@@ -250,10 +250,15 @@ def wall_sides(trace: dict, columns: int, pad_half_width: float = PAD_HALF_WIDTH
     larger polar angles (counter-clockwise about the sensed centre), -1 at smaller ones,
     0 for a contact inside the pad. An edge touching the pad's end is a wall of a bump
     whose body lies beyond the end. The pad's axis is ``(-n_y, n_x)`` (:mod:`.sensing`)."""
+    px, py = pad_end_contact(trace, columns, pad_half_width)
+    return _wall_sides(trace, columns, pad_half_width, px, py)
+
+
+def _wall_sides(trace: dict, columns: int, pad_half_width: float, px, py) -> np.ndarray:
+    """:func:`wall_sides` with the pad's end contacts ``(px, py)`` [m] already found."""
     u = np.asarray(trace["u"], float)
     pitch = 2.0 * pad_half_width / columns
     end = np.abs(u) > pad_half_width - pitch
-    px, py = pad_end_contact(trace, columns, pad_half_width)
     rx, ry = px - np.asarray(trace["cx"], float), py - np.asarray(trace["cy"], float)
     ax, ay = -np.asarray(trace["nLy"], float), np.asarray(trace["nLx"], float)
     ccw = np.sign(rx * ay - ry * ax)  # +1: the pad's +u axis turns counter-clockwise

@@ -334,8 +334,8 @@ def _project(world, frames, cands, Minv):
     A jam (no displacement removes every penetration: contacts and joint limits that
     oppose each other) gets the compliant projection of :func:`_solve`; what penetration
     leaves beyond ``projection_tolerance`` [m] is put in ``world.jam`` for the ``jammed``
-    event (0 otherwise). The step's
-    LCP then keeps it from growing (its fallback closes gaps only)."""
+    event (0 otherwise). The step's LCP then keeps it from growing (its fallback closes
+    gaps only)."""
     nv = Minv.shape[0]
     N, _, _ = _rows(world, frames, cands, nv)
     phi = np.array([c[2] for c in cands])
