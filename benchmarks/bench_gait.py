@@ -156,19 +156,22 @@ def run_object(
     nominal: str = "circle",
     phase_log: bool = False,
     map_space: bool = True,
+    seed: int = 0,
 ) -> dict:
     """Execute one object (in a worker process); the batch row. ``nominal``: the planner's
     model, ``"circle"`` (a feature-less circle of the object's area) or ``"true"`` (the
     object's outline, posed from the sensed contacts: the §2.3.1 simulation modelled it).
     ``phase_log``: the row's ``phase_log`` holds one line per phase (:func:`phase_rows`).
     ``map_space``: with the map-space columns (:data:`MAP_COLUMNS`; the same for every
-    model of an object, so :func:`bench_batch` has them computed once per object)."""
+    model of an object, so :func:`bench_batch` has them computed once per object).
+    ``seed``: the sensor-noise seed of the run (verdicts on non-round objects depend on
+    it: :func:`bench_batch` runs ``--seeds`` of them)."""
     from planner.exploration import explore_object
     from planner.exploration.planar.setup import check_fits
 
     hand = batch_hand(mu)
     row = {"benchmark": "batch", "object": obj.name, "family": obj.family, "model": nominal,
-           "size_cm": obj.size_cm}  # fmt: skip
+           "seed": seed, "size_cm": obj.size_cm}  # fmt: skip
     if map_space:
         feasible, why_map = map_verdict(obj.profile, hand, mu)
         row.update(plan_gait="gait" if feasible else "no gait", plan_gait_reason=why_map,
@@ -179,7 +182,8 @@ def run_object(
         return row
     t0, c0 = time.perf_counter(), time.process_time()
     model = obj.profile if nominal == "true" else None
-    res = explore_object(obj.profile, hand=hand, mu=mu, nominal=model, duration=duration, seed=0)
+    res = explore_object(obj.profile, hand=hand, mu=mu, nominal=model, duration=duration,
+                         seed=seed)  # fmt: skip
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     turn = -math.degrees(res.rotation)  # clockwise positive
     sim = float(res.log.t[-1]) if len(res.log.t) else 0.0
@@ -324,16 +328,19 @@ def bench_batch(args) -> list[dict]:
         ]
     )
     models = nominal_models(args.nominal)
-    tasks = [(o, args.duration, args.min_rotation, 1.0, m, args.phase_log, m == models[0])
-             for o in objs for m in models]  # fmt: skip
+    # map space once per object: with its first model's first seed
+    tasks = [(o, args.duration, args.min_rotation, 1.0, m, args.phase_log,
+              m == models[0] and seed == 0, seed)
+             for seed in range(args.seeds) for o in objs for m in models]  # fmt: skip
     rows = run_parallel(tasks, run_object, args.jobs, args.wall_cap, args.budget)
-    first = {t[0].name: r for t, r in zip(tasks, rows, strict=True) if t[-1]}
+    first = {t[0].name: r for t, r in zip(tasks, rows, strict=True) if t[6]}
     for t, r in zip(tasks, rows, strict=True):
         o, m = t[0], t[4]
         r.setdefault("benchmark", "batch")
         r.setdefault("object", o.name)
         r.setdefault("family", o.family)
         r.setdefault("model", m)
+        r.setdefault("seed", t[7])
         for k in MAP_COLUMNS:  # computed with the object's first model
             if k in first[o.name]:
                 r.setdefault(k, first[o.name][k])
@@ -343,7 +350,7 @@ def bench_batch(args) -> list[dict]:
         r["plan_gait_reason"] = str(r["plan_gait_reason"])[:120]
     rank = {o.name: k for k, o in enumerate(objects(args.quick))}
     # the table by shape group, each object's models side by side
-    return sorted(rows, key=lambda r: (rank[r["object"]], models.index(r["model"])))
+    return sorted(rows, key=lambda r: (rank[r["object"]], models.index(r["model"]), r["seed"]))
 
 
 #: the planner's models of the batch objects (``--nominal``)
@@ -364,30 +371,40 @@ def nominal_models(spec: str) -> list[str]:
 
 
 def summary(rows: list[dict]) -> list[str]:
-    """Counts of verdicts and agreements, per family."""
+    """Counts of verdicts and agreements; successes per model and family, counted per run
+    and per object (an object succeeds when more than half of its seeds' runs do)."""
     batch = [r for r in rows if r.get("benchmark") == "batch"]
-    lines = [f"objects: {len(batch)}; verdicts: "
-             + _count([r.get("verdict", "?") for r in batch])]  # fmt: skip
+    seeds = sorted({r.get("seed", 0) for r in batch})
+    lines = [f"runs: {len(batch)} ({len(seeds)} sensor-noise seed(s) per object and model); "
+             "verdicts: " + _count([r.get("verdict", "?") for r in batch])]  # fmt: skip
     agree = sum(1 for r in batch if str(r.get("agree", "")).startswith("agree"))
     dis = sum(1 for r in batch if str(r.get("agree", "")).startswith("disagree"))
-    lines.append(f"executor vs plan_gait: {agree} agree, {dis} disagree, "
+    lines.append(f"executor runs vs plan_gait: {agree} agree, {dis} disagree, "
                  f"{len(batch) - agree - dis} undecided")  # fmt: skip
     models = list(dict.fromkeys(r.get("model", "") for r in batch))
+
+    def tally(rs: list[dict], m: str) -> str:
+        """``"objects k/N, runs a/b"`` of model ``m`` among ``rs``."""
+        mine = [r for r in rs if r.get("model", "") == m]
+        per: dict[str, list[bool]] = {}
+        for r in mine:
+            per.setdefault(r["object"], []).append(_success(r))
+        won = sum(1 for v in per.values() if 2 * sum(v) > len(v))
+        ok = sum(1 for r in mine if _success(r))
+        return f"objects {won}/{len(per)}, runs {ok}/{len(mine)}"
+
     for m in models:
-        ok = sum(1 for r in batch if r.get("model", "") == m and _success(r))
-        n = sum(1 for r in batch if r.get("model", "") == m)
-        lines.append(f"executor with the {MODEL_NAMES.get(m, m)} model: succeeds on {ok}/{n}")
+        lines.append(f"executor with the {MODEL_NAMES.get(m, m)} model succeeds on "
+                     f"{tally(batch, m)}")  # fmt: skip
     fams = dict.fromkeys(r["family"] for r in batch)
     for fam in fams:
         rs = [r for r in batch if r["family"] == fam]
-        one = [r for r in rs if r.get("model", "") == models[0]]  # map space: once per object
-        succ = ", ".join(
-            f"{sum(1 for r in rs if r.get('model', '') == m and _success(r))}/{len(one)} ({m})"
-            for m in models
-        )
+        # map space: once per object (its first model's first seed)
+        one = [r for r in rs if r.get("model", "") == models[0] and r.get("seed", 0) == seeds[0]]
+        succ = "; ".join(f"{tally(rs, m)} ({m})" for m in models)
         gait = sum(1 for r in one if r.get("plan_gait") == "gait")
         rest = sum(1 for r in one if r.get("rest_turn_deg") == 360)
-        lines.append(f"{fam}: executor succeeds on {succ}, plan_gait on "
+        lines.append(f"{fam}: executor succeeds on {succ}; plan_gait on "
                      f"{gait}/{len(one)}, map space from rest turns {rest}/{len(one)} a full "
                      "turn")  # fmt: skip
     return lines
@@ -527,6 +544,9 @@ def main() -> None:
     p.add_argument("--jobs", type=int, default=2, help="worker processes")
     p.add_argument("--budget", type=float, default=math.inf, help="total wall s of the batch")
     p.add_argument("--min-rotation", type=float, default=40.0, help="'turning' threshold [deg]")
+    p.add_argument("--seeds", type=int, default=3,
+                   help="sensor-noise seeds per batch object and model (verdicts on non-round "
+                   "objects depend on them)")  # fmt: skip
     p.add_argument("--ball", type=float, default=0.0, help="ball_with_ridge seconds (0: skip)")
     p.add_argument("--ball-seeds", type=int, default=1, help="ball_with_ridge sensor seeds")
     p.add_argument("--no-nlp", action="store_true", help="skip the NLP rows")
@@ -543,6 +563,8 @@ def main() -> None:
         nominal_models(args.nominal)  # a bad --nominal stops before any work
     except ValueError as exc:
         p.error(str(exc))
+    if args.seeds < 1:
+        p.error(f"--seeds: {args.seeds}: expected at least 1")
     if args.quick:
         args.duration = min(args.duration, 2.0)
     t0 = time.perf_counter()
@@ -551,7 +573,8 @@ def main() -> None:
     if args.ball > 0:
         rows += bench_ball(args.ball, args.ball_seeds, args.jobs)
     notes = summary(rows) + [
-        f"batch: {args.duration:g} s simulated per object (wall cap {args.wall_cap:g} s), "
+        f"batch: {args.duration:g} s simulated per run, sensor-noise seeds 0-{args.seeds - 1} "
+        f"(wall cap {args.wall_cap:g} s), "
         f"{args.jobs} worker processes, total budget {args.budget:g} s; 'turning' = ok and "
         f">= {args.min_rotation:g} deg clockwise or two phase-1 rotations >= 5 deg when the "
         "time ran out; success = full turn or turning",
@@ -577,7 +600,8 @@ def main() -> None:
         f"total wall {time.perf_counter() - t0:.0f} s; load average at the end "
         f"{load_average()}; 2-core machine shared with other jobs",
     ]  # fmt: skip
-    cols = ["benchmark", "value_ms", "target_ms", "object", "size_cm", "model", "plan_gait",
+    cols = ["benchmark", "value_ms", "target_ms", "object", "size_cm", "model", "seed",
+            "plan_gait",
             "verdict",
             "status", "reason", "rotation_deg", "coverage", "phases", "phase1",
             "transitions_4", "min_epsilon", "end_events", "sim_s", "wall_s", "rtf", "cpu_rtf",

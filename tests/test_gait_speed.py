@@ -36,9 +36,16 @@ def _config():
     return Config.model_validate({"name": "ball", **yaml.safe_load(SCENARIO.read_text())})
 
 
-def _phases(loop: str, seed: int, kinds=(1, 2), seconds: float = 0.5, slip: float = HOLD_SLIP):
+#: the watched points of a :class:`PhaseStop` (``holder`` of phases 2/3 as the machine has
+#: it: the left fingertip in phase 2, the right one in phase 3)
+WATCH = {"both": (True, True), "centre": (True, False), "tip": (False, True)}
+
+
+def _phases(loop: str, seed: int, kinds=(1, 2), seconds: float = 0.5, slip: float = HOLD_SLIP,
+            watch: str = "both"):  # fmt: skip
     """Run the first phases of ``ball_with_ridge`` (planned as the machine plans them) with
-    :class:`PhaseStop` through ``world.run(..., loop=loop)``."""
+    :class:`PhaseStop` (watching ``watch``: :data:`WATCH`) through
+    ``world.run(..., loop=loop)``."""
     from planner.exploration.planar.objects import mean_radius
     from planner.trajectory import RollingNLP
 
@@ -55,7 +62,9 @@ def _phases(loop: str, seed: int, kinds=(1, 2), seconds: float = 0.5, slip: floa
         est = ctrl.sensing.update(world.observe(), {1: "auto", 2: "pad", 3: "palm"}[kind])
         seg = runner._plan(kind, est, world.observe().q)[0]
         ctrl.start(seg, world.time)
-        stop = PhaseStop(ctrl, slip if kind != 1 else None, progress.append)
+        centre, tip = WATCH[watch]
+        holder = (0 if kind == 2 else 1) if tip else None
+        stop = PhaseStop(ctrl, slip if kind != 1 else None, progress.append, holder, centre)
         logs.append(world.run(seconds, ctrl, control_rate=s.control_rate, stop=stop, loop=loop))
         stops.append((stop.moved, None if stop.c0 is None else stop.c0.tolist(), ctrl.event))
     return logs, stops, ctrl, world, progress
@@ -84,15 +93,65 @@ def test_compiled_phases_equal_the_reference_loop(seed):
     assert len(ca.step_times) == len(ca.trace)
 
 
-def test_phase_stop_ends_a_phase_when_the_held_object_moves():
+@pytest.mark.parametrize("watch", sorted(WATCH))
+def test_phase_stop_ends_a_phase_when_the_held_object_moves(watch):
     """A hold slip of 0.1 mm: the phase-2 run ends with "object moved" in both loops, at
-    the same step."""
+    the same step, whichever points the check watches."""
     ends = []
     for loop in ("auto", "python"):
-        logs, stops, *_ = _phases(loop, 0, kinds=(1, 2), seconds=1.0, slip=1e-4)
+        logs, stops, *_ = _phases(loop, 0, kinds=(1, 2), seconds=1.0, slip=1e-4, watch=watch)
         ends.append((logs[-1].t[-1], logs[-1].reason, stops[-1][0], len(logs[-1].t)))
     assert ends[0] == ends[1]
     assert ends[0][1] == "object moved" and ends[0][2] is True
+
+
+class _FakeCtrl:
+    """What a :class:`PhaseStop` reads: the sensing buffer and the controller's event."""
+
+    def __init__(self) -> None:
+        from types import SimpleNamespace
+
+        from planner.exploration.planar.sensing import N_BUF
+
+        self.sensing = SimpleNamespace(est=SimpleNamespace(buffer=np.zeros(N_BUF)))
+
+    def stop(self, t, world):
+        return None
+
+    def move(self, what: str, dx: float) -> None:
+        from planner.exploration.planar.sensing import B_C, B_TIPS
+
+        i = B_C.start if what == "centre" else B_TIPS.start + 2 * int(what[-1])
+        self.sensing.est.buffer[i] += dx
+
+
+@pytest.mark.parametrize(
+    ("holder", "centre", "moves", "moved"),
+    [
+        (1, True, ["centre"], False),  # the centre estimate jumped on a flat face
+        (1, True, ["tip1"], False),  # the holding fingertip rolled ahead of the object
+        (1, True, ["tip0", "centre"], False),  # the other (exploring) fingertip
+        (1, True, ["tip1", "centre"], True),  # both: the object was dragged
+        (None, True, ["centre"], True),
+        (0, False, ["tip0"], True),
+        (0, False, ["centre", "tip1"], False),
+    ],
+)
+def test_phase_stop_needs_every_watched_point_to_move(holder, centre, moves, moved):
+    ctrl = _FakeCtrl()
+    stop = PhaseStop(ctrl, 0.01, None, holder, centre)
+    assert stop(0.0, None) is None  # the first call takes the reference
+    for what in moves:
+        ctrl.move(what, 0.0101)
+    assert (stop(0.001, None) == "object moved") is moved
+    assert stop.moved is moved
+
+
+def test_phase_stop_arguments():
+    with pytest.raises(ValueError, match="holder must be None, 0 or 1"):
+        PhaseStop(_FakeCtrl(), 0.01, None, 2)
+    with pytest.raises(ValueError, match="watches the centre, a holding fingertip or both"):
+        PhaseStop(_FakeCtrl(), 0.01, None, None, False)
 
 
 def test_simulated_pad_image_equals_the_numpy_reference():

@@ -45,14 +45,20 @@ from planner.exploration.planar.gait_loop_kernel import (
     C_EVENT,
     C_FALLBACK,
     C_IMAGES,
+    N_STOP,
+    S_INDEX,
+    S_N,
+    S_REF,
+    S_SLIP,
     STEP_IN_PYTHON,
     gait_advance,
 )
+from planner.exploration.planar.sensing import B_C, B_TIPS
 from planner.sim.lcp import COVERS
 from planner.sim.planar.run_kernel import BLOW_UP, CALL_DUE, NPAIRS, PYTHON_STEP
 from planner.sim.planar.sensing import _hand_geometry
 
-__all__ = ["CHUNK", "GaitLoop", "PhaseStop", "TipHoldStop"]
+__all__ = ["CHUNK", "GaitLoop", "PhaseStop"]
 
 #: steps of the first kernel call of a run and after a step run in Python: chunks double up
 #: to CHUNK while the kernel runs them through (references evaluated for calls the kernel
@@ -77,44 +83,56 @@ class PhaseStop:
     """The ``stop`` callback of one gait phase (the machine's per-step check).
 
     Returns the controller's event (:meth:`GaitController.stop`); with ``hold_slip`` (phases
-    2/3: the held object must stay put) first ``"object moved"`` when the sensed object
-    centre moved more than ``hold_slip`` [m] from where it was after the phase's first step
-    (``moved`` is then True). ``progress(t)`` is called with the simulated time [s] after
-    every step (from the compiled loop: after every chunk).
+    2/3: the held object must stay put) first ``"object moved"`` when every watched point
+    moved more than ``hold_slip`` [m] from where it was after the phase's first step
+    (``moved`` is then True). The watched points: the sensed object centre (``centre``)
+    and the HOLDING fingertip's encoder position (``holder``: 0 left, 1 right).
+
+    On the circle model the check watches both, because neither alone is reliable:
+
+    * on a flat face the centre estimate ``p + R n`` follows the pad's pressure centroid,
+      which jumps 13-15 mm when the releasing finger lets go while the object and the
+      holding fingertip move 0.1 mm (a 12 cm rounded square: a false alarm at the phase's
+      first steps);
+    * on the ball the centre estimate is exact, but the holding fingertip leads it: it had
+      moved 10 mm when the dragged ball had moved 7 mm, and stopping then, 70 ms early,
+      cost ``ball_with_ridge`` its gait (seeds 0/1: "no progress" at -26/-20 deg).
+
+    On a posed outline the fingertip alone is watched (a circle's centre estimate means
+    nothing there). ``progress(t)`` is called with the simulated time [s] after every step
+    (from the compiled loop: after every chunk).
     """
 
-    def __init__(self, ctrl, hold_slip: float | None = None, progress=None) -> None:
+    def __init__(self, ctrl, hold_slip: float | None = None, progress=None,
+                 holder: int | None = None, centre: bool = True) -> None:  # fmt: skip
+        if holder not in (None, 0, 1):
+            raise ValueError(f"holder must be None, 0 or 1, got {holder!r}")
+        if holder is None and not centre:
+            raise ValueError("a PhaseStop watches the centre, a holding fingertip or both")
         self.ctrl, self.hold_slip, self.progress = ctrl, hold_slip, progress
+        self.holder = holder
+        #: indices in the sensing buffer of the watched points' x (y follows)
+        self.index = ((B_C.start,) if centre else ()) + (
+            () if holder is None else (B_TIPS.start + 2 * holder,)
+        )
+        #: the watched points after the phase's first step [m], (len(index), 2)
         self.c0: np.ndarray | None = None
         self.moved = False
 
+    def points(self) -> np.ndarray:
+        """The watched points now [m], (len(index), 2) (a copy)."""
+        buf = self.ctrl.sensing.est.buffer
+        return np.array([buf[i : i + 2] for i in self.index])
+
     def __call__(self, t: float, world) -> str | None:
-        centre = self.ctrl.sensing.est.centre
+        points = self.points()
         if self.c0 is None:
-            self.c0 = centre.copy()
+            self.c0 = points
         if self.progress is not None:
             self.progress(t)
-        if self.hold_slip is not None and math.hypot(*(centre - self.c0)) > self.hold_slip:
-            self.moved = True
-            return "object moved"
-        return self.ctrl.stop(t, world)
-
-
-class TipHoldStop:
-    """The ``stop`` of a phase on a posed outline (run by the Python loop): the hold check
-    of phases 2/3 watches the HOLDING fingertip's encoder position (the circle centre
-    estimate jumps on a non-round object): ``"object moved"`` (``moved`` True) when it moved
-    more than ``hold_slip`` [m] from the phase start; then the controller's event."""
-
-    def __init__(self, ctrl, holder: int, hold_slip: float | None, progress) -> None:
-        self.ctrl, self.holder, self.hold_slip, self.progress = ctrl, holder, hold_slip, progress
-        self.tip0 = ctrl.sensing.est.tips[holder].copy()
-        self.moved = False
-
-    def __call__(self, t: float, world) -> str | None:
-        self.progress(t)
-        tip = self.ctrl.sensing.est.tips[self.holder]
-        if self.hold_slip is not None and math.hypot(*(tip - self.tip0)) > self.hold_slip:
+        if self.hold_slip is not None and all(
+            math.hypot(*d) > self.hold_slip for d in points - self.c0
+        ):
             self.moved = True
             return "object moved"
         return self.ctrl.stop(t, world)
@@ -161,7 +179,7 @@ class GaitLoop:
         self.imgs = np.zeros((CHUNK // 5 + 2, *self.img.shape))
         self.img_t = np.zeros(CHUNK // 5 + 2)
         self.cnt = np.zeros(6, np.int64)
-        self.stop_s = np.zeros(3)
+        self.stop_s = np.zeros(N_STOP)
         self.last_tau = np.zeros(6)
         self.size = FIRST_CHUNK  # steps of the next chunk (doubling up to CHUNK)
 
@@ -247,10 +265,13 @@ class GaitLoop:
         cnt = self.cnt
         cnt[:] = 0
         cnt[5] = len(c.trace)
+        stop_s = self.stop_s
+        stop_s[S_SLIP] = stop.hold_slip if stop.hold_slip is not None else 0.0
+        stop_s[S_N] = len(stop.index)
+        stop_s[S_INDEX : S_INDEX + len(stop.index)] = stop.index
         if stop.c0 is not None:
-            self.stop_s[0], self.stop_s[1] = stop.c0
+            stop_s[S_REF : S_REF + stop.c0.size] = stop.c0.ravel()
             cnt[C_C0] = 1
-        self.stop_s[2] = stop.hold_slip if stop.hold_slip is not None else 0.0
         self.last_tau[:] = c._last_tau
         t0 = time.perf_counter()
         done, code = self._kernel(m, calls, noise)
@@ -269,7 +290,8 @@ class GaitLoop:
             c.step_times.extend([wall / made] * made)  # call + step, per call
             c.compiled_calls += made
         if stop.c0 is None and cnt[C_C0]:
-            stop.c0 = self.stop_s[:2].copy()
+            k = len(stop.index)
+            stop.c0 = self.stop_s[S_REF : S_REF + 2 * k].reshape(k, 2).copy()
         if cnt[C_EVENT]:
             c._event(int(cnt[C_EVENT]))
         return done, code

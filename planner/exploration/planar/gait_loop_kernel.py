@@ -35,7 +35,7 @@ from planner.sim.planar.run_kernel import (
 from planner.sim.planar.sensing import pad_image
 from planner.sim.planar.step_kernel import full_step
 
-__all__ = ["STEP_IN_PYTHON", "STOP_HINT", "gait_advance"]
+__all__ = ["N_STOP", "STEP_IN_PYTHON", "STOP_HINT", "gait_advance"]
 
 #: exit code: a stop may be due after the last step (the Python :class:`PhaseStop` decides)
 STOP_HINT = 5
@@ -45,6 +45,10 @@ STEP_IN_PYTHON = 6
 _DAMP = 0.02
 # cnt[:] of gait_advance: calls made, fallbacks, images kept, event code, c0 known
 C_CALLS, C_FALLBACK, C_IMAGES, C_EVENT, C_C0 = 0, 1, 2, 3, 4
+# stop_s[:] of gait_advance: hold_slip [m], number of watched points (1-2), their indices
+# in the sensing buffer, their positions after the phase's first step [m]
+S_SLIP, S_N, S_INDEX, S_REF = 0, 1, 2, 4
+N_STOP = S_REF + 4
 
 
 @njit(cache=True)
@@ -116,8 +120,9 @@ def gait_advance(
     left pad's geometry and array (``pad[0]`` 0: no image); ``img`` (rows, cols) scratch;
     ``geo`` ... ``ctau``: :func:`gait_kernel`'s arrays; ``last_tau`` (6,) the last good
     command; ``trace`` (m, 29) and ``imgs``/``img_t`` its rows and kept images; ``cnt``
-    (6,) counters (``C_*``; ``cnt[5]`` trace rows before the chunk); ``stop_s`` (3,): the
-    centre after the phase's first step (2) and ``hold_slip`` [m] (<= 0: none);
+    (6,) counters (``C_*``; ``cnt[5]`` trace rows before the chunk); ``stop_s`` (N_STOP,):
+    the :class:`.gait_loop.PhaseStop`'s ``hold_slip`` [m] (<= 0: none), its watched points'
+    number and indices in ``buf`` and their positions after the phase's first step (``S_*``);
     ``rows0`` (n, 10), ``pn0``, ``pt0``: the step before this call
     (:meth:`PlanarWorld._step_rows`; ``rows0`` of shape (0, 0): none, its call runs in
     Python).
@@ -192,14 +197,22 @@ def gait_advance(
         _record(k, t1, x, v, com, q, qd, tau, n, out, pn, pt, slip, h, pair_code, flags, lg)
         # the PhaseStop, proposed (the Python one decides; the margin covers math.hypot's
         # rounding against numba's)
+        nw = int(stop_s[S_N])
         if cnt[C_C0] == 0:
-            stop_s[0], stop_s[1] = buf[10], buf[11]
+            for i in range(nw):
+                iw = int(stop_s[S_INDEX + i])
+                stop_s[S_REF + 2 * i], stop_s[S_REF + 2 * i + 1] = buf[iw], buf[iw + 1]
             cnt[C_C0] = 1
         if event:
             return done + 1, STOP_HINT, n_last, pn, pt, slip, mu, lj, lp
-        slip_limit = stop_s[2]
+        slip_limit = stop_s[S_SLIP]
         if slip_limit > 0.0:
-            d = math.hypot(buf[10] - stop_s[0], buf[11] - stop_s[1])
-            if d > slip_limit * (1.0 - 1e-9):
+            moved = True
+            for i in range(nw):
+                iw = int(stop_s[S_INDEX + i])
+                ir = S_REF + 2 * i
+                d = math.hypot(buf[iw] - stop_s[ir], buf[iw + 1] - stop_s[ir + 1])
+                moved = moved and d > slip_limit * (1.0 - 1e-9)
+            if moved:
                 return done + 1, STOP_HINT, n_last, pn, pt, slip, mu, lj, lp
     return n_max, DONE, n_last, pn, pt, slip, mu, lj, lp
