@@ -52,7 +52,14 @@ the palm) are one-sided faces: beyond their ends the distance to them is unsigne
 **Limits.** Restitution is zero (inelastic impacts). Contact forces are impulses / h (step
 averages). Contact sets are re-detected every step within ``margin`` plus twice the distance
 each body's points can travel in the step (no tunnelling at the scene's speeds). Rolling
-resistance and compliance are not modelled.
+resistance and compliance are not modelled. The step is first order in the motion: a
+body that turns a large angle in one step outruns the linearized contact rows. The
+planar hand's 50 g links carry no motor inertia or speed limit, so a finger that has let go
+and is driven at its 2 N m torque limit can reach 240 rad/s, which is 0.48 rad per 2 ms
+step. This happened once in the 192 runs of ``bench_gait`` (2026-11-24: a 10 cm sharp square
+tumbling out of the grasp). The next step's projection then met a 19 cm "penetration", and
+the run loop's runaway check ended the run as a simulator fault (status "failed", with its
+reason). Sub-stepping such steps is not done.
 """
 
 from __future__ import annotations
