@@ -38,8 +38,8 @@ CX = TRACE_NAMES.index("cx")
 #: the gait terminates when this many cycles together turned the object less than
 #: ``STALL_ROTATION`` [rad]
 STALL_CYCLES = 3
-#: phases 2/3 end when the holding fingertip and (on the circle model) the sensed object
-#: centre both moved this far from their start [m] (:class:`.gait_loop.PhaseStop`; a
+#: phases 2/3 end when the sensed object centre (circle model) or the holding fingertip
+#: (posed outline) moved this far from its start [m] (:class:`.gait_loop.PhaseStop`; a
 #: safety net: the sliding pad rolls the ball 1-5 mm per phase 3, more over the ridge)
 HOLD_SLIP = 0.01
 STALL_ROTATION = math.radians(5.0)
@@ -312,13 +312,14 @@ class _Runner:
         n0 = len(c.trace)
         eps_min = [math.inf]
         horizon = min(seg.duration + 0.5, self.t_end - t0)
-        # phases 2/3: the held object must stay where it is; a holding fingertip that moved
-        # HOLD_SLIP with (circle model) the sensed centre means the explorer drags the object
-        # (a ridge caught the round right tip and rolled the ball 30 deg back along the palm
-        # before this check). A PhaseStop (not a closure): the planar world's compiled loop
-        # runs the phase with it compiled in, on posed outlines too
-        stop = PhaseStop(c, HOLD_SLIP if kind != 1 else None, self._progress,
-                         holder=0 if kind == 2 else 1, centre=self.shape is None)  # fmt: skip
+        # phases 2/3: the held object must stay where it is; a sensed centre (circle model)
+        # or holding fingertip (posed outline) that moved HOLD_SLIP means the explorer drags
+        # the object (a ridge caught the round right tip and rolled the ball 30 deg back
+        # along the palm before this check). A PhaseStop (not a closure): the planar world's
+        # compiled loop runs the phase with it compiled in, on posed outlines too
+        holder = None if self.shape is None else (0 if kind == 2 else 1)
+        stop = PhaseStop(c, HOLD_SLIP if kind != 1 else None, self._progress, holder,
+                         centre=self.shape is None)  # fmt: skip
         log = w.run(max(horizon, w.dt), c, control_rate=self.s.control_rate, stop=stop)
         self.logs.append(log)
         self._rows = (n0, len(c.trace))
