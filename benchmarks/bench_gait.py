@@ -31,7 +31,7 @@ sensed contacts at every phase start, as the §2.3.1 simulation modelled the sha
 default both. Every object runs with each model for ``--seeds`` sensor-noise seeds (default
 3; column ``seed``): verdicts on non-round objects flip with the noise, so an object
 succeeds when most of its seeds do, and the notes count objects and runs (on 2026-11-24
-the circle model succeeded on 11 of 32 objects, 34 of 96 runs; the true outline on 7,
+the circle model succeeded on 11 of 32 objects, 32 of 96 runs; the true outline on 7,
 21 runs: rounded squares 3/5 against 0/5). ``--only square,gon``
 runs the objects whose name or family contains one of the substrings. ``--phase-log``
 prints every object's phases measured against the truth after the table

@@ -53,13 +53,15 @@ the palm) are one-sided faces: beyond their ends the distance to them is unsigne
 averages). Contact sets are re-detected every step within ``margin`` plus twice the distance
 each body's points can travel in the step (no tunnelling at the scene's speeds). Rolling
 resistance and compliance are not modelled. The step is first order in the motion: a
-body that turns a large angle in one step outruns the linearized contact rows. The
-planar hand's 50 g links carry no motor inertia or speed limit, so a finger that has let go
-and is driven at its 2 N m torque limit can reach 240 rad/s, which is 0.48 rad per 2 ms
-step. This happened once in the 192 runs of ``bench_gait`` (2026-11-24: a 10 cm sharp square
-tumbling out of the grasp). The next step's projection then met a 19 cm "penetration", and
-the run loop's runaway check ended the run as a simulator fault (status "failed", with its
-reason). Sub-stepping such steps is not done.
+body that turns a large angle in one step outruns the linearized contact rows. The planar
+hand's 50 g links carry no motor inertia or speed limit, so a finger that has let go and
+is driven at its 2 N m torque limit can reach 240 rad/s (0.48 rad per 2 ms step); the next
+step's projection then meets a "penetration" of centimetres (19 cm), and the run loop's
+runaway check ends the run as a simulator fault (status "failed", with the reason). That
+case was examined step by step (2026-11-24: a 10 cm sharp square tumbling out of the grasp,
+with a hold-check variant since reverted). On the same day 2 of the 192 runs of
+``bench_gait`` ended with a runaway velocity too (posed-outline runs on the 12 and 14 cm
+rounded squares, seed 2; not examined). Sub-stepping such steps is not done.
 """
 
 from __future__ import annotations
