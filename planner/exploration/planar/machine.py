@@ -168,7 +168,6 @@ class _Runner:
         self._traces: list = []
         self.R_nominal = float(ctrl.sensing.radius)
         self._rows = (0, 0)  # trace rows of the last phase
-        self._sim_reason = ""  # the simulator's message when it stopped the last phase
         self.on_progress = None
         self._reported = 0.0  # simulated time of the last on_progress call [s]
         self._via: float | None = None  # the pending back-stroke's turning angle [rad]
@@ -223,7 +222,8 @@ class _Runner:
             event, rec = self._run(kind, skip, seg, planned, nlp_t)
             if event in ("contact lost", "object dropped", "sim fault"):
                 # the simulator's own message says why it stopped (a Lemke ray, ...)
-                why = f": {self._sim_reason}" if self._sim_reason else ""
+                log = self.logs[-1]
+                why = f": {log.reason}" if log.status == "failed" else ""
                 self._end("failed", f"{event} in phase {kind}{why}")
                 return
             if kind == 1:
@@ -342,7 +342,6 @@ class _Runner:
         if c.event_data:
             self.events.append({"t": w.time, "kind": "phase_end", "phase": kind,
                                 "message": f"{event}: {c.event_data}"})  # fmt: skip
-        self._sim_reason = log.reason if log.status == "failed" else ""
         if log.status == "failed":
             event = "object dropped" if "drop" in log.reason else "sim fault"
             self.events.append({"t": w.time, "kind": "sim", "message": log.reason})

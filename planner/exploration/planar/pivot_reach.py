@@ -34,6 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from planner import checks
+from planner.grasp.workspace import rotation  # (2, 2) of an angle [rad], exported
 
 #: a joint must stay this far inside its limits along a pivot [rad] (the executor's
 #: workspace event fires at ``joint_margin`` = 0.03 rad; the phase-1 NLP keeps 0.05)
@@ -45,12 +46,6 @@ FACE_END = 0.003
 #: the palm corner is the lowest vertex with the object tipped clockwise by atan of this
 #: [-] (5 deg: more than a posed face's tilt error, 1.4 deg)
 PIVOT_SLOPE = math.tan(math.radians(5.0))
-
-
-def rotation(theta: float) -> np.ndarray:
-    """(2, 2) rotation matrix of angle ``theta`` [rad]."""
-    c, s = math.cos(theta), math.sin(theta)
-    return np.array([[c, -s], [s, c]])
 
 
 def palm_corner(W) -> np.ndarray:
