@@ -147,6 +147,11 @@ def test_a_stall_fails_the_gait_unless_the_full_turn_is_done():
     assert status == "failed" and reason.startswith("no progress")
     status, reason = stall_outcome(-math.radians(373.1))
     assert status == "ok" and "373.1 deg (a full turn)" in reason
+    # a failure names what blocked phase 1; a full turn does not
+    status, reason = stall_outcome(-math.radians(20.0), "blocking: workspace (x)")
+    assert status == "failed" and reason.endswith("deg (blocking: workspace (x))")
+    status, reason = stall_outcome(-math.radians(373.1), "blocking: workspace (x)")
+    assert status == "ok" and "blocking" not in reason
 
 
 @pytest.mark.parametrize(("kind", "expected"), [(2, 0.7), (3, 1.9)])
@@ -165,3 +170,39 @@ def test_left_hold_force_is_validated():
 
     with pytest.raises(InvalidParameter, match="left_hold_force"):
         GaitSettings(left_hold_force=0.0)
+
+
+def test_a_stalled_gait_names_the_constraints_its_phases_1_ended_on():
+    """``_Runner._blocking_now``: the phase-1 end events of the stalled cycles name the
+    constraint (grasp stability lost: force closure, with the smallest sensed epsilon;
+    workspace limit: workspace); phases 2/3 and older cycles do not count."""
+    from types import SimpleNamespace
+
+    from planner.exploration.planar.machine import STALL_CYCLES, _Runner
+    from planner.exploration.planar.result import PhaseRecord
+    from planner.exploration.planar.settings import GaitSettings
+
+    def rec(kind, event, eps=float("nan")):
+        return PhaseRecord(
+            kind=kind,
+            skip=False,
+            start=0.0,
+            end=1.0,
+            rotation=0.0,
+            planned_rotation=0.0,
+            event=event,
+            epsilon=eps,
+            nlp_time_s=0.0,
+        )
+
+    old = [rec(1, "workspace limit"), rec(2, "path finished")]  # before the window
+    window = []
+    for k in range(STALL_CYCLES + 1):
+        window += [rec(1, "grasp stability lost", 0.004 + 0.001 * k), rec(2, "workspace limit")]
+    window[2] = rec(1, "workspace limit")
+    r = SimpleNamespace(records=old + window, s=GaitSettings())
+    why = _Runner._blocking_now(r)
+    assert why == (
+        "blocking: force closure (phase 1 ended by grasp stability lost x3, epsilon "
+        "down to 0.004 < 0.01), workspace (phase 1 ended by workspace limit x1)"
+    )

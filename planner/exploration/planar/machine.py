@@ -43,6 +43,9 @@ STALL_CYCLES = 3
 #: safety net: the sliding pad rolls the ball 1-5 mm per phase 3, more over the ridge)
 HOLD_SLIP = 0.01
 STALL_ROTATION = math.radians(5.0)
+#: phase-1 end events of a stalled gait and the constraint each names (the issue's three:
+#: workspace, force closure, reach)
+STALL_CONSTRAINTS = {"grasp stability lost": "force closure", "workspace limit": "workspace"}
 #: simulated time between two calls of ``on_progress`` [s]
 PROGRESS_STEP = 0.1
 
@@ -235,7 +238,7 @@ class _Runner:
                               f"rotated {rot:.1f} deg ({event})")  # fmt: skip
                     return
                 if self._stalled():
-                    self._end(*stall_outcome(self.rotation()))
+                    self._end(*stall_outcome(self.rotation(), self._blocking_now()))
                     return
             kind, skip = self._next(kind, event, est)
 
@@ -283,6 +286,31 @@ class _Runner:
                                 "the left pad regrasps too before giving up"})  # fmt: skip
             return 3
         return None
+
+    def _blocking_now(self) -> str:
+        """What blocked phase 1 in the stalled cycles, for a stalled gait's reason: the
+        constraints their phases 1 ended on (``grasp stability lost``: force closure, the
+        sensed epsilon below ``min_epsilon``; ``workspace limit``: workspace), else the
+        static check of :func:`.phase_planning.blocking` at the sensed grasp now."""
+        starts = [i for i, p in enumerate(self.records) if p.phase == 1]
+        ones = [self.records[i] for i in starts[-STALL_CYCLES - 1 :]]
+        parts = []
+        for event, name in STALL_CONSTRAINTS.items():
+            hit = [p for p in ones if p.event == event]
+            if not hit:
+                continue
+            more = ""
+            if name == "force closure":
+                eps = [p.epsilon for p in hit if math.isfinite(p.epsilon)]
+                if eps:
+                    more = f", epsilon down to {min(eps):.3f} < {self.s.min_epsilon:g}"
+            parts.append(f"{name} (phase 1 ended by {event} x{len(hit)}{more})")
+        if parts:
+            return "blocking: " + ", ".join(parts)
+        obs = self.world.observe()
+        est = self.ctrl.sensing.update(obs, "auto")
+        mu = self.s.mu * (1 - self.s.friction_margin)
+        return phase_planning.blocking(self, est, obs.q, mu)
 
     def _stalled(self) -> bool:
         """Whether the last ``STALL_CYCLES`` cycles (phase-1 start to phase-1 start) together
@@ -436,17 +464,19 @@ class _Runner:
                             "message": reason, "last_phase": last})  # fmt: skip
 
 
-def stall_outcome(rotation: float) -> tuple[str, str]:
+def stall_outcome(rotation: float, blocking: str = "") -> tuple[str, str]:
     """``(status, reason)`` of a gait whose last :data:`STALL_CYCLES` cycles turned the
     object less than :data:`STALL_ROTATION`, after a total ``rotation`` [rad]: failed,
-    unless the full turn was done (then only the extra cycle of ``max_rotation`` stalled)."""
+    unless the full turn was done (then only the extra cycle of ``max_rotation`` stalled).
+    A failure names what ``blocking`` says stops phase 1 where the gait stalled
+    (:func:`.phase_planning.blocking`: force closure, workspace or reach), when given."""
     why = (f"no progress: the last {STALL_CYCLES} cycles turned the object less than "
            f"{math.degrees(STALL_ROTATION):.0f} deg")  # fmt: skip
     turned = abs(rotation)
     if turned >= FULL_TURN:
         return "ok", (f"object turned {math.degrees(turned):.1f} deg (a full turn); the cycle "
                       f"after it stopped: {why}")  # fmt: skip
-    return "failed", why
+    return "failed", f"{why} ({blocking})" if blocking else why
 
 
 __all__ = ["explore_object"]
