@@ -10,8 +10,7 @@ Mass properties (the thesis gives none): every link is a 50 g uniform rod along 
 tendon-driven joint whose motors sit off the finger, as on the thesis' test bed; the
 fingertips' mass is lumped into the distal rod. These are the inertias the contact simulator
 (``planner.sim.PlanarWorld``, via CRBA/RNEA) and its MJCF export use; torque limits
-``EFFORT_LIMIT`` = 2 N m per joint; ``VELOCITY_LIMIT`` = 5 rad/s, the rated speed above which the
-simulator's actuators deliver less driving torque (:mod:`planner.sim.planar.actuator`).
+``EFFORT_LIMIT`` = 2 N m per joint.
 """
 
 from __future__ import annotations

@@ -33,7 +33,6 @@ import numpy as np
 
 from planner.errors import InvalidParameter
 from planner.sim.lcp import _residual, lemke_verified, njit
-from planner.sim.planar.actuator import delivered
 from planner.sim.planar.geometry_kernel import contacts_into
 
 __all__ = [
@@ -322,7 +321,7 @@ def contact_step(
     if has_hand:
         o = 3 * nfree
         for i in range(6):
-            f[o + i] = delivered(tau[i], qd[i]) - hb[i]  # the actuator's envelope
+            f[o + i] = tau[i] - hb[i]
             nu[o + i] = qd[i]
         tips = np.zeros((2, 3))
         hand_kinematics(q, P, joints, tips)

@@ -2,7 +2,7 @@
 
 With generalized velocity ``nu`` (free bodies' ``(vx, vy, omega)`` then the hand's ``qd``),
 inertia ``M`` (bodies: ``diag(m, m, I)``; hand: Pinocchio's ``M(q)``) and forces ``f``
-(gravity, the actuators' joint torques minus ``C qd + g``), one step of length ``h`` is
+(gravity, joint torques minus ``C qd + g``), one step of length ``h`` is
 
 .. math::
 
@@ -54,13 +54,24 @@ averages). Contact sets are re-detected every step within ``margin`` plus twice 
 each body's points can travel in the step (no tunnelling at the scene's speeds). Rolling
 resistance and compliance are not modelled. The step is first order in the motion: a
 body that turns a large angle in one step outruns the linearized contact rows. The planar
-hand's 50 g links carry no motor inertia, so until 2026-11-24 a finger that had let go and
-was driven at its 2 N m torque limit reached 240 rad/s (0.48 rad per 2 ms step); the next
-step's projection met a "penetration" of centimetres (19 cm) and the run loop's runaway
-check ended the run as a simulator fault (2 of 192 ``bench_gait`` runs). The joints' torque
-now goes through the actuators' torque-speed envelope (:mod:`planner.sim.planar.actuator`:
-no driving torque beyond twice the rated 5 rad/s), which bounds such a finger near 10 rad/s;
-contact impulses can still give larger speeds (they are physics). Sub-stepping is not done.
+hand's 50 g links carry no motor inertia or speed limit, so a finger that has let go and
+is driven at its 2 N m torque limit can reach 240 rad/s (0.48 rad per 2 ms step); the next
+step's projection then meets a "penetration" of centimetres (19 cm), and the run loop's
+runaway check ends the run as a simulator fault (status "failed", with the reason). That
+case was examined step by step (2026-11-24: a 10 cm sharp square tumbling out of the grasp,
+with a hold-check variant since reverted). On the same day 2 of the 192 runs of
+``bench_gait`` ended with a runaway velocity too (posed-outline runs on the 12 and 14 cm
+rounded squares, seed 2; not examined). Sub-stepping such steps is not done. Tried on
+2026-11-24 and not kept: a torque-speed envelope for the actuators (no driving torque above
+twice the URDF's rated 5 rad/s, braking in full, in both steps). It removed those two faults
+but cannot touch a third kind, found in the same re-run (12 cm rounded square, posed
+outline, seed 0): with the object jammed among 30 contacts the 500 Hz controllers' damping
+and the step alternate each step, joint speeds flip sign and grow (-99, 81, -225, 182, ...,
+460 rad/s) at +-2 N m - braking torque, which the envelope delivers in full. Both kinds come
+from the links' missing motor inertia (a geared motor's reflected rotor inertia is far
+above a 50 g link's); adding it means re-tuning every controller, not done. The envelope
+also moved the chaotic gaits: ``ellipse_gait`` full turns 7/8 -> 6/8 seeds (its default
+seed 0 failing at -268 deg), the batch 11 -> 12 objects with the circle model.
 """
 
 from __future__ import annotations
@@ -72,7 +83,6 @@ import numpy as np
 
 from planner.errors import InfeasibleProblem
 from planner.sim.lcp import COVERS, lcp_residual, solve_lcp
-from planner.sim.planar.actuator import delivered_array
 from planner.sim.planar.bodies import FIXED, FREE, TIP
 from planner.sim.planar.contacts import Pose, candidates
 
@@ -259,7 +269,7 @@ def _dynamics(world, tau):
         o = 3 * nb
         for s in (slice(o, o + 3), slice(o + 3, o + 6)):
             Minv[s, s] = np.linalg.inv(M[s.start - o : s.stop - o, s.start - o : s.stop - o])
-        f[o:] = delivered_array(np.asarray(tau, float), world.qd) - h  # actuator envelope
+        f[o:] = tau - h
     return Minv, f
 
 
