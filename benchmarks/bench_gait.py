@@ -140,7 +140,7 @@ def rest_reach(profile, hand, mu: float) -> dict:
     from planner.exploration.planar.settings import GaitSettings
     from planner.exploration.planar.start_reach import start_reach
 
-    reserve = mu * (1.0 - GaitSettings(mu=mu).friction_margin)
+    reserve = GaitSettings(mu=mu).planning_mu
     try:
         sr, sr_reserve = (start_reach(profile, hand, m) for m in (mu, reserve))
     except HapexError as exc:

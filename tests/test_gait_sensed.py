@@ -206,3 +206,10 @@ def test_a_stalled_gait_names_the_constraints_its_phases_1_ended_on():
         "blocking: force closure (phase 1 ended by grasp stability lost x3, epsilon "
         "down to 0.004 < 0.01), workspace (phase 1 ended by workspace limit x1)"
     )
+
+
+def test_planning_mu_is_mu_less_its_friction_margin():
+    from planner.exploration.planar.settings import GaitSettings
+
+    assert GaitSettings().planning_mu == pytest.approx(0.8)
+    assert GaitSettings(mu=0.5, friction_margin=0.1).planning_mu == pytest.approx(0.45)

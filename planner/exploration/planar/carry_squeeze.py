@@ -111,7 +111,7 @@ def phase1_squeeze(beta, settings, lift: float) -> float:
     controller's cones (``mu (1 - friction_margin)``), times ``1 + settings.carry_margin``;
     capped at ``settings.max_squeeze``."""
     s = settings
-    mu = s.mu * (1 - s.friction_margin)
+    mu = s.planning_mu
     load = s.object_mass * GRAVITY + s.object_kp[1] * lift
     need = max(carrying_squeeze(float(bl), float(br), mu, load) for bl, br in np.asarray(beta))
     want = (1.0 + s.carry_margin) * need

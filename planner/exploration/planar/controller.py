@@ -116,7 +116,7 @@ class GaitController:
             {
                 "kp": s.object_kp, "kv": s.object_kv, "mass": s.object_mass,
                 "inertia": s.object_mass * radius**2 / 2, "gravity": gravity,
-                "mu": s.mu * (1 - s.friction_margin), "f_min": s.min_force,
+                "mu": s.planning_mu, "f_min": s.min_force,
                 "tau_max": s.torque_limit, "kp_tip": s.tip_kp, "kv_tip": s.tip_kv,
                 "f_n_tip": s.explore_force, "k_phi": s.phi_kp, "d_phi": s.phi_kv,
                 "w_wrench": 1.0, "w_int": 1.0, "w_track": 1.0, "w_reg": 1e-4,

@@ -292,8 +292,7 @@ class _Runner:
         constraints their phases 1 ended on (``grasp stability lost``: force closure, the
         sensed epsilon below ``min_epsilon``; ``workspace limit``: workspace), else the
         static check of :func:`.phase_planning.blocking` at the sensed grasp now."""
-        starts = [i for i, p in enumerate(self.records) if p.phase == 1]
-        ones = [self.records[i] for i in starts[-STALL_CYCLES - 1 :]]
+        ones = [p for p in self.records if p.phase == 1][-STALL_CYCLES - 1 :]
         parts = []
         for event, name in STALL_CONSTRAINTS.items():
             hit = [p for p in ones if p.event == event]
@@ -309,7 +308,7 @@ class _Runner:
             return "blocking: " + ", ".join(parts)
         obs = self.world.observe()
         est = self.ctrl.sensing.update(obs, "auto")
-        mu = self.s.mu * (1 - self.s.friction_margin)
+        mu = self.s.planning_mu
         return phase_planning.blocking(self, est, obs.q, mu)
 
     def _stalled(self) -> bool:
@@ -328,7 +327,7 @@ class _Runner:
         one (:mod:`.phase_planning`)."""
         if self.shape is not None:
             if kind == 1:
-                mu = self.s.mu * (1 - self.s.friction_margin)
+                mu = self.s.planning_mu
                 return shape_planning.plan_phase1(self, q, mu)
             return shape_planning.plan_explore(self, kind, est, q)
         return phase_planning.plan(self, kind, est, q)

@@ -45,7 +45,7 @@ def plan(r, kind: int, est, q):
     s = r.s
     if kind == 1:
         tip = r.hand.params.right.tip_radius
-        mu = s.mu * (1 - s.friction_margin)
+        mu = s.planning_mu
         R = fit_radius(r, est, tip)
         r.ctrl.sensing.radius = R
         est = r.ctrl.sensing.update(r.world.observe(), "auto")
@@ -271,7 +271,7 @@ def left_regrasp_angle(r, est, fallback: bool = True):
     :func:`.heuristics.regrasp_left_angle` for the right contact it will grasp with; the
     start grasp's angle when none is stable and reachable (phase 1 then reports it)."""
     s = r.s
-    mu = s.mu * (1 - s.friction_margin)
+    mu = s.planning_mu
     b = regrasp_left_angle(r.hand, est.centre, r.ctrl.sensing.radius, float(est.beta[1]),
                            mu, s.nlp_margin, PHASE1_TRAVEL)  # fmt: skip
     if b is None and fallback:
@@ -285,5 +285,5 @@ def right_hold_angle(r) -> float:
     (pi/2 - beta) / 2 with the contact normal and must lie inside the friction cone (with a
     0.2 rad reserve). Below it the holder's cone-limited push rolled the object backwards
     along the palm (+10-18 deg per phase 3 with beta = 5 deg)."""
-    mu = r.s.mu * (1 - r.s.friction_margin)
+    mu = r.s.planning_mu
     return 0.5 * math.pi - 2 * math.atan(mu) + 0.2

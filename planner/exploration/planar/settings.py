@@ -181,6 +181,12 @@ class GaitSettings:
     nlp_margin: float = 0.15
     max_phases: int = 200
 
+    @property
+    def planning_mu(self) -> float:
+        """Friction coefficient of the planners' and controllers' cones, ``mu (1 -
+        friction_margin)`` [-] (0.8 by default)."""
+        return self.mu * (1 - self.friction_margin)
+
     def __post_init__(self) -> None:
         for f in fields(self):  # the switches: a string "false" would read as true
             v = getattr(self, f.name)
