@@ -17,7 +17,11 @@ Rows:
   hand and mu; ``rest_turn_deg`` / ``rest_blocking``: how far map-space gaits can turn the
   object from where it rests unturned, searched over every start grasp and handoff
   (:mod:`planner.exploration.planar.start_reach`), and the constraint that stops them
-  (``rest_turn_reserve_deg``: with the friction the executor plans with);
+  (``rest_turn_reserve_deg``: with the friction the executor plans with). Every run then
+  goes on up to ``--full-turn`` simulated seconds (default 120; the verdict columns stay
+  its state at ``--duration``, which is what a run of that length gives): ``full_turn_s``
+  says when it had turned the object 360 deg (blank: never), ``run_end`` how it ended -
+  "turning" at 10 s is a promise, this column says whether it was kept;
 * ``nlp build`` / ``nlp solve``: the CasADi rolling NLP (targets <= 200 ms, <= 30 ms warm);
 * ``ball_with_ridge`` (``--ball S``): the bundled scenario's object for S simulated seconds.
 
@@ -39,7 +43,8 @@ prints every object's phases measured against the truth after the table
 centre estimate's error, each contact's ``|T| / N``).
 
 Run: ``python benchmarks/bench_gait.py [--quick] [--duration S] [--jobs N] [--seeds N]
-[--ball S] [--nominal circle,true] [--only SUBSTRINGS] [--phase-log]`` (5 min on 2 cores).
+[--full-turn S] [--ball S] [--nominal circle,true] [--only SUBSTRINGS] [--phase-log]``
+(about 10 min on 2 cores).
 """
 
 from __future__ import annotations
@@ -160,6 +165,7 @@ def run_object(
     phase_log: bool = False,
     map_space: bool = True,
     seed: int = 0,
+    full_turn: float = 0.0,
 ) -> dict:
     """Execute one object (in a worker process); the batch row. ``nominal``: the planner's
     model, ``"circle"`` (a feature-less circle of the object's area) or ``"true"`` (the
@@ -168,7 +174,11 @@ def run_object(
     ``map_space``: with the map-space columns (:data:`MAP_COLUMNS`; the same for every
     model of an object, so :func:`bench_batch` has them computed once per object).
     ``seed``: the sensor-noise seed of the run (verdicts on non-round objects depend on
-    it: :func:`bench_batch` runs ``--seeds`` of them)."""
+    it: :func:`bench_batch` runs ``--seeds`` of them). ``full_turn`` [s] > ``duration``:
+    the same run goes on up to ``full_turn`` simulated seconds (or the full turn, or its
+    failure); the verdict columns stay those at ``duration`` (the run is deterministic, so
+    they are what a run of ``duration`` gives) and :func:`long_columns` adds how the longer
+    run ended."""
     from planner.exploration import explore_object
     from planner.exploration.planar.setup import check_fits
 
@@ -185,22 +195,29 @@ def run_object(
         return row
     t0, c0 = time.perf_counter(), time.process_time()
     model = obj.profile if nominal == "true" else None
-    res = explore_object(obj.profile, hand=hand, mu=mu, nominal=model, duration=duration,
+    run_for = max(duration, full_turn)
+    res = explore_object(obj.profile, hand=hand, mu=mu, nominal=model, duration=run_for,
                          seed=seed)  # fmt: skip
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
-    turn = -math.degrees(res.rotation)  # clockwise positive
     sim = float(res.log.t[-1]) if len(res.log.t) else 0.0
-    if res.status == "failed":
+    status, reason, turn = res.status, res.reason, turn_at(res, duration)
+    # phase-1 rotations [deg, clockwise] up to ``duration`` (the phase running then: so far)
+    ones = [turn_at(res, min(p.end, duration)) - turn_at(res, p.start)
+            for p in res.phases if p.phase == 1 and p.start < duration]  # fmt: skip
+    if run_for > duration:
+        row.update(long_columns(res))
+        if sim > duration + 1e-9 and turn < 359.0:  # the run outlived ``duration``
+            status, reason = "ok", f"duration {duration:g} s reached"
+    if status == "failed":
         verdict = "failed"
     elif turn >= 359.0:
         verdict = "full turn"
     else:
-        rotating = [p for p in res.phases if p.phase == 1 and -p.rotation >= math.radians(5)]
-        cycled = len(rotating) >= 2
+        cycled = sum(1 for x in ones if x >= 5.0) >= 2
         verdict = "turning" if turn >= min_rotation_deg or cycled else "stalled"
     ends = [p.event for p in res.phases]
     row.update(
-        verdict=verdict, status=res.status, reason=res.reason, rotation_deg=round(turn, 1),
+        verdict=verdict, status=status, reason=reason, rotation_deg=round(turn, 1),
         coverage=round(res.coverage, 3), phases=len(res.phases),
         phase1=sum(1 for p in res.phases if p.phase == 1), transitions_4=res.transitions4,
         min_epsilon=round(res.min_epsilon, 3) if np.isfinite(res.min_epsilon) else "",
@@ -213,6 +230,31 @@ def run_object(
 
         row["phase_log"] = [r.line() for r in phase_rows(res)]
     return row
+
+
+def turn_at(res, t: float) -> float:
+    """Clockwise rotation [deg] of the run ``res`` at simulated time ``t`` [s] (its end if
+    it ended before)."""
+    log = res.log
+    if not len(log.t):
+        return 0.0
+    a = np.unwrap(np.asarray(log.poses["object"][:, 2], float))
+    k = min(int(np.searchsorted(log.t, t + 1e-9, side="right")) - 1, len(a) - 1)
+    return -math.degrees(a[max(k, 0)] - a[0])
+
+
+def long_columns(res) -> dict:
+    """How a run given more time (``--full-turn``) ended: ``full_turn_s`` (simulated time
+    at which the object had turned 360 deg, blank if never), ``run_end`` (full turn, or the
+    run's status and reason) and its ``run_turn_deg``."""
+    log = res.log
+    a = -np.degrees(np.unwrap(np.asarray(log.poses["object"][:, 2], float)))
+    a = a - a[0] if len(a) else a
+    k = np.flatnonzero(a >= 359.0)
+    when = round(float(log.t[k[0]]), 1) if len(k) else ""
+    end = "full turn" if len(k) else f"{res.status}: {res.reason}"[:160]
+    return {"full_turn_s": when, "run_end": end, "run_turn_deg": round(float(a[-1]), 1)
+            if len(a) else 0.0}  # fmt: skip
 
 
 def _count(items: list[str]) -> str:
@@ -333,7 +375,7 @@ def bench_batch(args) -> list[dict]:
     models = nominal_models(args.nominal)
     # map space once per object: with its first model's first seed
     tasks = [(o, args.duration, args.min_rotation, 1.0, m, args.phase_log,
-              m == models[0] and seed == 0, seed)
+              m == models[0] and seed == 0, seed, args.full_turn)
              for seed in range(args.seeds) for o in objs for m in models]  # fmt: skip
     rows = run_parallel(tasks, run_object, args.jobs, args.wall_cap, args.budget)
     first = {t[0].name: r for t, r in zip(tasks, rows, strict=True) if t[6]}
@@ -386,19 +428,26 @@ def summary(rows: list[dict]) -> list[str]:
                  f"{len(batch) - agree - dis} undecided")  # fmt: skip
     models = list(dict.fromkeys(r.get("model", "") for r in batch))
 
-    def tally(rs: list[dict], m: str) -> str:
-        """``"objects k/N, runs a/b"`` of model ``m`` among ``rs``."""
+    def tally(rs: list[dict], m: str, won_if=None) -> str:
+        """``"objects k/N, runs a/b"`` of model ``m`` among ``rs`` (success: ``won_if``,
+        default :func:`_success`)."""
+        won_if = won_if or _success
         mine = [r for r in rs if r.get("model", "") == m]
         per: dict[str, list[bool]] = {}
         for r in mine:
-            per.setdefault(r["object"], []).append(_success(r))
+            per.setdefault(r["object"], []).append(won_if(r))
         won = sum(1 for v in per.values() if 2 * sum(v) > len(v))
-        ok = sum(1 for r in mine if _success(r))
+        ok = sum(1 for r in mine if won_if(r))
         return f"objects {won}/{len(per)}, runs {ok}/{len(mine)}"
 
     for m in models:
         lines.append(f"executor with the {MODEL_NAMES.get(m, m)} model succeeds on "
                      f"{tally(batch, m)}")  # fmt: skip
+    longer = any("run_end" in r for r in batch)
+    if longer:
+        for m in models:
+            lines.append(f"full turn (360 deg) given more time, {MODEL_NAMES.get(m, m)} "
+                         f"model: {tally(batch, m, _full_turn)}")  # fmt: skip
     fams = dict.fromkeys(r["family"] for r in batch)
     for fam in fams:
         rs = [r for r in batch if r["family"] == fam]
@@ -407,7 +456,10 @@ def summary(rows: list[dict]) -> list[str]:
         succ = "; ".join(f"{tally(rs, m)} ({m})" for m in models)
         gait = sum(1 for r in one if r.get("plan_gait") == "gait")
         rest = sum(1 for r in one if r.get("rest_turn_deg") == 360)
-        lines.append(f"{fam}: executor succeeds on {succ}; plan_gait on "
+        full = ("; full turn given more time on "
+                + "; ".join(f"{tally(rs, m, _full_turn)} ({m})" for m in models)
+                if longer else "")  # fmt: skip
+        lines.append(f"{fam}: executor succeeds on {succ}{full}; plan_gait on "
                      f"{gait}/{len(one)}, map space from rest turns {rest}/{len(one)} a full "
                      "turn")  # fmt: skip
     return lines
@@ -419,6 +471,11 @@ MODEL_NAMES = {"circle": "nominal circle", "true": "true (posed) outline"}
 
 def _success(row: dict) -> bool:
     return row.get("verdict") in ("full turn", "turning")
+
+
+def _full_turn(row: dict) -> bool:
+    """The run turned the object 360 deg (at ``--duration`` or given ``--full-turn``)."""
+    return row.get("verdict") == "full turn" or row.get("full_turn_s", "") != ""
 
 
 def bench_nlp() -> list[dict]:
@@ -547,6 +604,13 @@ def main() -> None:
     p.add_argument("--jobs", type=int, default=2, help="worker processes")
     p.add_argument("--budget", type=float, default=math.inf, help="total wall s of the batch")
     p.add_argument("--min-rotation", type=float, default=40.0, help="'turning' threshold [deg]")
+    p.add_argument(
+        "--full-turn",
+        type=float,
+        default=120.0,
+        help="run every object on up to this many simulated s (0: --duration "
+        "only); columns full_turn_s / run_end: did it make the full turn",
+    )
     p.add_argument("--seeds", type=int, default=3,
                    help="sensor-noise seeds per batch object and model (verdicts on non-round "
                    "objects depend on them)")  # fmt: skip
@@ -568,8 +632,10 @@ def main() -> None:
         p.error(str(exc))
     if args.seeds < 1:
         p.error(f"--seeds: {args.seeds}: expected at least 1")
+    if not args.full_turn >= 0:
+        p.error(f"--full-turn: {args.full_turn:g}: expected >= 0 simulated s")
     if args.quick:
-        args.duration = min(args.duration, 2.0)
+        args.duration, args.full_turn = min(args.duration, 2.0), 0.0
     t0 = time.perf_counter()
     rows = [] if args.no_nlp else bench_nlp() + bench_nlp_replay()
     rows += bench_batch(args)
@@ -580,7 +646,12 @@ def main() -> None:
         f"(wall cap {args.wall_cap:g} s), "
         f"{args.jobs} worker processes, total budget {args.budget:g} s; 'turning' = ok and "
         f">= {args.min_rotation:g} deg clockwise or two phase-1 rotations >= 5 deg when the "
-        "time ran out; success = full turn or turning",
+        "time ran out; success = full turn or turning"
+        + (f"; every run then went on up to {args.full_turn:g} s simulated (the same "
+           "deterministic run: verdict, status, reason and rotation_deg are its state at "
+           f"{args.duration:g} s; coverage, phases, events, sim_s and wall_s are the whole "
+           "run's): full_turn_s = when it had turned 360 deg, run_end = how it ended"
+           if args.full_turn > args.duration else ""),
         f"hand: joint ranges {list(HAND_LOWER_DEG)} .. {list(HAND_UPPER_DEG)} deg (the "
         "ball_with_ridge hand), mu = 1; regular polygons with sharp corners",
         "plan_gait: map space on the TRUE object (resolution 72, pure rolling, fixed "
@@ -608,6 +679,7 @@ def main() -> None:
             "verdict",
             "status", "reason", "rotation_deg", "coverage", "phases", "phase1",
             "transitions_4", "min_epsilon", "end_events", "sim_s", "wall_s", "rtf", "cpu_rtf",
+            "full_turn_s", "run_turn_deg", "run_end",
             "ridge_error_deg", "agree", "plan_gait_reason", "rest_turn_deg",
             "rest_turn_reserve_deg", "rest_blocking"]  # fmt: skip
     write_report("bench_gait", rows, title="hapex executed grasp gait (ch. 2, §2.3.1 batch)",

@@ -56,11 +56,48 @@ def test_a_tie_is_not_a_success(bench):
     assert "succeeds on objects 0/1, runs 1/2" in bench.summary(rows)[2]
 
 
+def test_full_turns_given_more_time_are_counted_too(bench):
+    """With ``--full-turn`` the notes count, per model and family, the runs that turned
+    the object 360 deg in the longer run (majority over seeds, as the verdicts)."""
+    rows = [
+        _row("a", "squares", "circle", 0, "turning", full_turn_s=41.2, run_end="full turn"),
+        _row("a", "squares", "circle", 1, "turning", full_turn_s="", run_end="failed: x"),
+        _row("a", "squares", "circle", 2, "full turn", full_turn_s=9.5, run_end="full turn"),
+        _row("b", "squares", "circle", 0, "failed", full_turn_s="", run_end="failed: y"),
+    ]
+    lines = bench.summary(rows)
+    assert (
+        "full turn (360 deg) given more time, nominal circle model: objects 1/2, runs 2/4" in lines
+    )
+    squares = next(x for x in lines if x.startswith("squares:"))
+    assert "full turn given more time on objects 1/2, runs 2/4 (circle)" in squares
+    plain = bench.summary([_row("c", "circles", "circle", 0, "turning")])
+    assert not any("given more time" in x for x in plain)
+
+
+def test_a_longer_run_gives_the_verdict_of_the_short_one(bench):
+    """The batch's verdict columns of a run continued past ``--duration`` are those of a
+    run of ``--duration`` (the gait is deterministic for a seed): same rotation at the
+    duration, same status, and the longer run's own end in ``run_end``."""
+    from planner.geometry import shapes
+
+    obj = bench.BatchObject("circle r=4cm", "circle", 4, shapes.circle(0.04))
+    short = bench.run_object(obj, 1.5, 40.0, 1.0, map_space=False)
+    longer = bench.run_object(obj, 1.5, 40.0, 1.0, map_space=False, full_turn=3.0)
+    for key in ("verdict", "status", "reason", "rotation_deg"):
+        assert longer[key] == short[key], key
+    assert short["reason"] == "duration 1.5 s reached" and "run_end" not in short
+    assert longer["sim_s"] == pytest.approx(3.0, abs=0.01)
+    assert longer["run_turn_deg"] > longer["rotation_deg"] > 0
+    assert longer["run_end"] == "ok: duration 3 s reached" and longer["full_turn_s"] == ""
+
+
 @pytest.mark.parametrize(
     ("args", "message"),
     [
         (["--nominal", "sphere"], "--nominal: 'sphere': expected a comma-separated list"),
         (["--seeds", "0"], "--seeds: 0: expected at least 1"),
+        (["--full-turn", "-1"], "--full-turn: -1: expected >= 0 simulated s"),
     ],
 )
 def test_bad_arguments_are_usage_errors(args, message):

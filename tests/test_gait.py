@@ -246,3 +246,14 @@ def test_a_phase_entered_by_transition_4_is_kind_4():
     with pytest.raises(ValueError, match="only a phase 1"):
         PhaseRecord(kind=2, skip=True, start=0.0, end=1.0, rotation=0.0,
                     planned_rotation=0.0, event="x")  # fmt: skip
+
+
+def test_phase_record_names_of_the_issue():
+    """The issue's "start/end time" and "end event" of a phase are the record's
+    ``start`` / ``end`` / ``event`` under those names too."""
+    from planner.exploration.planar.result import PhaseRecord
+
+    rec = PhaseRecord(kind=3, skip=False, start=1.25, end=2.0, rotation=0.1,
+                      planned_rotation=0.0, event="workspace limit")  # fmt: skip
+    assert (rec.start_time, rec.end_time, rec.end_event) == (1.25, 2.0, "workspace limit")
+    assert rec.duration == pytest.approx(0.75)

@@ -70,6 +70,26 @@ class PhaseRecord:
         """The phase the fingers run (1, 2 or 3): kind 4 is a phase 1."""
         return 1 if self.kind == 4 else self.kind
 
+    @property
+    def start_time(self) -> float:
+        """:attr:`start` [s] (the issue's "start time")."""
+        return self.start
+
+    @property
+    def end_time(self) -> float:
+        """:attr:`end` [s] (the issue's "end time")."""
+        return self.end
+
+    @property
+    def duration(self) -> float:
+        """``end - start`` [s]."""
+        return self.end - self.start
+
+    @property
+    def end_event(self) -> str:
+        """:attr:`event`: what ended the phase (the issue's "end event")."""
+        return self.event
+
     def to_json(self) -> dict:
         return {
             "kind": self.kind, "phase": self.phase, "name": PHASE_KINDS[self.kind],
