@@ -213,3 +213,23 @@ def test_planning_mu_is_mu_less_its_friction_margin():
 
     assert GaitSettings().planning_mu == pytest.approx(0.8)
     assert GaitSettings(mu=0.5, friction_margin=0.1).planning_mu == pytest.approx(0.45)
+
+
+def test_a_phase_cut_by_the_duration_is_not_judged():
+    """A run that runs out of time ends "duration reached", whatever its last phase 1 (cut
+    short by the time limit) did: the 6 cm sharp hexagon (seed 1) stalls - its gait fails
+    "no progress" at 11 s when given 12 s - but at 10 s it was still running (before,
+    the 10 s run judged its cut phase 1 and failed at 10 s: a longer run disagreed with
+    the shorter one about the state at 10 s)."""
+    from planner.exploration import explore_object
+    from planner.geometry import shapes
+
+    ang = -0.5 * np.pi + np.pi / 6 - 2 * np.pi * np.arange(6) / 6
+    hexagon = shapes.polygon(0.06 * np.column_stack([np.cos(ang), np.sin(ang)]))
+    short = explore_object(hexagon, seed=1, duration=10.0)
+    assert (short.status, short.reason) == ("ok", "duration 10 s reached")
+    assert short.phases[-1].phase == 1 and short.phases[-1].event == "time limit"
+    longer = explore_object(hexagon, seed=1, duration=12.0)
+    assert longer.status == "failed" and longer.reason.startswith("no progress")
+    assert 10.0 < longer.phases[-1].end < 12.0
+    assert short.phases[-1].start == pytest.approx(longer.phases[-1].start)
