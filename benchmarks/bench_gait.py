@@ -201,12 +201,13 @@ def run_object(
                          seed=seed)  # fmt: skip
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     sim = float(res.log.t[-1]) if len(res.log.t) else 0.0
-    status, reason, turn = res.status, res.reason, turn_at(res, duration)
+    turn_at = turn_series(res)
+    status, reason, turn = res.status, res.reason, turn_at(duration)
     # phase-1 rotations [deg, clockwise] up to ``duration`` (the phase running then: so far)
-    ones = [turn_at(res, min(p.end, duration)) - turn_at(res, p.start)
+    ones = [turn_at(min(p.end, duration)) - turn_at(p.start)
             for p in res.phases if p.phase == 1 and p.start < duration]  # fmt: skip
     if run_for > duration:
-        row.update(long_columns(res))
+        row.update(long_columns(res, turn_at))
         if sim > duration + 1e-9 and turn < 359.0:  # the run outlived ``duration``
             status, reason = "ok", f"duration {duration:g} s reached"
     if status == "failed":
@@ -233,29 +234,30 @@ def run_object(
     return row
 
 
-def turn_at(res, t: float) -> float:
-    """Clockwise rotation [deg] of the run ``res`` at simulated time ``t`` [s] (its end if
-    it ended before)."""
-    log = res.log
-    if not len(log.t):
-        return 0.0
-    a = np.unwrap(np.asarray(log.poses["object"][:, 2], float))
-    k = min(int(np.searchsorted(log.t, t + 1e-9, side="right")) - 1, len(a) - 1)
-    return -math.degrees(a[max(k, 0)] - a[0])
+def turn_series(res):
+    """``turn_at(t)``: the clockwise rotation [deg] of the run ``res`` at simulated time
+    ``t`` [s] (its last value after its end); ``turn_at.t`` / ``turn_at.deg`` hold the
+    series (the log's samples)."""
+    t = np.asarray(res.log.t, float)
+    deg = -np.degrees(np.unwrap(np.asarray(res.log.poses["object"][:, 2], float)))
+    deg = deg - deg[0] if len(deg) else np.zeros(1)
+
+    def turn_at(when: float) -> float:
+        k = int(np.searchsorted(t, when + 1e-9, side="right")) - 1
+        return float(deg[min(max(k, 0), len(deg) - 1)])
+
+    turn_at.t, turn_at.deg = t, deg
+    return turn_at
 
 
-def long_columns(res) -> dict:
+def long_columns(res, turn_at) -> dict:
     """How a run given more time (``--full-turn``) ended: ``full_turn_s`` (simulated time
     at which the object had turned 360 deg, blank if never), ``run_end`` (full turn, or the
-    run's status and reason) and its ``run_turn_deg``."""
-    log = res.log
-    a = -np.degrees(np.unwrap(np.asarray(log.poses["object"][:, 2], float)))
-    a = a - a[0] if len(a) else a
-    k = np.flatnonzero(a >= 359.0)
-    when = round(float(log.t[k[0]]), 1) if len(k) else ""
+    run's status and reason) and its ``run_turn_deg`` (``turn_at``: :func:`turn_series`)."""
+    k = np.flatnonzero(turn_at.deg >= 359.0)
+    when = round(float(turn_at.t[k[0]]), 1) if len(k) else ""
     end = "full turn" if len(k) else f"{res.status}: {res.reason}"[:160]
-    return {"full_turn_s": when, "run_end": end, "run_turn_deg": round(float(a[-1]), 1)
-            if len(a) else 0.0}  # fmt: skip
+    return {"full_turn_s": when, "run_end": end, "run_turn_deg": round(float(turn_at.deg[-1]), 1)}
 
 
 def _count(items: list[str]) -> str:

@@ -230,8 +230,9 @@ class _Runner:
                 self._end("failed", f"{event} in phase {kind}{why}")
                 return
             if event == "time limit" and self.world.time >= self.t_end - 1e-9:
-                continue  # cut by the run's duration: not judged (a run given more time
-                # went on; the loop's top ends it "duration reached")
+                # cut by the run's duration: not judged (a run given more time goes on
+                # from here); the loop's top ends it "duration reached"
+                continue
             if kind == 1:
                 # only a rotation that happened clears the failures (phases 2/3 always run)
                 failures = 0 if abs(rec.rotation) >= math.radians(1.0) else failures + 1
