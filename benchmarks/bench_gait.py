@@ -201,13 +201,13 @@ def run_object(
                          seed=seed)  # fmt: skip
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     sim = float(res.log.t[-1]) if len(res.log.t) else 0.0
-    turn_at = turn_series(res)
-    status, reason, turn = res.status, res.reason, turn_at(duration)
+    turns = TurnSeries.of(res)
+    status, reason, turn = res.status, res.reason, turns.at(duration)
     # phase-1 rotations [deg, clockwise] up to ``duration`` (the phase running then: so far)
-    ones = [turn_at(min(p.end, duration)) - turn_at(p.start)
+    ones = [turns.at(min(p.end, duration)) - turns.at(p.start)
             for p in res.phases if p.phase == 1 and p.start < duration]  # fmt: skip
     if run_for > duration:
-        row.update(long_columns(res, turn_at))
+        row.update(long_columns(res, turns))
         if sim > duration + 1e-9 and turn < 359.0:  # the run outlived ``duration``
             status, reason = "ok", f"duration {duration:g} s reached"
     if status == "failed":
@@ -234,30 +234,34 @@ def run_object(
     return row
 
 
-def turn_series(res):
-    """``turn_at(t)``: the clockwise rotation [deg] of the run ``res`` at simulated time
-    ``t`` [s] (its last value after its end); ``turn_at.t`` / ``turn_at.deg`` hold the
-    series (the log's samples)."""
-    t = np.asarray(res.log.t, float)
-    deg = -np.degrees(np.unwrap(np.asarray(res.log.poses["object"][:, 2], float)))
-    deg = deg - deg[0] if len(deg) else np.zeros(1)
+@dataclass(frozen=True)
+class TurnSeries:
+    """The true clockwise rotation of a run's object: ``deg`` [deg] (0 at the start) at
+    the log's times ``t`` [s]."""
 
-    def turn_at(when: float) -> float:
-        k = int(np.searchsorted(t, when + 1e-9, side="right")) - 1
-        return float(deg[min(max(k, 0), len(deg) - 1)])
+    t: np.ndarray
+    deg: np.ndarray
 
-    turn_at.t, turn_at.deg = t, deg
-    return turn_at
+    @classmethod
+    def of(cls, res) -> TurnSeries:
+        """The series of an ``ExplorationResult`` (its log's object pose, unwrapped)."""
+        deg = -np.degrees(np.unwrap(np.asarray(res.log.poses["object"][:, 2], float)))
+        return cls(np.asarray(res.log.t, float), deg - deg[0] if len(deg) else np.zeros(1))
+
+    def at(self, when: float) -> float:
+        """The rotation [deg] at simulated time ``when`` [s] (the last one after the end)."""
+        k = int(np.searchsorted(self.t, when + 1e-9, side="right")) - 1
+        return float(self.deg[min(max(k, 0), len(self.deg) - 1)])
 
 
-def long_columns(res, turn_at) -> dict:
+def long_columns(res, turns: TurnSeries) -> dict:
     """How a run given more time (``--full-turn``) ended: ``full_turn_s`` (simulated time
     at which the object had turned 360 deg, blank if never), ``run_end`` (full turn, or the
-    run's status and reason) and its ``run_turn_deg`` (``turn_at``: :func:`turn_series`)."""
-    k = np.flatnonzero(turn_at.deg >= 359.0)
-    when = round(float(turn_at.t[k[0]]), 1) if len(k) else ""
+    run's status and reason) and its ``run_turn_deg``."""
+    k = np.flatnonzero(turns.deg >= 359.0)
+    when = round(float(turns.t[k[0]]), 1) if len(k) else ""
     end = "full turn" if len(k) else f"{res.status}: {res.reason}"[:160]
-    return {"full_turn_s": when, "run_end": end, "run_turn_deg": round(float(turn_at.deg[-1]), 1)}
+    return {"full_turn_s": when, "run_end": end, "run_turn_deg": round(float(turns.deg[-1]), 1)}
 
 
 def _count(items: list[str]) -> str:

@@ -110,3 +110,22 @@ def test_bad_arguments_are_usage_errors(args, message):
     assert message in out.stderr
     assert "Traceback" not in out.stderr
     assert out.stdout == ""
+
+
+def test_turn_series_reads_the_clockwise_turn_at_any_time(bench):
+    """``TurnSeries``: the object's pose angle unwrapped over +-pi, clockwise positive from
+    the start, held at the last sample after the end; the full turn's time in the columns."""
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    t = np.linspace(0.0, 4.0, 401)
+    angle = np.angle(np.exp(-1j * (0.3 + np.radians(100.0) * t)))  # wrapped, clockwise
+    poses = {"object": np.column_stack([np.zeros_like(t), np.zeros_like(t), angle])}
+    res = SimpleNamespace(log=SimpleNamespace(t=t, poses=poses), status="ok", reason="r")
+    turns = bench.TurnSeries.of(res)
+    assert turns.at(0.0) == pytest.approx(0.0, abs=1e-9)
+    assert turns.at(2.5) == pytest.approx(250.0, abs=1e-6)
+    assert turns.at(9.0) == pytest.approx(400.0, abs=1e-6)
+    cols = bench.long_columns(res, turns)
+    assert cols == {"full_turn_s": 3.6, "run_end": "full turn", "run_turn_deg": 400.0}

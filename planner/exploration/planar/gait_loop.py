@@ -37,6 +37,7 @@ import time
 
 import numpy as np
 
+from planner.errors import InvalidParameter
 from planner.exploration.planar import controller_kernel as ck
 from planner.exploration.planar.controller import _references
 from planner.exploration.planar.gait_loop_kernel import (
@@ -112,11 +113,10 @@ class PhaseStop:
     def __init__(self, ctrl, hold_slip: float | None = None, progress=None,
                  holder: int | None = None, centre: bool = True) -> None:  # fmt: skip
         if holder not in (None, 0, 1):
-            raise ValueError(f"holder must be None, 0 or 1, got {holder!r}")
+            raise InvalidParameter(f"holder must be None, 0 or 1, got {holder!r}")
         if holder is None and not centre:
-            raise ValueError("a PhaseStop watches the centre, a holding fingertip or both")
+            raise InvalidParameter("a PhaseStop watches the centre, a holding fingertip or both")
         self.ctrl, self.hold_slip, self.progress = ctrl, hold_slip, progress
-        self.holder = holder
         #: indices in the sensing buffer of the watched points' x (y follows)
         self.index = ((B_C.start,) if centre else ()) + (
             () if holder is None else (B_TIPS.start + 2 * holder,)

@@ -198,7 +198,7 @@ class _Runner:
             if len(self.records) >= self.s.max_phases:
                 self._end("ok", f"phase limit {self.s.max_phases} reached")
                 return
-            if self.world.time >= self.t_end - 1e-9:
+            if self._time_up():
                 self._end("ok", f"duration {self.t_end:g} s reached")
                 return
             if abs(self.rotation()) >= self.max_rotation:
@@ -229,7 +229,7 @@ class _Runner:
                 why = f": {log.reason}" if log.status == "failed" else ""
                 self._end("failed", f"{event} in phase {kind}{why}")
                 return
-            if event == "time limit" and self.world.time >= self.t_end - 1e-9:
+            if event == "time limit" and self._time_up():
                 # cut by the run's duration: not judged (a run given more time goes on
                 # from here); the loop's top ends it "duration reached"
                 continue
@@ -245,6 +245,10 @@ class _Runner:
                     self._end(*stall_outcome(self.rotation(), self._blocking_now()))
                     return
             kind, skip = self._next(kind, event, est)
+
+    def _time_up(self) -> bool:
+        """The run's ``duration`` is over."""
+        return self.world.time >= self.t_end - 1e-9
 
     def _last_resort(self, est, q, why: str):
         """The phase-1 plan of :meth:`_plan` once more, the round tip's contact allowed to
