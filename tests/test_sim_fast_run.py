@@ -234,3 +234,34 @@ def test_many_bodies():
         logs.append(world.run(0.15, loop=loop))
     assert_same_log(*logs)
     assert [e.kind for e in logs[0].events].count("contact_made") >= 12
+
+
+@pytest.mark.parametrize("loop", ["auto", "python"])
+def test_a_jam_after_a_compiled_run_is_a_new_jammed_event(loop, monkeypatch):
+    """A jam (position projection that cannot remove every penetration) is reported once
+    when it begins. The compiled kernel's steps never jam (it hands every projection back
+    to Python), so a jam in a Python step after a compiled run begins anew: a second
+    ``jammed`` event, as in the reference loop (the compiled loop used to keep the first
+    jam's state and miss it). The jam is forced on chosen Python steps."""
+    import planner.sim.planar.world as world_module
+
+    forced = {"on": False}
+    real = world_module.step_fast
+
+    def jamming_step(world, tau):
+        res = real(world, tau)
+        if forced["on"]:
+            world.jam = 1e-3
+        return res
+
+    monkeypatch.setattr(world_module, "step_fast", jamming_step)
+    world, ctrl, _ = SCENES["pinch"]()
+    kinds = []
+    for _ in range(2):
+        forced["on"] = True
+        world.step()
+        kinds += [e.kind for e in world.drain_events()]
+        forced["on"] = False
+        log = world.run(0.05, ctrl, loop=loop)
+        kinds += [e.kind for e in log.events]
+    assert kinds.count("jammed") == 2

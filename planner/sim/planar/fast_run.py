@@ -191,6 +191,7 @@ class FastLoop:
         """The kernel's event bookkeeping -> the world's and the loop's (before a Python
         iteration and at the end of the run; in between only the kernel uses it)."""
         w, s = self.w, self.s
+        w._unjam_after_kernel()
         w._limits_on = {j for j in range(6) if self.watch[0, j] == 1.0}
         order = self.order[: self.flags[NTOUCH]].tolist()
         w._touch = {self.names[i]: float(self.watch[1, i]) for i in order}

@@ -98,6 +98,7 @@ class PlanarWorld(WorldBase):
         #: set by :func:`planner.sim.planar.stepper._project`)
         self.jam = 0.0
         self._jammed = False
+        self._jam_time = 0.0  # the world's time after the step that set ``jam`` [s]
 
     # ------------------------------------------------------------------ last step
     @property
@@ -313,7 +314,16 @@ class PlanarWorld(WorldBase):
         res = step_fast(self, tau) if self.compiled else step(self, tau)
         self._last, self._records = res, None
         self.time += self.dt
+        self._jam_time = self.time
         self._watch(res)
+
+    def _unjam_after_kernel(self) -> None:
+        """Clear the jam state when the compiled run kernel stepped since the last Python
+        step (the kernel hands every position projection back to Python, so its steps never
+        jam): the next jam is a new ``jammed`` event, as in the reference loop. Called by
+        :class:`planner.sim.planar.fast_run.FastLoop` whenever it hands the world back."""
+        if self.time > self._jam_time + 0.5 * self.dt:
+            self.jam, self._jammed = 0.0, False
 
     def _watch(self, res: StepResult) -> None:
         """World events: joint limits reached, objects dropped by the fingers, contacts
