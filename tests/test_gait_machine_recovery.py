@@ -31,19 +31,23 @@ def _runner(**settings_kw):
     r = _Runner.__new__(_Runner)
     r.s = GaitSettings(**settings_kw)
     r.world = SimpleNamespace(time=2.0)
-    r.events, r.nlps, r.shape = [], {}, None
+    r.events, r.nlps, r.shape, r.records = [], {}, None, []
+    r.status, r.reason = "ok", ""
     return r
 
 
 def test_phase_1_without_a_plan_regrasps_right_then_left_then_ends():
     r = _runner()
-    assert r._after_no_plan(1, 1) == 2
-    assert not r.events
-    assert r._after_no_plan(1, 2, dry=True) == 3
-    assert not r.events  # a dry question leaves no event
-    assert r._after_no_plan(1, 2) == 3
-    assert r.events[-1]["kind"] == "regrasp" and r.events[-1]["phase"] == 3
-    assert r._after_no_plan(1, 3) is None
+    assert [r._after_no_plan(1, k) for k in (1, 2, 3)] == [2, 3, None]
+    assert not r.events  # the question has no side effects
+    assert r._no_plan(1, 1, "why 1") == 2
+    assert [e["kind"] for e in r.events] == ["no_plan"]
+    assert r._no_plan(1, 2, "why 2") == 3
+    assert [e["kind"] for e in r.events] == ["no_plan", "no_plan", "regrasp"]
+    assert r.events[-1]["phase"] == 3 and r.status == "ok"
+    assert r._no_plan(1, 3, "why 3") is None
+    assert r.events[-1]["kind"] == "end" and r.status == "failed"
+    assert r.reason == "no stable grasp within the workspace (why 3)"
 
 
 def test_without_left_regrasp_the_second_failure_ends_the_gait():

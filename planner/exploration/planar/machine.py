@@ -210,15 +210,12 @@ class _Runner:
                 self._posed = self.shape.update(est, self.theta)
                 self._again = self._again and kind == 2
             seg, planned, nlp_t, why = self._plan(kind, est, obs.q)
-            if seg is None and kind == 1 and self._after_no_plan(1, failures + 1, dry=True) is None:
+            if seg is None and kind == 1 and self._after_no_plan(1, failures + 1) is None:
                 seg, planned, nlp_t, why = self._last_resort(est, obs.q, why)
             if seg is None:
                 failures += 1
-                self.events.append({"t": self.world.time, "kind": "no_plan", "phase": kind,
-                                    "message": why})  # fmt: skip
-                nxt = self._after_no_plan(kind, failures)
+                nxt = self._no_plan(kind, failures, why)
                 if nxt is None:
-                    self._end("failed", f"no stable grasp within the workspace ({why})")
                     return
                 kind, skip = nxt, False
                 continue
@@ -275,23 +272,33 @@ class _Runner:
                             "beyond its rolling range (not rolling further)"})  # fmt: skip
         return seg, planned, nlp_t, why2
 
-    def _after_no_plan(self, kind: int, failures: int, dry: bool = False) -> int | None:
+    def _no_plan(self, kind: int, failures: int, why: str) -> int | None:
+        """Phase ``kind`` could not be planned (``why``), the ``failures``-th time in a row:
+        the events (``no_plan``; ``regrasp`` when the left pad regrasps too) and the phase to
+        run next (:meth:`_after_no_plan`), or None after ending the gait "failed"."""
+        t = self.world.time
+        self.events.append({"t": t, "kind": "no_plan", "phase": kind, "message": why})
+        nxt = self._after_no_plan(kind, failures)
+        if nxt is None:
+            self._end("failed", f"no stable grasp within the workspace ({why})")
+        elif kind == 1 and nxt == 3:
+            self.events.append({"t": t, "kind": "regrasp", "phase": 3,
+                                "message": "no phase-1 plan after the right finger's regrasp: "
+                                "the left pad regrasps too before giving up"})  # fmt: skip
+        return nxt
+
+    def _after_no_plan(self, kind: int, failures: int) -> int | None:
         """The phase to run after phase ``kind`` could not be planned, the ``failures``-th
         failure in a row, or None: the gait ends (§2.2.3, "If a stable grasp within the
         finger workspace still cannot be found, the algorithm terminates"). A phase 1
         without a plan is followed by the right finger's regrasp (phase 2); after the
-        second, with ``settings.left_regrasp``, by the left pad's (phase 3, an event says
-        so); a phase 2/3 without a plan by phase 1."""
+        second, with ``settings.left_regrasp``, by the left pad's (phase 3; the caller's
+        event says so); a phase 2/3 without a plan by phase 1. No side effects."""
         if kind != 1:
             return 1 if failures < 2 else None
         if failures == 1:
             return 2
         if failures == 2 and self.s.left_regrasp:
-            if dry:
-                return 3
-            self.events.append({"t": self.world.time, "kind": "regrasp", "phase": 3,
-                                "message": "no phase-1 plan after the right finger's regrasp: "
-                                "the left pad regrasps too before giving up"})  # fmt: skip
             return 3
         return None
 
