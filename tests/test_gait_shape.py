@@ -19,6 +19,7 @@ from planner.exploration.planar.outline_pose import (
     fit_pose,
     nearest_on_polygon,
     residuals,
+    residuals_reference,
 )
 
 A = 0.055  # half-width of the 11 cm square [m]
@@ -306,3 +307,51 @@ def test_polyline_path_closed_forms():
     assert path.normal_angle(corner, 0.005) == pytest.approx(math.pi / 4, abs=1e-9)
     top = path.point_at_angle((0.0, 0.0), math.pi / 2 - 0.1)
     assert path.at(top)[0][1] == pytest.approx(A)
+
+
+#: outlines for the compiled residuals' comparison: the square, a hexagon, a sampled circle
+_OUTLINES = (
+    SQUARE,
+    Outline(0.04 * np.array([[math.cos(a), math.sin(a)] for a in np.arange(6) * math.pi / 3])),
+    Outline(0.05 * np.array([[math.cos(a), math.sin(a)] for a in np.linspace(0, 6.28, 90)])),
+)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    which=st.integers(0, 2),
+    pose=st.tuples(st.floats(-0.03, 0.03), st.floats(0.0, 0.08), st.floats(-3.2, 3.2)),
+    pad=st.tuples(st.floats(-0.09, -0.02), st.floats(0.0, 0.1), st.floats(-2.6, -0.5)),
+    u=st.one_of(st.just(math.nan), st.floats(-0.01, 0.01)),
+    tip=st.one_of(st.none(), st.tuples(st.floats(0.0, 0.1), st.floats(0.0, 0.1))),
+    use_pad=st.booleans(),
+    palm=st.booleans(),
+    prior=st.one_of(st.none(), st.floats(-3.0, 3.0)),
+)
+def test_compiled_residuals_equal_the_numpy_reference(which, pose, pad, u, tip, use_pad, palm,
+                                                      prior):  # fmt: skip
+    """The compiled residuals (pad window clipped, pad beside the outline, centroid, tip,
+    palm, prior) are the numpy reference's to rounding, for any pose and reading."""
+    rd = Readings(pad_point=np.array(pad[:2]) if use_pad else None, pad_angle=pad[2], pad_u=u,
+                  pad_half_width=0.01, pad_u_max=0.00875,
+                  tip_centre=None if tip is None else np.array(tip), tip_radius=R_TIP,
+                  palm=palm)  # fmt: skip
+    outline = _OUTLINES[which]
+    a = residuals(outline, pose, rd, prior, 0.05)
+    b = residuals_reference(outline, pose, rd, prior, 0.05)
+    assert a.shape == b.shape
+    np.testing.assert_allclose(a, b, rtol=0, atol=1e-13)
+
+
+def test_fit_jacobian_is_scipys_three_point_difference():
+    """The fits' compiled Jacobian is scipy's ``approx_derivative(method="3-point")`` of the
+    same residuals, to the bit (a fit with it follows the same iterates)."""
+    from scipy.optimize._numdiff import approx_derivative
+
+    from planner.exploration.planar.outline_pose import _Residuals
+
+    rd = exact_readings(resting(0.01, 0.2), 0.1, 0.002, 0.4)
+    f = _Residuals(SQUARE, rd, 0.15, 0.05)
+    for pose in ([0.01, 0.06, 0.2], [-0.002, 0.0, -0.7], [0.0, 0.03, 0.0]):
+        x = np.array(pose)
+        np.testing.assert_array_equal(f.jacobian(x), approx_derivative(f, x, method="3-point"))

@@ -319,3 +319,34 @@ def test_a_start_inside_the_margin_band_may_start_a_path():
     wide = pr.tip_rolling_path(*args, margin=0.06, start_margin=0.0)
     assert wide.reach > math.radians(3.0) and np.all(wide.margin[1:] >= 0.06)
     assert np.all(np.diff(wide.margin) < 0)  # the base joint nears its limit knot by knot
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    finger=st.sampled_from(["left", "right"]),
+    theta=st.floats(-1.0, 0.0),
+    margin=st.floats(0.0, 0.1),
+    clr=st.floats(-0.01, 0.006),
+    seed=st.integers(0, 2**16),
+)
+def test_compiled_finger_configurations_equal_the_numpy_reference(finger, theta, margin, clr,
+                                                                  seed):  # fmt: skip
+    """The compiled configurations (both elbow branches, limits with margin, link clearance
+    of the pivoted square) are the numpy reference's: the same branch and feasibility, the
+    same angles and margins to rounding, over tip poses in and out of reach."""
+    from robots.planar_hand import kinematics as kin
+
+    rng = np.random.default_rng(seed)
+    f, lim = HAND.params.finger(finger), HAND.finger_limits(finger)
+    qs = rng.uniform(lim[:, 0], lim[:, 1], (30, 3))  # reachable poses, then arbitrary ones
+    tips, phis = kin.fingertip(np.array(f.base), np.array(f.lengths), qs)
+    T = np.vstack([tips, rng.uniform([-0.15, -0.02], [0.15, 0.2], (30, 2))])
+    phi = np.concatenate([phis, rng.uniform(-math.pi, math.pi, 30)])
+    clear = pr.HullClearance(SQUARE)
+    k = np.array([A, 0.0])
+    q, m, ok = pr.finger_configurations(HAND, finger, T, phi, clear, k, theta, margin, clr)
+    q0, m0, ok0 = pr.finger_configurations_reference(HAND, finger, T, phi, clear, k, theta,
+                                                     margin, clr)  # fmt: skip
+    np.testing.assert_array_equal(ok, ok0)
+    np.testing.assert_allclose(q, q0, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(m, m0, rtol=0, atol=1e-12)

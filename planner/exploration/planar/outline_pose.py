@@ -181,7 +181,39 @@ class Readings:
 
 def residuals(outline: Outline, pose, rd: Readings, theta_prior=None, theta_weight=0.0):
     """The constraint residuals [m] of ``pose`` (module docstring), in the order pad line,
-    pad centroid, tip, palm, rotation prior (the unsensed ones left out)."""
+    pad centroid, tip, palm, rotation prior (the unsensed ones left out); compiled
+    (:mod:`.outline_pose_kernel`), equal to :func:`residuals_reference` to rounding."""
+    return _Residuals(outline, rd, theta_prior, theta_weight)(pose)
+
+
+class _Residuals:
+    """``pose -> residuals`` of one outline and reading (the reading packed once; the
+    function a least-squares fit calls)."""
+
+    def __init__(self, outline: Outline, rd: Readings, theta_prior, theta_weight) -> None:
+        from planner.exploration.planar import outline_pose_kernel as K
+
+        self._kernel, self._jacobian = K.residuals, K.jacobian
+        self._P = outline.points
+        self._rd = K.pack(rd, theta_prior, theta_weight, FLAT_TOL, U_WEIGHT)
+        self._out = np.empty(5)
+        self._J = np.empty((5, 3))
+
+    def __call__(self, pose) -> np.ndarray:
+        x, y, a = (float(v) for v in pose)
+        k = self._kernel(self._P, x, y, a, self._rd, self._out)
+        return self._out[:k].copy()
+
+    def jacobian(self, pose) -> np.ndarray:
+        """(k, 3) scipy's 3-point difference Jacobian of :meth:`__call__` at ``pose``
+        (:func:`.outline_pose_kernel.jacobian`)."""
+        k = self._jacobian(self._P, np.asarray(pose, float), self._rd, self._J)
+        return self._J[:k].copy()
+
+
+def residuals_reference(outline: Outline, pose, rd: Readings, theta_prior=None,
+                        theta_weight=0.0):  # fmt: skip
+    """:func:`residuals` in numpy (the reference its compiled kernel is tested against)."""
     W = outline.posed(pose)
     out = []
     if rd.pad_point is not None:
@@ -231,16 +263,15 @@ def fit_pose(
     from scipy.optimize import least_squares
 
     g = checks.vector("guess", guess, 3)
-
-    def f(x):
-        return residuals(outline, x, readings, theta_prior, theta_weight)
-
+    f = _Residuals(outline, readings, theta_prior, theta_weight)
     if len(f(g)) == 0:
         return PoseFit(g.copy(), 0.0, True)
     # central differences: the forward ones stalled 2e-7 rad short of an exact pose (and
-    # so did bounds), the 3-point Jacobian converges to rounding in 5-6 evaluations
-    sol = least_squares(f, g, method="trf", jac="3-point", x_scale=np.array([0.01, 0.01, 0.2]),
-                        xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=200)  # fmt: skip
+    # so did bounds), the 3-point Jacobian converges to rounding in 5-6 evaluations (it is
+    # scipy's "3-point" one, computed in one compiled call)
+    sol = least_squares(f, g, method="trf", jac=f.jacobian,
+                        x_scale=np.array([0.01, 0.01, 0.2]), xtol=1e-15, ftol=1e-15,
+                        gtol=1e-15, max_nfev=200)  # fmt: skip
     x = np.asarray(sol.x, float)
     cost = float(np.linalg.norm(f(x)))
     near = bool(np.all(np.abs(x - g) <= max_step + 1e-12))
@@ -370,6 +401,7 @@ __all__ = [
     "nearest_on_polygon",
     "pad_window",
     "residuals",
+    "residuals_reference",
     "start_position",
     "symmetric_pose",
     "symmetry_order",

@@ -175,7 +175,7 @@ class HullClearance:
         from scipy.spatial import ConvexHull
 
         eq = ConvexHull(W).equations  # rows (nx, ny, c): n . x + c <= 0 inside
-        self.n, self.c = eq[:, :2], eq[:, 2]
+        self.n, self.c = np.ascontiguousarray(eq[:, :2]), np.ascontiguousarray(eq[:, 2])
 
     def of(self, P: np.ndarray, corner, theta: float) -> np.ndarray:
         """Distances of ``P`` (..., 2) from the hull turned by ``theta`` about ``corner``."""
@@ -191,7 +191,27 @@ def finger_configurations(
     (2,) [m]: joint angles (M, 3) [rad] of the elbow branch with the largest margin, that
     smallest joint-limit margin (M,) [rad], and whether it is feasible (M,): inside the
     limits by ``margin`` [rad], joints and link midpoints ``clr`` [m] outside the object
-    (``clear``)."""
+    (``clear``). Compiled (:mod:`.pivot_reach_kernel`); equal to
+    :func:`finger_configurations_reference` to rounding."""
+    from planner.exploration.planar.pivot_reach_kernel import configurations
+
+    f = hand.params.finger(finger)
+    T = np.ascontiguousarray(T, dtype=float).reshape(-1, 2)
+    phi = np.ascontiguousarray(np.broadcast_to(np.asarray(phi, float), (len(T),)))
+    M = len(T)
+    q, m, ok = np.empty((M, 3)), np.empty(M), np.empty(M, dtype=np.bool_)
+    configurations(np.asarray(f.base, float), np.asarray(f.lengths, float),
+                   np.ascontiguousarray(hand.finger_limits(finger), dtype=float), T, phi,
+                   clear.n, clear.c, np.asarray(corner, float), float(theta), float(margin),
+                   float(clr), q, m, ok)  # fmt: skip
+    return q, m, ok
+
+
+def finger_configurations_reference(
+    hand, finger: str, T, phi, clear: HullClearance, corner, theta, margin, clr
+):
+    """:func:`finger_configurations` in numpy (the reference its kernel is tested
+    against)."""
     from robots.planar_hand import kinematics as kin
 
     lim = hand.finger_limits(finger)
@@ -348,6 +368,7 @@ __all__ = [
     "HullClearance",
     "RollingPath",
     "finger_configurations",
+    "finger_configurations_reference",
     "is_sharp",
     "pad_reach",
     "palm_corner",
