@@ -22,6 +22,7 @@ from planner.errors import InvalidParameter
 
 __all__ = [
     "batch",
+    "shown",
     "choice",
     "in_range",
     "integer",
@@ -31,6 +32,25 @@ __all__ = [
     "series",
     "vector",
 ]
+
+
+#: a value whose repr is longer than this [characters] is shown by its type and size
+SHOWN_LENGTH = 60
+
+
+def shown(value: object) -> str:
+    """``value`` as it is quoted in a one-line error message: its repr when short, else its
+    type and size (``"an array of shape (200, 2)"``, ``"a list of 40 items"``) or the repr
+    cut to :data:`SHOWN_LENGTH` characters - never several lines."""
+    text = repr(value)
+    if len(text) <= SHOWN_LENGTH and "\n" not in text:
+        return text
+    if isinstance(value, np.ndarray):
+        return f"an array of shape {value.shape}"
+    if isinstance(value, (list, tuple, dict, set)):
+        return f"a {type(value).__name__} of {len(value)} items"
+    flat = " ".join(text.split())
+    return flat if len(flat) <= SHOWN_LENGTH else flat[: SHOWN_LENGTH - 3] + "..."
 
 
 def _unit(unit: str) -> str:
@@ -43,7 +63,7 @@ def _number(name: str, value: object, expected: str) -> float:
     try:
         return float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError):
-        raise InvalidParameter(f"{name}: expected {expected}, got {value!r}") from None
+        raise InvalidParameter(f"{name}: expected {expected}, got {shown(value)}") from None
 
 
 def positive(
@@ -64,7 +84,7 @@ def positive(
     v = _number(name, value, expected)
     ok = (v >= 0.0 if allow_zero else v > 0.0) and not math.isnan(v)
     if not ok or (math.isinf(v) and not allow_inf):
-        raise InvalidParameter(f"{name}: expected {expected}, got {value!r}")
+        raise InvalidParameter(f"{name}: expected {expected}, got {shown(value)}")
     return v
 
 
@@ -94,7 +114,7 @@ def in_range(
     above = v >= low if closed[0] else v > low
     below = v <= high if closed[1] else v < high
     if not (above and below) or math.isnan(v):
-        raise InvalidParameter(f"{name}: expected {expected}, got {value!r}")
+        raise InvalidParameter(f"{name}: expected {expected}, got {shown(value)}")
     return v
 
 
@@ -106,9 +126,9 @@ def integer(name: str, value: object, minimum: int | None = None) -> int:
     try:
         f = float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError):
-        raise InvalidParameter(f"{name}: expected {expected}, got {value!r}") from None
+        raise InvalidParameter(f"{name}: expected {expected}, got {shown(value)}") from None
     if not math.isfinite(f) or f != int(f) or (minimum is not None and f < minimum):
-        raise InvalidParameter(f"{name}: expected {expected}, got {value!r}")
+        raise InvalidParameter(f"{name}: expected {expected}, got {shown(value)}")
     return int(f)
 
 
@@ -116,7 +136,7 @@ def choice(name: str, value: object, choices: Iterable[object]) -> object:
     """Return ``value`` if it is one of ``choices``; the message lists the choices."""
     options = list(choices)
     if value not in options:
-        raise InvalidParameter(f"{name}: expected one of {options}, got {value!r}")
+        raise InvalidParameter(f"{name}: expected one of {options}, got {shown(value)}")
     return value
 
 

@@ -70,3 +70,16 @@ def test_arrays():
     assert s.shape == (3,)
     with pytest.raises(InvalidParameter, match="t: sample 1 is not finite"):
         checks.series("t", [0.0, np.inf])
+
+
+def test_shown_values_stay_on_one_short_line():
+    """Messages quote short values as their repr, long ones by type and size."""
+    assert checks.shown(-0.008) == "-0.008"
+    assert checks.shown("abc") == "'abc'"
+    assert checks.shown(np.zeros((200, 2))) == "an array of shape (200, 2)"
+    assert checks.shown(list(range(40))) == "a list of 40 items"
+    long_text = checks.shown("x" * 500)
+    assert len(long_text) == checks.SHOWN_LENGTH and long_text.endswith("...")
+    with pytest.raises(InvalidParameter) as err:
+        checks.positive("mu", np.ones(50))
+    assert str(err.value) == "mu: expected a finite number > 0, got an array of shape (50,)"

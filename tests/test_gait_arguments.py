@@ -81,3 +81,18 @@ def test_the_shortest_runs_end_by_their_duration(duration):
     assert r.phases[0].end == pytest.approx(duration)
     assert len(r.trace["t"]) == round(duration / 0.002)
     assert r.features == ()
+
+
+@pytest.mark.parametrize("name", ["profile", "nominal"])
+def test_an_array_outline_is_refused_in_one_short_line(name):
+    """An (N, 2) point array instead of a Profile: refused naming the argument and the
+    array's shape, in one line (the message used to print the whole array)."""
+    import numpy as np
+
+    pts = 0.04 * np.c_[np.cos(np.linspace(0, 6.2, 200)), np.sin(np.linspace(0, 6.2, 200))]
+    args = {"profile": DISC, "nominal": None, name: pts}
+    with pytest.raises(InvalidParameter) as err:
+        explore_object(args["profile"], nominal=args["nominal"], duration=0.1)
+    msg = str(err.value)
+    assert msg.startswith(f"{name}: expected a closed planar Profile")
+    assert "an array of shape (200, 2)" in msg and "\n" not in msg

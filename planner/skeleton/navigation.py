@@ -49,7 +49,7 @@ def _point(value: object, name: str) -> np.ndarray:
     """A (1, 2) finite point from an (x, y) pair, or InvalidParameter."""
     arr = checks.points(name, np.atleast_2d(np.asarray(value, dtype=object)), dims=(2,))
     if arr.shape != (1, 2):
-        raise InvalidParameter(f"{name}: expected one (x, y) point [m], got {value!r}")
+        raise InvalidParameter(f"{name}: expected one (x, y) point [m], got {checks.shown(value)}")
     return arr
 
 

@@ -14,7 +14,9 @@ from planner.exploration.planar.settings import GaitSettings
 
 def _closed_profile(name: str, value: object, what: str) -> None:
     if getattr(value, "closed", False) is not True:
-        raise InvalidParameter(f"{name}: expected a closed planar Profile ({what}), got {value!r}")
+        raise InvalidParameter(
+            f"{name}: expected a closed planar Profile ({what}), got {checks.shown(value)}"
+        )
 
 
 def check_arguments(

@@ -96,14 +96,17 @@ class ParametricSurface:
             dom = np.asarray(domain, dtype=float)
         except (TypeError, ValueError):
             raise InvalidParameter(
-                f"domain must be ((u_min, u_max), (v_min, v_max)), got {domain!r}"
+                f"domain must be ((u_min, u_max), (v_min, v_max)), got {checks.shown(domain)}"
             ) from None
         if dom.shape != (2, 2) or np.any(np.isnan(dom)) or np.any(dom[:, 0] >= dom[:, 1]):
             raise InvalidParameter(
-                f"domain must be ((u_min, u_max), (v_min, v_max)) with min < max, got {domain!r}"
+                "domain must be ((u_min, u_max), (v_min, v_max)) with min < max, "
+                f"got {checks.shown(domain)}"
             )
         if not callable(orientation) and orientation not in (1, -1):
-            raise InvalidParameter(f"orientation must be +1, -1 or a callable, got {orientation!r}")
+            raise InvalidParameter(
+                f"orientation must be +1, -1 or a callable, got {checks.shown(orientation)}"
+            )
         self.surface_map = surface_map
         self.domain = dom
         self.orientation = orientation

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from planner import checks
 from planner.errors import InvalidParameter
 from planner.geometry.primitives import Arc, Line, Parametric
 from planner.geometry.profiles import Profile
@@ -99,7 +100,9 @@ class Outline:
 def compile_outline(profile: Profile) -> Outline:
     """Compile ``profile`` (in its own frame) for the contact queries."""
     if not isinstance(profile, Profile):
-        raise InvalidParameter(f"profile: expected a planner.geometry Profile, got {profile!r}")
+        raise InvalidParameter(
+            f"profile: expected a planner.geometry Profile, got {checks.shown(profile)}"
+        )
     lines, arcs, params, corners = [], [], [], []
     for piece in profile.pieces:
         if isinstance(piece, Line):

@@ -38,6 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from planner import checks
 from planner.errors import InvalidParameter
 from planner.sim.planar.outline import Outline, ParamPiece
 
@@ -86,7 +87,9 @@ class PackedOutlines:
         outlines = tuple(outlines)
         for k, ol in enumerate(outlines):
             if not isinstance(ol, Outline):
-                raise InvalidParameter(f"outlines[{k}]: expected an Outline, got {ol!r}")
+                raise InvalidParameter(
+                    f"outlines[{k}]: expected an Outline, got {checks.shown(ol)}"
+                )
         nb = len(outlines)
         if pairs is None:
             pairs = [(i, j) for i in range(nb) for j in range(i + 1, nb)]

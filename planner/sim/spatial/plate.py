@@ -231,7 +231,9 @@ class Plate:
         feats = tuple(self.features)
         for f in feats:
             if not isinstance(f, PlateFeature):
-                raise InvalidParameter(f"features: expected PlateFeature items, got {f!r}")
+                raise InvalidParameter(
+                    f"features: expected PlateFeature items, got {checks.shown(f)}"
+                )
         object.__setattr__(self, "features", feats)
         object.__setattr__(self, "base", float(checks.vector("base", [self.base], 1, "m")[0]))
 
