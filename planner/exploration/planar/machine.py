@@ -80,7 +80,9 @@ def explore_object(
         seed: seed of the sensor noise.
         duration: simulated time limit [s] (default: until ``max_rotation`` or failure).
         settings: :class:`GaitSettings` (gains, speeds, thresholds, time step).
-        max_rotation: stop after this much (true) rotation [rad].
+        max_rotation: stop once the object has turned this much (true rotation) [rad];
+            checked between phases, so the run ends with the phase during which the
+            object passed it (a phase 1 turns it 10-40 deg).
         use_prior: run ``planner.grasp.plan_gait`` on the nominal shape for the start grasp.
         on_progress: ``callable(t)`` called with the simulated time [s] every
             :data:`PROGRESS_STEP` simulated seconds (e.g. to advance a progress bar).
