@@ -154,9 +154,9 @@ def load(path: Path = DATA) -> dict:
 
 
 def replay_segment(window: dict):
-    """A :class:`~planner.exploration.planar.controller.Segment` whose callables return
+    """A :class:`~planner.exploration.planar.phase_segment.Segment` whose callables return
     the recorded values (KeyError for a time that was not recorded)."""
-    from planner.exploration.planar.controller import Segment
+    from planner.exploration.planar.phase_segment import Segment
 
     fns = {}
     for f in _FIELDS:

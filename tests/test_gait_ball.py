@@ -470,9 +470,9 @@ def _est(beta_left: float, beta_right: float = 0.4):
 
 
 def _scalar_rows(seg, tl):
-    from planner.exploration.planar.controller import _references
+    from planner.exploration.planar.phase_segment import references
 
-    return np.array([[seg.hold_force(t), *_references(seg, t)] for t in tl])
+    return np.array([[seg.hold_force(t), *references(seg, t)] for t in tl])
 
 
 @pytest.mark.parametrize("kind", [2, 3])
@@ -530,7 +530,8 @@ def test_references_of_plain_callables_are_called_row_by_row():
 def test_curvature_features_need_the_smoothing_window_inside_the_pass():
     """A detection nearer an end of the pass than three of the detector's largest scales
     (EDGE_ARC = 2.25 mm for the 3 mm virtual tip) sees the padding: dropped."""
-    from planner.exploration.planar.metrics import EDGE_ARC, VIRTUAL_RADIUS, inside_pass
+    from planner.exploration.planar.metrics import EDGE_ARC, inside_pass
+    from planner.exploration.planar.pad_trace import VIRTUAL_RADIUS
 
     assert EDGE_ARC == pytest.approx(3 * VIRTUAL_RADIUS / 4)
     a = np.radians(np.linspace(20.0, 40.0, 81))

@@ -233,8 +233,8 @@ def test_the_approach_leads_with_the_pad_end_and_servoes_the_contact_there():
     centre trailing it by the pad's half-width less EDGE_MARGIN once the startup is over,
     the tactile servo's target PROBE_EDGE behind the leading end; the plain stroke has no
     trail (the friction lead only), and both tables equal their callables."""
-    from planner.exploration.planar.controller import _references
     from planner.exploration.planar.corner_probe import PROBE_EDGE, approach_segment
+    from planner.exploration.planar.phase_segment import references
     from planner.exploration.planar.segments import EDGE_MARGIN, friction_lag, segment_references
     from planner.exploration.planar.settings import GaitSettings
     from robots.planar_hand import PlanarHand
@@ -255,5 +255,5 @@ def test_the_approach_leads_with_the_pad_end_and_servoes_the_contact_there():
     assert diff @ np.array([-math.sin(b), math.cos(b)]) < -0.99 * (w_pad - EDGE_MARGIN)
     assert np.hypot(qx, qy - R) == pytest.approx(math.hypot(R, friction_lag(s)))
     tl = np.linspace(0.0, seg.duration + 0.1, 201)
-    rows = np.array([[seg.hold_force(x), *_references(seg, x)] for x in tl])
+    rows = np.array([[seg.hold_force(x), *references(seg, x)] for x in tl])
     np.testing.assert_allclose(segment_references(seg, tl), rows, rtol=0, atol=1e-15)

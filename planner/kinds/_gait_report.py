@@ -106,7 +106,8 @@ def _metrics(config, res, profile, ridge, duration: float, theta) -> dict:
     last phase and the timing spreads."""
     import numpy as np
 
-    from planner.exploration.planar.metrics import VIRTUAL_RADIUS, summary_metrics
+    from planner.exploration.planar.metrics import summary_metrics
+    from planner.exploration.planar.pad_trace import VIRTUAL_RADIUS
     from planner.exploration.planar.plots import fig214_measures
 
     m = summary_metrics(res, ridge, config.explore_force, config.internal_force)

@@ -37,7 +37,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from planner.exploration.planar.controller import TRACE_NAMES, Segment
+from planner.exploration.planar.controller import TRACE_NAMES
+from planner.exploration.planar.phase_segment import Segment
 from planner.exploration.planar.segments import explore_segment
 from planner.exploration.planar.sensed_features import pad_end_contact
 
@@ -149,7 +150,7 @@ def jumped_walls(trace: dict, theta, radius: float, pad_half_width: float, colum
     lifting off (the phase's end) lands nowhere; on a smooth outline the sliding pad's
     contact moves on without gaps.
     """
-    from planner.exploration.planar.metrics import phase_runs
+    from planner.exploration.planar.pad_trace import phase_runs
 
     kind = np.asarray(trace["kind"])
     theta = np.asarray(theta, float)

@@ -39,7 +39,6 @@ import numpy as np
 
 from planner.errors import InvalidParameter
 from planner.exploration.planar import controller_kernel as ck
-from planner.exploration.planar.controller import _references
 from planner.exploration.planar.gait_loop_kernel import (
     C_C0,
     C_CALLS,
@@ -54,6 +53,7 @@ from planner.exploration.planar.gait_loop_kernel import (
     STEP_IN_PYTHON,
     gait_advance,
 )
+from planner.exploration.planar.phase_segment import references
 from planner.exploration.planar.sensing import B_C, B_TIPS
 from planner.sim.lcp import COVERS
 from planner.sim.planar.run_kernel import BLOW_UP, CALL_DUE, NPAIRS, PYTHON_STEP
@@ -212,7 +212,7 @@ class GaitLoop:
         """The call times of the next ``m`` steps (the loop's clock arithmetic) and their
         references into ``times``/``sv_rows``; returns their number. The references come
         from ``segments.segment_references`` (vectorized; s4-ball) when it exists, else
-        from the segment's callables call by call (:func:`.controller._references`)."""
+        from the segment's callables call by call (:func:`.phase_segment.references`)."""
         s, w, c = self.fast.s, self.fast.w, self.ctrl
         t, nc, per, h = w.time, s.next_call, s.period, w.dt
         k = 0
@@ -230,7 +230,7 @@ class GaitLoop:
                 rows[:, : ck.V_T] = _vectorized(seg, tl)
             else:
                 for i, x in enumerate(tl.tolist()):
-                    rows[i, : ck.V_T] = (seg.hold_force(x), *_references(seg, x))
+                    rows[i, : ck.V_T] = (seg.hold_force(x), *references(seg, x))
         return k
 
     def _kernel(self, m: int, calls: int, noise: np.ndarray):

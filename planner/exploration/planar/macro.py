@@ -341,7 +341,7 @@ def as_feature(angle: float, kind: str, truth: list[float]) -> DetectedFeature:
 def _truth_clusters(profile) -> list[float]:
     """Polar angles [rad] of the profile's features: its curvature features within
     :data:`MACRO_MERGE` of each other taken as one (a ridge has four edges)."""
-    from planner.exploration.planar.metrics import VIRTUAL_RADIUS
+    from planner.exploration.planar.pad_trace import VIRTUAL_RADIUS
 
     angs = sorted(
         math.atan2(f.position[1], f.position[0]) for f in profile.curvature_features(VIRTUAL_RADIUS)

@@ -6,11 +6,9 @@ import math
 
 import numpy as np
 
+from planner.exploration.planar.pad_trace import VIRTUAL_RADIUS, phase_runs
 from planner.exploration.planar.result import DetectedFeature
 from robots.sensors import TactileArray
-
-#: radius of the virtual fingertip the pad's trace is offset by for the detection [m]
-VIRTUAL_RADIUS = 0.003
 
 
 def coverage_of(log, body: str, profile, cells: int = 360) -> float:
@@ -117,12 +115,6 @@ FORCE_BAND = (0.5, 3.0)
 MIN_SLIDE_SPEED = 0.002
 #: detections of one feature on repeated passes closer than this are merged [rad]
 MERGE_ANGLE = math.radians(3.0)
-
-
-def phase_runs(kind) -> list[np.ndarray]:
-    """The row indices of each run of equal ``kind`` (the trace's phase column), in order."""
-    kind = np.asarray(kind)
-    return np.split(np.arange(kind.size), np.flatnonzero(np.diff(kind) != 0) + 1)
 
 
 def object_rotation(trace: dict, radius: float) -> np.ndarray:
@@ -626,14 +618,12 @@ def pad_shadow(radius: float, height: float, reach: float) -> float:
 
 
 __all__ = [
-    "VIRTUAL_RADIUS",
     "coverage_mask",
     "coverage_of",
     "held_pad_rolling",
     "held_tip_centre_x",
     "line_like_rows",
     "object_rotation",
-    "phase_runs",
     "tip_rolling",
     "pad_rolling",
     "outline_bins",

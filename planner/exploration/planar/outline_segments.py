@@ -18,9 +18,9 @@ import math
 
 import numpy as np
 
-from planner.exploration.planar.controller import Segment
 from planner.exploration.planar.heuristics import pad_angle
 from planner.exploration.planar.outline_pose import nearest_on_polygon
+from planner.exploration.planar.phase_segment import Segment
 from planner.exploration.planar.sensing import round_contact_arclength
 from planner.trajectory import ForceRamp, QuinticSpline
 

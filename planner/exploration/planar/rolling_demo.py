@@ -15,8 +15,9 @@ import time
 
 import numpy as np
 
-from planner.exploration.planar.controller import GaitController, Segment
+from planner.exploration.planar.controller import GaitController
 from planner.exploration.planar.objects import mean_radius
+from planner.exploration.planar.phase_segment import Segment
 from planner.exploration.planar.result import ExplorationResult, PhaseRecord
 from planner.exploration.planar.sensing import round_contact_arclength
 from planner.exploration.planar.settings import GaitSettings

@@ -1,4 +1,4 @@
-"""Planning of one phase into a :class:`~.controller.Segment` (re-done at every phase start
+"""Planning of one phase into a :class:`~.phase_segment.Segment` (re-done at every phase start
 from the current sensed estimate; §2.2.2-2.2.3).
 
 * phase 1: the rolling NLP (:class:`planner.trajectory.RollingNLP`) from the sensed state;
@@ -19,8 +19,8 @@ import math
 import numpy as np
 
 from planner.errors import InvalidParameter
-from planner.exploration.planar.controller import Segment
 from planner.exploration.planar.heuristics import pad_angle, regrasp_orientation
+from planner.exploration.planar.phase_segment import Segment
 from planner.exploration.planar.sensing import round_contact_arclength
 from planner.trajectory import ForceRamp, QuinticSpline
 
@@ -332,7 +332,7 @@ def segment_references(seg: Segment, tl: np.ndarray) -> np.ndarray:
     """The references of ``seg`` at the phase times ``tl`` (m,) [s] as rows (m, 23) in the
     layout of the kernel's ``sv`` without its two times: hold force, ``has_pose, x, y,
     theta, vx, vy, omega``, ``has_roll, u, s, phi (2), phid (2)``, ``has_explore, p (2), v
-    (2), phi``, ``has_force, f_n`` (what ``controller._references`` packs per call).
+    (2), phi``, ``has_force, f_n`` (what ``phase_segment.references`` packs per call).
 
     The segments built here evaluate them vectorized (each callable's ``many``), with the
     arithmetic of the scalar callables (equal to them bit for bit on this machine: numpy's
