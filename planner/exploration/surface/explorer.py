@@ -26,6 +26,7 @@ from planner.exploration.surface.placement import (
 )
 from planner.exploration.surface.plates import plate_height
 from planner.exploration.surface.program import ProgramState, exploration_program
+from planner.exploration.surface.raster_program import raster_program
 from planner.exploration.surface.result import (
     ExplorationResult,
     ExplorationSettings,
@@ -153,7 +154,8 @@ def explore_surface(
     world, gm, T = build_world(surface, cfg, reg, tilt, seed, sensors)
     ex = ExplorerController(gm, hs, T, int(dur * 1000) + 2)
     state = ProgramState()
-    ex.program = exploration_program(ex, cfg, reg, np.random.default_rng(seed), state)
+    program = raster_program if cfg.identify == "raster" else exploration_program
+    ex.program = program(ex, cfg, reg, np.random.default_rng(seed), state)
     _warm_up(ex, lambda: build_world(surface, cfg, reg, tilt, seed, sensors)[0])
     t0, c0 = time.perf_counter(), time.process_time()
     log = world.run(dur, controller=ex, stop=ex.stop)

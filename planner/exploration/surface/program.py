@@ -20,7 +20,14 @@ from planner.exploration.surface.runtime import PHASE
 from planner.exploration.surface.strategies import segments
 from planner.exploration.surface.tracing import find_outline, trace_boundary
 
-__all__ = ["FeatureRecord", "ProgramState", "exploration_program"]
+__all__ = [
+    "FeatureRecord",
+    "ProgramState",
+    "exploration_program",
+    "outline_rise",
+    "remember",
+    "trace_feature",
+]
 
 
 @dataclass
@@ -158,7 +165,9 @@ def trace_feature(ex, cfg, rec_f: FeatureRecord, region, half: float):
             break
 
 
-def _remember(ex, state: ProgramState, rec_f: FeatureRecord, r: float) -> None:
+def remember(ex, state: ProgramState, rec_f: FeatureRecord, r: float) -> None:
+    """Add the area of the traced feature ``rec_f`` (the hull of its traced centres, grown
+    by ``1.5 r`` [m]) to the areas the search skips (``state.known``)."""
     import shapely
 
     pts = [ex.rec.centre[s, :2] for s in rec_f.sides if len(s)]
@@ -168,12 +177,10 @@ def _remember(ex, state: ProgramState, rec_f: FeatureRecord, r: float) -> None:
 
 
 def exploration_program(ex, cfg, region: np.ndarray, rng, state: ProgramState):
-    """The generator driving :class:`ExplorerController` (see the module doc)."""
-    if cfg.identify == "raster":
-        from planner.exploration.surface.raster_program import raster_program
-
-        yield from raster_program(ex, cfg, region, rng, state)
-        return
+    """The generator driving :class:`ExplorerController` with the flow chart of Fig. 4.7
+    (see the module doc; ``identify="raster"`` runs
+    :func:`~planner.exploration.surface.raster_program.raster_program` instead, chosen by
+    :func:`~planner.exploration.surface.explorer.explore_surface`)."""
     r = cfg.tip_radius
     yield from approach(ex)
     detector = OnlineDetector(ex, r, cfg.window, state.is_known)
@@ -200,7 +207,7 @@ def exploration_program(ex, cfg, region: np.ndarray, rng, state: ProgramState):
             if dec.kind != "unknown":
                 yield from trace_feature(ex, cfg, rec_f, region, half)
             state.features.append(rec_f)
-            _remember(ex, state, rec_f, r)
+            remember(ex, state, rec_f, r)
             ex.feature = -1
             d = (b - a) / max(float(np.linalg.norm(b - a)), 1e-12)
             resume = a + max(float((ex.rec.centre[k1 - 1, :2] - a) @ d), 0.0) * d

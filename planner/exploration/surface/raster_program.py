@@ -19,8 +19,8 @@ import numpy as np
 from planner.exploration.surface.motions import approach, sweep
 from planner.exploration.surface.program import (
     FeatureRecord,
-    _remember,
     outline_rise,
+    remember,
     trace_feature,
 )
 from planner.exploration.surface.raster_match import raster_identify
@@ -69,6 +69,6 @@ def raster_program(ex, cfg, region: np.ndarray, rng, state):
         rec_f.reasons.append(f"raster match: elongation {rf.elongation:.1f}, lines {rf.lines}")
         yield from trace_feature(ex, cfg, rec_f, region, half)
         state.features.append(rec_f)
-        _remember(ex, state, rec_f, r)
+        remember(ex, state, rec_f, r)
         ex.feature = -1
     ex.phase = PHASE["idle"]
