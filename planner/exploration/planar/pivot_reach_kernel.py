@@ -4,7 +4,7 @@ Why compiled: the pivot planner's rolling-path search (:func:`.pivot_reach.tip_r
 asks for the finger's configurations at ~90 candidate tip poses per rotation knot, and a
 phase-2 regrasp search runs hundreds of such paths; the vectorized numpy version spent most
 of its ~0.65 ms per batch in array-call overhead (12 of 20 s of a 3 s posed-triangle run).
-The numpy version stays the reference (``tests/test_gait_pivot.py`` compares the two).
+The numpy version stays the reference (``tests/test_gait_shape_pivot.py`` compares the two).
 
 Kinematics as :mod:`robots.planar_hand.kinematics`: link k points along
 ``d(s_k) = (-sin s_k, cos s_k)``, ``s_k = q_1 + ... + q_k``; the IK's two elbow branches
