@@ -61,7 +61,9 @@ runaway check ends the run as a simulator fault (status "failed", with the reaso
 case was examined step by step (2026-11-24: a 10 cm sharp square tumbling out of the grasp,
 with a hold-check variant since reverted). On the same day 2 of the 192 runs of
 ``bench_gait`` ended with a runaway velocity too (posed-outline runs on the 12 and 14 cm
-rounded squares, seed 2; not examined). Sub-stepping such steps is not done. Tried on
+rounded squares, seed 2; not examined; none in the re-run after the posed-outline planner
+was compiled, bfbe9e3, whose rounding moved those failing paths: chance, not a fix).
+Sub-stepping such steps is not done. Tried on
 2026-11-24 and not kept: a torque-speed envelope for the actuators (no driving torque above
 twice the URDF's rated 5 rad/s, braking in full, in both steps). It removed those two faults
 but cannot touch a third kind, found in the same re-run (12 cm rounded square, posed

@@ -98,7 +98,8 @@ class PlanarWorld(WorldBase):
         #: set by :func:`planner.sim.planar.stepper._project`)
         self.jam = 0.0
         self._jammed = False
-        self._jam_time = 0.0  # the world's time after the step that set ``jam`` [s]
+        #: the world's time after its last Python step (the step ``jam`` speaks of) [s]
+        self._jam_time = 0.0
 
     # ------------------------------------------------------------------ last step
     @property
