@@ -118,7 +118,25 @@ def package_versions() -> dict[str, str]:
         except PackageNotFoundError:
             out[name] = "not installed"
     out["python"] = platform.python_version()
+    out["numpy_simd"] = numpy_simd()
     return out
+
+
+def numpy_simd() -> str:
+    """NumPy's SIMD dispatch targets this CPU runs (e.g. ``"X86_V3 X86_V4 AVX512_ICL"``;
+    ``"baseline"`` when none). They decide how NumPy's ``exp``, ``arctan2``, ``hypot``, ...
+    round (AVX-512 ones differ from the C library in the last bit), so a chaotic run (a
+    stalling gait) is reproduced to the bit only with the same targets: the runs of one
+    machine agree, another CPU's can end at other angles."""
+    try:
+        from numpy._core._multiarray_umath import __cpu_dispatch__, __cpu_features__
+    except ImportError:  # NumPy < 2
+        try:
+            from numpy.core._multiarray_umath import __cpu_dispatch__, __cpu_features__
+        except ImportError:
+            return "unknown"
+    used = [t for t in __cpu_dispatch__ if __cpu_features__.get(t)]
+    return " ".join(used) or "baseline"
 
 
 def to_jsonable(value: Any) -> Any:

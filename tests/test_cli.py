@@ -54,7 +54,7 @@ def test_run_writes_complete_run_directory(tmp_path):
     doc = json.loads((out / "result.json").read_text())
     assert doc["schema"] == 1 and doc["status"] == "ok" and doc["kind"] == "trace"
     assert doc["name"] == "tiny_step" and doc["seed"] == 7
-    assert {"hapex", "pin", "casadi", "numpy"} <= set(doc["versions"])
+    assert {"hapex", "pin", "casadi", "numpy", "numpy_simd"} <= set(doc["versions"])
     assert doc["timings_s"]["total"] > 0
     for rel in doc["files"].values():
         assert (out / rel).is_file(), rel

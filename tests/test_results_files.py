@@ -66,3 +66,23 @@ def test_unknown_content_type_is_refused(tmp_path):
     with pytest.raises(HapexError, match="expected str, bytes or a writer"):
         _write(tmp_path / "run", RunResult(files={"x.bin": 3.5}))
     assert list(tmp_path.iterdir()) == []
+
+
+def test_numpy_simd_names_the_dispatch_targets_in_use():
+    """``versions.numpy_simd``: NumPy's SIMD targets this CPU runs ("baseline" with all
+    of them disabled, which NumPy reads at import: a child process)."""
+    import os
+    import subprocess
+    import sys
+
+    from numpy_libm import dispatch_targets
+
+    from planner.results import numpy_simd
+
+    here = numpy_simd()
+    assert here == "baseline" or set(here.split()) <= set(dispatch_targets())
+    env = dict(os.environ, NPY_DISABLE_CPU_FEATURES=" ".join(dispatch_targets()))
+    code = "from planner.results import numpy_simd; print(numpy_simd())"
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                         text=True, check=True)  # fmt: skip
+    assert out.stdout.strip() == "baseline"

@@ -73,7 +73,13 @@ and the step alternate each step, joint speeds flip sign and grow (-99, 81, -225
 from the links' missing motor inertia (a geared motor's reflected rotor inertia is far
 above a 50 g link's); adding it means re-tuning every controller, not done. The envelope
 also moved the chaotic gaits: ``ellipse_gait`` full turns 7/8 -> 6/8 seeds (its default
-seed 0 failing at -268 deg), the batch 11 -> 12 objects with the circle model.
+seed 0 failing at -268 deg), the batch 11 -> 12 objects with the circle model. On an
+AVX-512 machine (NumPy rounding otherwise, 2026-11-24) ``long_thin_gait --seed 2`` ends in
+this runaway: in phase 3 the left finger, its joint 1 at its stop after the object slipped,
+spins its distal link (about 3e-5 kg m^2 about its joint) from 13 to 108 rad/s in 8 ms under
+0.4 N m, and the fingers collide. A motor armature of 1e-4 kg m^2 per joint in the simulator
+alone (the controllers unaware) removed it but moved the batch (circle model 11 -> 9
+objects, two Lemke-ray faults on posed-outline runs): not kept.
 """
 
 from __future__ import annotations
