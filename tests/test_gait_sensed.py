@@ -238,3 +238,28 @@ def test_a_phase_cut_by_the_duration_is_not_judged():
     assert short.phases[-1].phase == 1 and short.phases[-1].event == "time limit"
     assert short.phases[-1].start == pytest.approx(last.start)
     assert len(short.phases) == len(longer.phases)
+
+
+def test_a_symptom_ending_names_what_last_blocked_the_gait():
+    """A gait ending on a lost contact (or a dropped object, a simulator fault) says what
+    its planners last found blocking: the latest ``no_plan`` event naming a constraint
+    (the one in parentheses of the posed-outline planner's too); nothing from an event
+    whose check found none, or from other events."""
+    from types import SimpleNamespace
+
+    from planner.exploration.planar.machine import _Runner
+
+    def ended(*events):
+        return _Runner._last_blocked(SimpleNamespace(events=list(events)))
+
+    fc = "phase-1 NLP: solver failed; blocking: force closure (contact line 5 deg outside x)"
+    old = {"t": 0.5, "kind": "no_plan", "phase": 1, "message": "y (blocking: workspace)"}
+    new = {"t": 1.086, "kind": "no_plan", "phase": 1, "message": fc}
+    end = {"t": 2.0, "kind": "phase_end", "phase": 1, "message": "blocking: reach (z)"}
+    assert ended(old, new, end) == (
+        " (last blocked at 1.09 s: blocking: force closure (contact line 5 deg outside x))"
+    )
+    assert ended(old, end) == " (last blocked at 0.50 s: blocking: workspace)"
+    none = dict(new, message="blocking: none of force closure / workspace / reach at the "
+                             "start (IPOPT failed)")  # fmt: skip
+    assert ended(none, end) == "" and ended() == ""

@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from planner.errors import InvalidParameter
@@ -309,6 +309,22 @@ def test_polyline_path_closed_forms():
     assert path.at(top)[0][1] == pytest.approx(A)
 
 
+@pytest.mark.parametrize("fn", ["compiled", "reference"])
+@pytest.mark.parametrize("order", [0, 1, 2, 3])
+def test_an_outline_beside_the_pad_meets_it_at_the_highest_tied_corner(fn, order):
+    """The square beside the pad's strip (|x - 0.07| <= 0.01, the square's right face at
+    x = 0.055 across its edge): its two corners on that face are equally near; the pad
+    residual is that of the highest along the pad's normal ``(0, -1)`` (``y = -A``):
+    ``A + y_pad``, whichever corner comes first in the outline, in both implementations
+    (the compiled one and NumPy's picked different corners: 0.11 m apart)."""
+    pts = np.roll(SQUARE.points, order, axis=0)
+    rd = Readings(pad_point=np.array([0.07, -0.06]), pad_angle=0.0, pad_half_width=0.01,
+                  pad_u_max=0.00875, palm=False)  # fmt: skip
+    f = residuals if fn == "compiled" else residuals_reference
+    r = f(Outline(pts), (0.0, 0.0, 0.0), rd)
+    assert r == pytest.approx([A - 0.06], abs=1e-15)
+
+
 #: outlines for the compiled residuals' comparison: the square, a hexagon, a sampled circle
 _OUTLINES = (
     SQUARE,
@@ -318,6 +334,16 @@ _OUTLINES = (
 
 
 @settings(max_examples=60, deadline=None)
+@example(
+    which=0,
+    pose=(0.0, 0.0, -2.4375),
+    pad=(-0.08984375, 0.0, -2.4375),
+    u=math.nan,
+    tip=None,
+    use_pad=True,
+    palm=False,
+    prior=None,
+)  # a face across the strip's edge
 @given(
     which=st.integers(0, 2),
     pose=st.tuples(st.floats(-0.03, 0.03), st.floats(0.0, 0.08), st.floats(-3.2, 3.2)),

@@ -247,14 +247,16 @@ def test_exploration_switches_reach_the_gait_settings():
 @pytest.mark.parametrize("seed", [0])
 def test_long_thin_gait_fails_naming_its_blocking_constraint(cli, tmp_path, seed):
     """The issue's ``long_thin_gait`` with its own seed, run in full (3 s wall): status
-    "failed", exit 1, and the reason names the constraint that blocks it (force closure),
-    not a simulator fault. A hold check that watched the holding fingertip as well as the
-    centre let the object slip out from under the still pad on seeds 0/2, and both runs
-    ended as simulator faults (runaway velocity). Seed 2 is no longer run here: where its
-    run goes depends on the CPU's rounding (``versions.numpy_simd``); on an AVX-512 machine
-    its phase 3 ends in the documented runaway of a finger without motor inertia
-    (``planner/sim/planar/stepper.py``, Limits), on the machine this test was written on
-    it named force closure."""
+    "failed", exit 1, and the reason names the constraint that blocks it (force closure:
+    as the verdict, or, where the run ends on a lost contact, as what last blocked its
+    planners - NumPy at its AVX2 code lost both contacts in the phase 1 after two plans
+    failed on force closure), not a simulator fault. A hold check that watched the holding
+    fingertip as well as the centre let the object slip out from under the still pad on
+    seeds 0/2, and both runs ended as simulator faults (runaway velocity). Seed 2 is no
+    longer run here: where its run goes depends on the CPU's rounding
+    (``versions.numpy_simd``); on an AVX-512 machine its phase 3 ends in the documented
+    runaway of a finger without motor inertia (``planner/sim/planar/stepper.py``, Limits),
+    on the machine this test was written on it named force closure."""
     out = tmp_path / "run"
     proc = cli("run", "scenarios/long_thin_gait.yaml", "--seed", str(seed), "--no-plots",
                "--out", str(out))  # fmt: skip

@@ -226,7 +226,7 @@ class _Runner:
                 # the simulator's own message says why it stopped (a Lemke ray, ...)
                 log = self.logs[-1]
                 why = f": {log.reason}" if log.status == "failed" else ""
-                self._end("failed", f"{event} in phase {kind}{why}")
+                self._end("failed", f"{event} in phase {kind}{why}{self._last_blocked()}")
                 return
             if event == "time limit" and self._time_up():
                 # cut by the run's duration: not judged (a run given more time goes on
@@ -244,6 +244,21 @@ class _Runner:
                     self._end(*stall_outcome(self.rotation(), self._blocking_now()))
                     return
             kind, skip = self._next(kind, event, est)
+
+    def _last_blocked(self) -> str:
+        """What the gait was last found blocked by, for a run that ends on a symptom (a lost
+        contact, a dropped object, a simulator fault): `` (last blocked at T s: blocking:
+        ...)`` from the latest ``no_plan`` event that named a constraint, or "" (none did).
+        A long thin ellipse whose phase-1 plans failed twice on force closure (the contact
+        line 5-8 deg outside the cones) and whose next phase 1 then lost both contacts
+        reported only "contact lost in phase 1"."""
+        for e in reversed(self.events):
+            msg = e.get("message", "") if e.get("kind") == "no_plan" else ""
+            if "blocking: " in msg and not msg.endswith("(IPOPT failed)"):
+                i = msg.index("blocking: ")
+                what = msg[i:-1] if msg[i - 1 : i] == "(" else msg[i:]  # "... (blocking: x)"
+                return f" (last blocked at {e['t']:.2f} s: {what})"
+        return ""
 
     def _time_up(self) -> bool:
         """The run's ``duration`` is over."""

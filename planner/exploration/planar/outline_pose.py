@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from planner import checks
+from planner.exploration.planar.outline_pose_kernel import BESIDE_TIE
 from planner.grasp.workspace import rotation
 
 #: points of the outline within this of the support value lie on the pad [m] (the tactile
@@ -221,7 +222,9 @@ def residuals_reference(outline: Outline, pose, rd: Readings, theta_prior=None,
         n, tdir = np.array([s, -c]), np.array([c, s])
         Wp = pad_window(W, rd.pad_point, tdir, rd.pad_half_width)
         if len(Wp) == 0:  # the outline is beside the pad: its nearest corner to the strip
-            Wp = W[[int(np.argmin(np.abs((W - rd.pad_point) @ tdir)))]]
+            d = np.abs((W - rd.pad_point) @ tdir)
+            tied = W[d <= d.min() + BESIDE_TIE]  # of tied corners the highest
+            Wp = tied[[int(np.argmax(tied @ n))]]
         h = Wp @ n
         hmax = float(h.max())
         out.append(hmax - float(n @ rd.pad_point))

@@ -23,6 +23,13 @@ from numba import njit
 
 #: length of a packed reading (:func:`pack`)
 NREAD = 16
+#: corners of an outline beside the pad's strip whose distances from it differ by less than
+#: this are tied [m]; the highest of them (along the pad's normal) is taken. A face across
+#: the strip's edge has two: which one the nearest-distance search returned depended on the
+#: last bit of the distances (NumPy's matrix product against this loop), and the pad
+#: residual jumped by the face's length (0.11 m on an 11 cm square). The highest is what
+#: the window gives once it reaches the face, so the residual is continuous there.
+BESIDE_TIE = 1e-12
 
 
 def pack(rd, theta_prior, theta_weight: float, flat_tol: float, u_weight: float) -> np.ndarray:
@@ -100,11 +107,15 @@ def residuals(P, x, y, a, rd, out):
         if m > 0:
             m = _clip(A, m, -tx, -ty, -(tx * px + ty * py) + hw, B)
         if m == 0:  # the outline is beside the pad: its nearest corner to the strip
-            j, dj = 0, math.inf
+            dmin = math.inf
             for i in range(M):
+                dmin = min(dmin, abs((W[i, 0] - px) * tx + (W[i, 1] - py) * ty))
+            j, hj = 0, -math.inf
+            for i in range(M):  # of tied corners (BESIDE_TIE) the highest
                 d = abs((W[i, 0] - px) * tx + (W[i, 1] - py) * ty)
-                if d < dj:
-                    j, dj = i, d
+                h = W[i, 0] * nx + W[i, 1] * ny
+                if d <= dmin + BESIDE_TIE and h > hj:
+                    j, hj = i, h
             B[0, 0], B[0, 1] = W[j, 0], W[j, 1]
             m = 1
         hmax = -math.inf
