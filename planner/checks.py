@@ -22,7 +22,6 @@ from planner.errors import InvalidParameter
 
 __all__ = [
     "batch",
-    "shown",
     "choice",
     "in_range",
     "integer",
@@ -30,6 +29,7 @@ __all__ = [
     "points",
     "positive",
     "series",
+    "shown",
     "vector",
 ]
 

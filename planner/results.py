@@ -122,21 +122,32 @@ def package_versions() -> dict[str, str]:
     return out
 
 
+def numpy_dispatch_targets() -> list[str]:
+    """NumPy's runtime SIMD dispatch targets: those its build can dispatch to (``X86_V3``,
+    ``AVX512_ICL``, ...), whether this CPU runs them or not ([] when NumPy does not say)."""
+    return list(_numpy_cpu()[0])
+
+
 def numpy_simd() -> str:
     """NumPy's SIMD dispatch targets this CPU runs (e.g. ``"X86_V3 X86_V4 AVX512_ICL"``;
     ``"baseline"`` when none). They decide how NumPy's ``exp``, ``arctan2``, ``hypot``, ...
     round (AVX-512 ones differ from the C library in the last bit), so a chaotic run (a
     stalling gait) is reproduced to the bit only with the same targets: the runs of one
     machine agree, another CPU's can end at other angles."""
+    targets, features = _numpy_cpu()
+    return " ".join(t for t in targets if features.get(t)) or "baseline"
+
+
+def _numpy_cpu() -> tuple[list, dict]:
+    """NumPy's ``(__cpu_dispatch__, __cpu_features__)`` (empty where it has none)."""
     try:
-        from numpy._core._multiarray_umath import __cpu_dispatch__, __cpu_features__
+        from numpy._core import _multiarray_umath as mu
     except ImportError:  # NumPy < 2
         try:
-            from numpy.core._multiarray_umath import __cpu_dispatch__, __cpu_features__
+            from numpy.core import _multiarray_umath as mu
         except ImportError:
-            return "unknown"
-    used = [t for t in __cpu_dispatch__ if __cpu_features__.get(t)]
-    return " ".join(used) or "baseline"
+            return [], {}
+    return list(getattr(mu, "__cpu_dispatch__", [])), dict(getattr(mu, "__cpu_features__", {}))
 
 
 def to_jsonable(value: Any) -> Any:
@@ -312,6 +323,8 @@ __all__ = [
     "Event",
     "FileContent",
     "RunResult",
+    "numpy_dispatch_targets",
+    "numpy_simd",
     "package_versions",
     "replace_directory",
     "to_jsonable",

@@ -20,6 +20,8 @@ from pathlib import Path
 
 import numpy as np
 
+from planner.results import numpy_dispatch_targets
+
 #: set in the child process of :func:`rerun_with_baseline_numpy` (no second re-run)
 RERUN_FLAG = "HAPEX_BASELINE_NUMPY_RERUN"
 
@@ -44,19 +46,10 @@ def numpy_matches_libm(n: int = 4001) -> bool:
     )
 
 
-def dispatch_targets() -> list[str]:
-    """NumPy's runtime SIMD dispatch targets (``X86_V3``, ``AVX512_ICL``, ...)."""
-    try:
-        from numpy._core._multiarray_umath import __cpu_dispatch__
-    except ImportError:  # NumPy < 2
-        from numpy.core._multiarray_umath import __cpu_dispatch__
-    return list(__cpu_dispatch__)
-
-
 def rerun_with_baseline_numpy(nodeid: str) -> subprocess.CompletedProcess:
     """Run the pytest test ``nodeid`` in a child process with NumPy's dispatch targets
     disabled; its output in ``stdout``."""
-    env = dict(os.environ, NPY_DISABLE_CPU_FEATURES=" ".join(dispatch_targets()))
+    env = dict(os.environ, NPY_DISABLE_CPU_FEATURES=" ".join(numpy_dispatch_targets()))
     env[RERUN_FLAG] = "1"
     root = Path(__file__).resolve().parents[1]
     cmd = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-p", "no:xdist",

@@ -75,13 +75,11 @@ def test_numpy_simd_names_the_dispatch_targets_in_use():
     import subprocess
     import sys
 
-    from numpy_libm import dispatch_targets
-
-    from planner.results import numpy_simd
+    from planner.results import numpy_dispatch_targets, numpy_simd
 
     here = numpy_simd()
-    assert here == "baseline" or set(here.split()) <= set(dispatch_targets())
-    env = dict(os.environ, NPY_DISABLE_CPU_FEATURES=" ".join(dispatch_targets()))
+    assert here == "baseline" or set(here.split()) <= set(numpy_dispatch_targets())
+    env = dict(os.environ, NPY_DISABLE_CPU_FEATURES=" ".join(numpy_dispatch_targets()))
     code = "from planner.results import numpy_simd; print(numpy_simd())"
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
                          text=True, check=True)  # fmt: skip

@@ -254,7 +254,7 @@ class _Runner:
         reported only "contact lost in phase 1"."""
         for e in reversed(self.events):
             msg = e.get("message", "") if e.get("kind") == "no_plan" else ""
-            if "blocking: " in msg and not msg.endswith("(IPOPT failed)"):
+            if "blocking: " in msg and phase_planning.NOT_BLOCKED not in msg:
                 i = msg.index("blocking: ")
                 what = msg[i:-1] if msg[i - 1 : i] == "(" else msg[i:]  # "... (blocking: x)"
                 return f" (last blocked at {e['t']:.2f} s: {what})"

@@ -204,6 +204,10 @@ def feature_behind(r, event: str) -> float | None:
     return bump[0] if bump[1] else None
 
 
+#: :func:`blocking`'s verdict when none of the three constraints blocks the sensed grasp
+NOT_BLOCKED = "blocking: none of force closure / workspace / reach at the start (IPOPT failed)"
+
+
 def blocking(r, est, q, mu: float) -> str:
     """Which constraint blocks phase 1 at the sensed grasp (the issue's three): force
     closure (the contact line outside the friction cones), workspace (a joint at its limit)
@@ -224,7 +228,7 @@ def blocking(r, est, q, mu: float) -> str:
                 " deg)")  # fmt: skip
     if left_regrasp_angle(r, est, fallback=False) is None:
         return "blocking: reach (no stable left grasp within the pad's reach)"
-    return "blocking: none of force closure / workspace / reach at the start (IPOPT failed)"
+    return NOT_BLOCKED
 
 
 def tip_contact_angle(hand, q, beta_right: float) -> float:
