@@ -96,3 +96,26 @@ def test_an_array_outline_is_refused_in_one_short_line(name):
     msg = str(err.value)
     assert msg.startswith(f"{name}: expected a closed planar Profile")
     assert "an array of shape (200, 2)" in msg and "\n" not in msg
+
+
+def test_the_start_grasp_is_searched_with_the_planners_friction():
+    """The start grasp (setup.build_world) lies within the planner's cones, ``settings.mu``
+    with its reserve, not the world's true friction: a planner that assumes mu 0.5 on a
+    world of mu 1 grasps as it would on a world of mu 0.5 (the circle: 0 deg right tip
+    where mu 1 puts it 15 deg up), and one that assumes too little friction for any start
+    grasp is told so, with the cones it searched."""
+    from planner.exploration.planar.setup import build_world
+    from robots.planar_hand import PlanarHand, gait_hand_params
+
+    hand = PlanarHand(gait_hand_params(1.0))
+
+    def beta(true_mu, planner_mu):
+        s = GaitSettings(mu=planner_mu)
+        return build_world(DISC, hand, true_mu, 0.05, None, s, 0, dry=True)[1]["beta"]
+
+    assert beta(1.0, 0.5) == beta(0.5, 0.5)
+    assert beta(1.0, 0.5) != beta(1.0, 1.0)
+    # the 0.8 cone of the default reserve admits the right tip 15 deg above the centre
+    assert math.degrees(beta(1.0, 1.0)[1]) == pytest.approx(15.0)
+    with pytest.raises(InvalidParameter, match=r"does not fit.*mu 0\.08: the planner's mu 0\.1"):
+        explore_object(DISC, mu=1.0, settings=GaitSettings(mu=0.1), duration=0.1)

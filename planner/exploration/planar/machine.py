@@ -107,7 +107,7 @@ def explore_object(
 
         hand = PlanarHand(gait_hand_params(mu))
     R = mean_radius(nominal if nominal is not None else profile)
-    prior = gait_prior(nominal, R, hand, mu) if use_prior else None
+    prior = gait_prior(nominal, R, hand, s.mu) if use_prior else None
     world, start = build_world(profile, hand, mu, R, prior, s, seed)
     ctrl = GaitController(hand, s, R, world.gravity)
     from planner.trajectory import RollingNLP

@@ -16,7 +16,8 @@ from planner.exploration.planar.objects import rest_height
 
 
 def gait_prior(nominal, radius: float, hand, mu: float):
-    """``planner.grasp.plan_gait`` on the planner's model (default the nominal circle)."""
+    """``planner.grasp.plan_gait`` on the planner's model (default the nominal circle) with
+    the friction ``mu`` [-] the planner assumes (``GaitSettings.mu``), or None (no gait)."""
     from planner.geometry import shapes
     from planner.grasp import plan_gait
 
@@ -98,6 +99,14 @@ def build_world(
 ):
     """The planar world with the object resting on the palm and the fingers on it.
 
+    Args:
+        profile: the true object outline (object frame) [m]; hand: the ``PlanarHand``.
+        mu: the world's true friction coefficient [-] (the simulated object's).
+        radius: the planner's nominal radius [m]; prior: ``plan_gait``'s gait or None.
+        settings: ``GaitSettings``: the start grasp is searched within the planner's
+            cones, ``settings.planning_mu`` (the planner does not know the true ``mu``).
+        seed: sensor-noise seed; dry: only search the start grasp (``world`` is None).
+
     Returns:
         ``(world, start)`` with ``start = {"beta": (2,), "q": (6,), "rest": (3,)}``.
 
@@ -112,8 +121,9 @@ def build_world(
     if prior is not None and prior.feasible and prior.phases:
         first = prior_world_grasp(prior)
     found = None
-    mu_eff = mu * (1 - settings.friction_margin)
-    cands = start_grasp_candidates(hand, (0.0, radius), radius, mu_eff, first, settings.nlp_margin)
+    # the planner's friction (settings.mu, reserve kept), not the world's true ``mu``
+    mu_plan = settings.planning_mu
+    cands = start_grasp_candidates(hand, (0.0, radius), radius, mu_plan, first, settings.nlp_margin)
     for bl, br, q_nom, _ in cands:
         q = _place(hand, profile, origin, (bl, br), q_nom)
         if q is not None and not _collides(hand, profile, q, (0.0, h, 0.0), mu, settings):
@@ -122,7 +132,9 @@ def build_world(
     if found is None:
         raise InvalidParameter(
             "profile: the object does not fit the hand: no stable two-finger grasp of it "
-            "resting on the palm is within the fingers' joint limits"
+            "resting on the palm is within the fingers' joint limits (friction cones of "
+            f"mu {mu_plan:.3g}: the planner's mu {settings.mu:g} with its "
+            f"{settings.friction_margin:.0%} reserve)"
         )
     bl, br, q = found
     if dry:
