@@ -191,7 +191,7 @@ def prepare_path(
     o = _orientation(
         side, left, measured_outward, frame, block, dc, ddc, tip_radius, centers.shape[1]
     )
-    s = P.arclength(cs, start=h * (block - 1) / 2.0)
+    s = P.arclength(cs, start=h * float(index[0]))  # from the first sample [m]
     return PreparedPath(frame, cs, dc, ddc, block, sigma, index, s, o, o * left, h * block)
 
 
