@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from planner.sim.spatial import Plane, SpatialWorld
@@ -245,6 +245,8 @@ def test_contact_and_joint_limit_together():
     tau=st.lists(st.floats(-0.6, 0.6), min_size=3, max_size=3),
     kernels=st.booleans(),
 )
+@example(tau=[-0.25241959510961104, -0.25241959510961104, -0.6], kernels=False)  # a runaway
+@example(tau=[-0.25241959510961104, -0.25241959510961104, -0.6], kernels=True)
 def test_joints_never_leave_their_limits(tau, kernels):
     """Any constant torque, in free space: every joint stays within its limits (to 1e-12
     rad) until the run ends or the five-bar becomes singular."""
@@ -256,3 +258,29 @@ def test_joints_never_leave_their_limits(tau, kernels):
     lim = GM.joint_limits
     assert np.all(log.q >= lim[:, 0] - 1e-12) and np.all(log.q <= lim[:, 1] + 1e-12)
     assert log.status == "ok" or any(e.kind == "singular" for e in log.events)
+
+
+def test_a_step_toward_alignment_ends_singular_before_the_loop_jumps():
+    """Under a constant torque the free five-bar's links l3 and l4 close on alignment:
+    sin(gamma2 - gamma1) 0.14, 0.082, 0.0029 at 1 ms steps. The step to 0.0029 came nearer
+    zero than it moved (bodies.aligning): the run ends "singular" there, in both paths,
+    where the next step ran away (rates 78 -> 391 rad/s; the loop closed on its other
+    branch 160 mm away)."""
+    from planner.sim.spatial.bodies import aligning
+
+    assert aligning(0.082, 0.0029) and aligning(0.01, -0.01) and aligning(0.5, 5e-7)
+    assert not aligning(0.14, 0.082) and not aligning(0.99, 0.98)
+    tau = np.array([-0.25241959510961104, -0.25241959510961104, -0.6])
+    ends = []
+    for kernels in (False, True):
+        w = SpatialWorld()
+        w.add_surface(Plane((0, 0, -1.0)), friction=0.5)
+        w.use_kernels = kernels
+        w.add_finger(GM, GM.center_theta)
+        log = w.run(0.4, lambda t, obs: tau)
+        assert log.status == "failed"
+        assert [e.kind for e in log.events][-2:] == ["singular", "stopped"]
+        assert "sin(gamma2 - gamma1) = 0.00293" in log.reason
+        assert np.abs(log.qd).max() < 100.0  # no runaway before it
+        ends.append(log.q[-1])
+    assert np.array_equal(ends[0], ends[1])

@@ -16,7 +16,7 @@ from planner.sim.spatial import step_kernel as sk
 from planner.sim.spatial.finger import tcs_rotation
 from planner.sim.spatial.finger_codegen import reduced_dynamics_function
 
-__all__ = ["FingerBody", "SphereBody", "quat_from_matrix", "quat_mul_exp", "skew"]
+__all__ = ["FingerBody", "SphereBody", "aligning", "quat_from_matrix", "quat_mul_exp", "skew"]
 
 
 def skew(a: np.ndarray) -> np.ndarray:
@@ -112,6 +112,18 @@ class SphereBody:
         return np.concatenate([self.v, self.w])
 
 
+def aligning(sin_before: float, sin_after: float, floor: float = 1e-6) -> bool:
+    """Whether a step that took ``sin(γ2 - γ1)`` of the 3GM's five-bar from ``sin_before`` to
+    ``sin_after`` ends singular: below ``floor`` (the closed form's resolution), or nearer
+    zero than the step moved it (one more such step aligns links l3 and l4, or the step
+    crossed alignment). The reduced dynamics grow like 1/sin there, beyond what one explicit
+    step resolves: a free finger under constant torque went 0.082 -> 0.0029 in a 1 ms
+    step, its rates jumped from 78 to 391 rad/s, and the next step closed the loop on its
+    other branch 160 mm away (a runaway; found by Hypothesis). In the bundled scenarios
+    ``|sin|`` stays above 0.98. Mirrored by the compiled step (``step_kernel``)."""
+    return abs(sin_after) < max(floor, abs(sin_after - sin_before))
+
+
 class FingerBody:
     """The 3GM: motor angles ``θ`` and rates ``θ̇`` (3,); reduced dynamics per step from the
     generated functions of :mod:`planner.sim.spatial.finger_codegen` (equal to the Pinocchio
@@ -172,7 +184,8 @@ class FingerBody:
     def _singular(self, sin_c: float) -> SingularConfiguration:
         return SingularConfiguration(
             f"3GM singular at theta = {np.round(self.th, 6).tolist()} rad: the five-bar loop "
-            f"cannot close or links l3 and l4 align (sin(gamma2 - gamma1) = {sin_c:.3g})",
+            f"cannot close or links l3 and l4 align, or are one step from it (sin(gamma2 - "
+            f"gamma1) = {sin_c:.3g})",
             value=float(sin_c),
         )
 
@@ -219,9 +232,12 @@ class FingerBody:
         self.shift_center(self.J @ dq)
 
     def _refresh_center(self) -> None:
-        """Kinematics at the new angles (centre, J, J_ω, γ1; M_r⁻¹ is left for the step)."""
+        """Kinematics at the new angles (centre, J, J_ω, γ1; M_r⁻¹ is left for the step).
+
+        Singular also when the step brought the links closer to alignment than one more
+        such step would (:func:`aligning`)."""
         c, J, Jw, g1, sin_c, _ = self.kin(self.th)
-        if not np.isfinite(c[0]) or abs(sin_c[0]) < self.SINGULAR_SIN:
+        if not np.isfinite(c[0]) or aligning(float(self.x[sk.SIN]), float(sin_c[0])):
             raise self._singular(sin_c[0])
         self.x[sk.C : sk.C + 3] = c
         self.J, self.Jw = J, Jw

@@ -291,7 +291,9 @@ def finger_step(x, tau_in, t_end, prm, F, P, dyn, dp, kin, kp, rows, times, ost)
         x[THD + i] = v[i]
         x[TH + i] = x[TH + i] + h * v[i]
         x[LIM + i] = lim[i]
-    if not _kinematics(x, kin, kp) or abs(x[SIN]) < prm[P_SIN]:
+    sin0 = x[SIN]
+    # singular also when nearer alignment than the step moved it (bodies.aligning)
+    if not _kinematics(x, kin, kp) or abs(x[SIN]) < max(prm[P_SIN], abs(x[SIN] - sin0)):
         return SINGULAR_END
     active = status >= 2 and lam[0] > 0.0
     x[ACT] = 0.0
