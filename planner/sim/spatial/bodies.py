@@ -114,7 +114,7 @@ class SphereBody:
 
 def aligning(sin_before: float, sin_after: float, floor: float = 1e-6) -> bool:
     """Whether a step that took ``sin(γ2 - γ1)`` of the 3GM's five-bar from ``sin_before`` to
-    ``sin_after`` ends singular: below ``floor`` (the closed form's resolution), or nearer
+    ``sin_after`` ends singular: below ``floor`` (``FingerBody.SINGULAR_SIN``), or nearer
     zero than the step moved it (one more such step aligns links l3 and l4, or the step
     crossed alignment). The reduced dynamics grow like 1/sin there, beyond what one explicit
     step resolves: a free finger under constant torque went 0.082 -> 0.0029 in a 1 ms
@@ -237,7 +237,7 @@ class FingerBody:
         Singular also when the step brought the links closer to alignment than one more
         such step would (:func:`aligning`)."""
         c, J, Jw, g1, sin_c, _ = self.kin(self.th)
-        if not np.isfinite(c[0]) or aligning(float(self.x[sk.SIN]), float(sin_c[0])):
+        if not np.isfinite(c[0]) or aligning(float(self.x[sk.SIN]), sin_c[0], self.SINGULAR_SIN):
             raise self._singular(sin_c[0])
         self.x[sk.C : sk.C + 3] = c
         self.J, self.Jw = J, Jw
