@@ -78,6 +78,7 @@ def test_blow_up_guard():
     world.add_body(shapes.circle(0.01), (0, 0, 0), 1.0, velocity=(2e3, 0, 0), name="b")
     log = world.run(0.1)
     assert log.status == "failed" and "runaway" in log.reason
+    assert log.reason.endswith("(b, component 0)")  # which coordinate ran away
     assert [e.kind for e in log.events][-2:] == ["blow_up", "stopped"]
     world._v[0, 0] = np.nan  # corrupt the state on purpose
     log = world.run(0.1)
@@ -115,3 +116,17 @@ def test_bad_run_arguments():
         run(world, -1.0)
     with pytest.raises(InvalidParameter, match="control_rate"):
         world.run(1.0, control_rate=0.0)
+
+
+def test_blow_up_guard_names_the_joint_that_ran_away():
+    import re
+
+    world, _, _ = pinch_scene()
+    world.qd[4] = -3e3  # the right finger's joint 2 [rad/s]; it kicks the rest via the disc
+    log = world.run(0.1)
+    assert log.status == "failed"
+    m = re.fullmatch(r"runaway velocity (\S+) > 1000 \(joint (\d), (\S+) rad/s\)", log.reason)
+    assert m is not None, log.reason
+    k = int(m.group(2))
+    assert k == int(np.argmax(np.abs(world.qd)))
+    assert float(m.group(1)) == float(m.group(3)) == float(f"{abs(world.qd[k]):.3g}")

@@ -383,3 +383,26 @@ def test_a_degenerate_step_lcp_gets_the_regularized_answer_checked_on_the_origin
     z = _solve(M, q, "contact problem", regularize=STEP_REGULARIZE)
     assert lcp_residual(M, q, z) <= 1e-6
     assert z.min() >= 0.0 and np.min(M @ z + q) >= -1e-6 * max(1.0, np.abs(q).max())
+
+
+def test_a_failed_projection_names_its_deepest_penetration(monkeypatch):
+    """A projection with no verified answer ends the step with an error that says what it
+    met: the deepest penetration and its bodies (the fuzzed gait whose right tip got 19 cm
+    behind the left pad said only "Lemke stopped on a ray"). The compiled step hands such
+    a projection to this Python one, so the reference world is the one tested."""
+    from planner.errors import InfeasibleProblem
+    from planner.sim.planar import stepper
+
+    def fail(M, q, what, regularize=0.0, compliant=False):
+        raise InfeasibleProblem(f"{what}: Lemke stopped on a ray", problem={"M": M, "q": q})
+
+    world = PlanarWorld(gravity=(0.0, -G), compiled=False)
+    world.add_fixed(shapes.plane(0.0, 0.2), name="floor")
+    world.add_body(shapes.circle(0.05), pose=(0.0, 0.047, 0.0), mass=0.1, name="disc")
+    monkeypatch.setattr(stepper, "_solve", fail)
+    with pytest.raises(InfeasibleProblem) as err:
+        world.step()
+    msg = str(err.value)
+    assert msg.startswith("position projection: Lemke stopped on a ray; ")
+    assert "deepest penetration 3.0 mm, floor into disc" in msg
+    assert err.value.problem["q"].min() == pytest.approx(-3e-3, abs=1e-12)

@@ -124,8 +124,20 @@ def _health(world) -> str:
         return "non-finite state (NaN/inf)"
     v = world.velocity_vector()
     if v.size and np.max(np.abs(v)) > MAX_SPEED:
-        return f"runaway velocity {np.max(np.abs(v)):.3g} > {MAX_SPEED:g}"
+        return f"runaway velocity {np.max(np.abs(v)):.3g} > {MAX_SPEED:g} ({_whose(world, v)})"
     return ""
+
+
+def _whose(world, v) -> str:
+    """Which coordinate of the velocity vector ``v`` is the fastest: a free body's
+    component [m/s or rad/s] or a joint [rad/s] (bodies first, then joints)."""
+    k = int(np.argmax(np.abs(v)))
+    names = world.body_names
+    nj = world.n_joints
+    per = (len(v) - nj) // len(names) if names else 0
+    if k < per * len(names):
+        return f"{names[k // per]}, component {k % per}"
+    return f"joint {k - per * len(names)}, {abs(float(v[k])):.3g} rad/s"
 
 
 class LoopState:

@@ -369,7 +369,12 @@ def _project(world, frames, cands, Minv):
     L, lphi, _ = _limit_rows(world, nv, 0.0)
     N, phi = np.vstack([N, L]), np.concatenate([phi, lphi])
     G = N @ Minv @ N.T
-    z = _solve(G, phi, "position projection", regularize=1e-9, compliant=True)
+    try:
+        z = _solve(G, phi, "position projection", regularize=1e-9, compliant=True)
+    except InfeasibleProblem as exc:
+        raise InfeasibleProblem(
+            f"{exc}; {_deepest(world, cands)}", problem=exc.problem, solver=exc.solver
+        ) from None
     # the deepest penetration left [m] (contact rows; the limit rows' gaps are in rad)
     left = float(-np.min((phi + G @ z)[: len(cands)], initial=0.0))
     world.jam = left if left > world.projection_tolerance else 0.0
@@ -378,6 +383,19 @@ def _project(world, frames, cands, Minv):
     world._x += dq[: 3 * nb].reshape(nb, 3)
     if world.hand is not None:
         world.q += dq[3 * nb :]
+
+
+def _deepest(world, cands) -> str:
+    """What a failed projection met, for its message: the deepest penetration [mm], its
+    bodies, and the fastest joint of the hand [rad/s] (a penetration of centimetres is a
+    body that went through another in one step: a runaway, see the module docstring)."""
+    i, j, gap = min(cands, key=lambda c: c[2])[:3]
+    names = [b.name for b in world.bodies]
+    msg = f"deepest penetration {-1e3 * gap:.1f} mm, {names[int(i)]} into {names[int(j)]}"
+    if world.hand is not None and len(world.qd):
+        k = int(np.argmax(np.abs(world.qd)))
+        msg += f" (fastest joint: {k} at {abs(float(world.qd[k])):.3g} rad/s)"
+    return msg
 
 
 def step(world, tau) -> StepResult:
