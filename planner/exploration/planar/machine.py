@@ -416,8 +416,11 @@ class _Runner:
                 p, n = tr[:, 4:8].reshape(-1, 2, 2), tr[:, 8:12].reshape(-1, 2, 2)
                 e = epsilon_two_planar(p[:, 0], -n[:, 0], p[:, 1], -n[:, 1], self.s.mu)
                 eps_min[0] = float(np.min(e))
+        # the phase ends where its log does: a step that blew up (a simulator fault) moved
+        # the world's clock but left no row, and the rotation is read from the rows
+        end = float(log.t[-1]) if len(log.t) else w.time
         rec = PhaseRecord(
-            kind=kind, skip=skip, start=t0, end=w.time, rotation=float(a[-1] - a[0]),
+            kind=kind, skip=skip, start=t0, end=end, rotation=float(a[-1] - a[0]),
             planned_rotation=planned, event=event,
             epsilon=eps_min[0] if math.isfinite(eps_min[0]) else float("nan"),
             nlp_time_s=nlp_t, backstroke=self._stroking,
