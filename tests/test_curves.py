@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from planner.errors import InvalidParameter
@@ -18,6 +18,7 @@ def rot(a):
 
 @settings(max_examples=25, deadline=None)
 @given(r=st.floats(0.002, 0.02), ratio=st.floats(1.0, 4.0), x0=st.floats(-0.01, 0.01))
+@example(r=0.015625, ratio=1.0078125, x0=0.0)  # the wall's offset ends within a sample
 def test_tall_step_interference_at_x0_minus_r(r, ratio, x0):
     tc = c.traced_curve(shapes.step(ratio * r, x0=x0, length=0.1), r)
     np.testing.assert_allclose(tc.interference_points, [[x0 - r, r]], atol=1e-9)

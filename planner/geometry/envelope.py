@@ -229,11 +229,32 @@ def _gap_crossing(Qo, kq, a, b, lo, hi, closed, r):
     kq[idx_h[: ih + 1]] = False
     kq[ta] = True
     kq[hb] = True
-    t0, t1 = Qo[(ta - 1) % n], Qo[(ta + 1) % n]
-    h0, h1 = Qo[(hb - 1) % n], Qo[(hb + 1) % n]
     if closed or (ta >= 1 and hb + 1 < n):
-        x = _refine_crossing(np.asarray(x), [t0, Qo[ta], t1], [h0, Qo[hb], h1])
+        tail = _local_piece(Qo, ta, closed, head=False)
+        head = _local_piece(Qo, hb - 1, closed, head=True)
+        x = _refine_crossing(np.asarray(x), tail, head)
     return x, ta, hb
+
+
+def _local_piece(Q, i: int, closed: bool, head: bool) -> list:
+    """Three points [m] whose circle (or line) stands for a branch on its crossing segment
+    ``(i, i + 1)`` in :func:`_refine_crossing`: the samples around the segment's kept end
+    (``i + 1`` on the head branch, ``i`` on the tail), as before, unless either triple of
+    samples that holds the segment is collinear - then the segment lies on a straight
+    piece and its two ends (and their midpoint) are returned. The centred triple can
+    straddle the junction of a straight piece with a curved one (a wall's offset meeting
+    its top corner's fan when the step is less than a sample spacing taller than the
+    fingertip radius): its circle put the interference point 66 nm off the exact
+    ``(x0 - r, r)``. Noisy samples are never collinear: they keep the centred triple."""
+    n = len(Q)
+    k = i + 1 if head else i
+    centred = [Q[(k - 1) % n], Q[k % n], Q[(k + 1) % n]]
+    if not closed and (i - 1 < 0 or i + 2 >= n):
+        return centred
+    p = [Q[m % n] for m in (i - 1, i, i + 1, i + 2)]
+    if _circle3(p[0], p[1], p[2]) is None or _circle3(p[1], p[2], p[3]) is None:
+        return [p[1], 0.5 * (p[1] + p[2]), p[2]]
+    return centred
 
 
 def _assemble(Qo, No, order, kq, crossings, normals_x, after) -> Envelope:
