@@ -165,3 +165,14 @@ def test_frictionless_ball_leaves_a_dome_at_the_closed_form_angle():
     leave = math.degrees(math.acos(p[2] / np.linalg.norm(p)))
     assert leave == pytest.approx(math.degrees(math.acos(2 / 3 * math.cos(th0))), abs=0.5)
     assert np.nanmax(np.abs(log.gap[on, 0])) <= 1e-12
+
+
+def test_a_runaway_ball_is_named_with_its_velocity_component():
+    """The runaway guard names the coordinate that ran away: spheres' 6 components first
+    (linear, then angular), the finger's motor rates after them."""
+    w = SpatialWorld(gravity=(0.0, 0.0, 0.0))
+    ball = w.add_sphere(0.01, 0.1, (0.0, 0.0, 0.5), angular_velocity=(0.0, 2e3, 0.0))
+    log = w.run(0.01)
+    assert log.status == "failed"
+    assert log.reason.startswith("runaway velocity 2e+03 > 1000")
+    assert log.reason.endswith(f"({ball}, component 4)")

@@ -122,7 +122,6 @@ def _health(world) -> str:
         return ""
     if not np.all(np.isfinite(x)):
         return "non-finite state (NaN/inf)"
-    v = world.velocity_vector()
     if v.size and np.max(np.abs(v)) > MAX_SPEED:
         return f"runaway velocity {np.max(np.abs(v)):.3g} > {MAX_SPEED:g} ({_whose(world, v)})"
     return ""
@@ -132,12 +131,11 @@ def _whose(world, v) -> str:
     """Which coordinate of the velocity vector ``v`` is the fastest: a free body's
     component [m/s or rad/s] or a joint [rad/s] (bodies first, then joints)."""
     k = int(np.argmax(np.abs(v)))
-    names = world.body_names
-    nj = world.n_joints
-    per = (len(v) - nj) // len(names) if names else 0
-    if k < per * len(names):
-        return f"{names[k // per]}, component {k % per}"
-    return f"joint {k - per * len(names)}, {abs(float(v[k])):.3g} rad/s"
+    per = world.velocity_size  # per free body; a spatial finger's rates are its joints'
+    nb = (len(v) - world.n_joints) // per
+    if k < per * nb:
+        return f"{world.body_names[k // per]}, component {k % per}"
+    return f"joint {k - per * nb}, {abs(float(v[k])):.3g} rad/s"
 
 
 class LoopState:

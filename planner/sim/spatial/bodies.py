@@ -112,7 +112,7 @@ class SphereBody:
         return np.concatenate([self.v, self.w])
 
 
-def aligning(sin_before: float, sin_after: float, floor: float = 1e-6) -> bool:
+def aligning(sin_before: float, sin_after: float, floor: float = sk.SINGULAR_SIN) -> bool:
     """Whether a step that took ``sin(γ2 - γ1)`` of the 3GM's five-bar from ``sin_before`` to
     ``sin_after`` ends singular: below ``floor`` (``FingerBody.SINGULAR_SIN``), or nearer
     zero than the step moved it (one more such step aligns links l3 and l4, or the step
@@ -134,7 +134,7 @@ class FingerBody:
     place by the kernel; the attributes below read (copies) and write it."""
 
     #: |sin(γ2 - γ1)| below which the 3GM is reported singular (links l3, l4 aligned).
-    SINGULAR_SIN = 1e-6
+    SINGULAR_SIN = sk.SINGULAR_SIN
 
     def __init__(self, name, gm, theta, theta_dot, tip_radius, friction, gravity):
         self.name, self.gm, self.radius, self.friction = name, gm, tip_radius, friction

@@ -20,8 +20,6 @@ from planner.sim.spatial.plate import Plane, Plate
 
 __all__ = ["FingerKernel", "KernelContact", "fast_plate"]
 
-_SINGULAR_SIN = 1e-6  # as FingerBody.SINGULAR_SIN
-
 
 class FingerKernel:
     """Everything :func:`.step_kernel.finger_step` needs, packed once: the plate (or plane)
@@ -58,7 +56,7 @@ class FingerKernel:
         prm[sk.P_RATE], prm[sk.P_FULL], prm[sk.P_SIN] = (
             SAMPLE_RATE,
             FULL_INTENSITY_FORCE,
-            _SINGULAR_SIN,
+            sk.SINGULAR_SIN,
         )
         self.prm = prm
         self.dyn, self.kin = finger.fn, finger.kin

@@ -51,6 +51,8 @@ STATE_SIZE = 60
 P_H, P_MU, P_R, P_BASE, P_ROT, P_T, P_LIM, P_TAU = 0, 1, 2, 3, 4, 13, 16, 22
 P_RATE, P_FULL, P_SIN = 25, 26, 27
 PARAM_SIZE = 28
+#: |sin(γ2 - γ1)| below which the 3GM is singular (links l3, l4 aligned) [-]; ``prm[P_SIN]``
+SINGULAR_SIN = 1e-6
 # buffers of the generated functions (inputs, then outputs; matrices column-major)
 D_C, D_J, D_JW, D_MINV, D_THDF, D_G1, D_SIN = 10, 13, 22, 31, 40, 43, 56
 K_C, K_J, K_JW, K_G1, K_SIN = 3, 6, 15, 24, 25
