@@ -38,6 +38,8 @@ def report(config, ctx, res, profile, duration: float, hand, noise_seed: int | N
     events = _events(res)
     figures = _figures(ctx, res, profile, hand, ridge, theta) if ctx.plots else {}
     files = {"phases.json": json.dumps([p.to_json() for p in res.phases], indent=2)}
+    if res.prior is not None:  # the map-space gait the executor followed (prior events)
+        files["prior_gait.json"] = json.dumps(res.prior.to_json(), indent=2)
     if config.output.animation and ctx.plots:
         gif = _animation(ctx, res, profile, hand, events)
         if gif is not None:
@@ -126,6 +128,8 @@ def _metrics(config, res, profile, ridge, duration: float, theta) -> dict:
     m["controller_call_p95_us"] = float(np.percentile(steps, 95)) if steps.size else None
     m["nlp_solve_max_ms"] = float(np.max(nlp)) if nlp.size else None
     m["nlp_solves"] = int(nlp.size)
+    m["prior_feasible"] = bool(res.prior.feasible) if res.prior is not None else None
+    m["prior_deviations"] = sum(1 for e in res.events if e.get("kind") == "prior")
     m.update(fig214_measures(res, ridge, theta=theta))
     return m
 

@@ -25,6 +25,7 @@ Keys (SI units)::
     wall_approach: false         # the pad leads with its end towards a known wall
     left_regrasp: true           # no phase-1 plan twice: the left pad regrasps before giving up
     last_resort: true            # then phase 1 with the tip's range relaxed (GaitSettings)
+    follow_prior: true           # posed nominal outline: regrasp to plan_gait's handoffs
     object_mass: 0.05            # [kg]
     rotation_speed: 0.4          # phase-1 rotation speed [rad/s]
     explore_speed: 0.03          # exploring contact speed [m/s]
@@ -193,6 +194,7 @@ class Config(ScenarioBase):
     wall_approach: bool = Field(False, description="pad's end first towards a known wall")
     left_regrasp: bool = Field(True, description="left pad regrasp before giving up")
     last_resort: bool = Field(True, description="last phase-1 plan, tip's range relaxed")
+    follow_prior: bool = Field(True, description="regrasp to the prior's handoffs (outline)")
     object_mass: float = Field(0.05, gt=0, le=2, description="[kg]")
     rotation_speed: float = Field(0.4, gt=0, le=3, description="[rad/s]")
     explore_speed: float = Field(0.03, gt=0, le=0.5, description="[m/s]")
@@ -224,7 +226,7 @@ class Config(ScenarioBase):
             left_hold_force=self.left_hold_force, sensed_features=self.sensed_features,
             corner_probe=self.corner_probe, stroke_overlap=self.stroke_overlap,
             wall_approach=self.wall_approach, left_regrasp=self.left_regrasp,
-            last_resort=self.last_resort,
+            last_resort=self.last_resort, follow_prior=self.follow_prior,
             explore_force=self.explore_force,
             object_mass=self.object_mass, object_kp=g.object_kp, object_kv=g.object_kv,
             rolling_gains=g.rolling, hold_kp=g.hold_kp, hold_kv=g.hold_kv, tip_kp=g.tip_kp,

@@ -27,6 +27,7 @@ from planner.exploration.planar.gait_loop import PhaseStop
 from planner.exploration.planar.logs import concat_logs
 from planner.exploration.planar.metrics import pad_rolling
 from planner.exploration.planar.objects import mean_radius
+from planner.exploration.planar.prior_track import PriorTrack, infeasible_message
 from planner.exploration.planar.result import ExplorationResult, PhaseRecord
 from planner.exploration.planar.settings import GaitSettings
 from planner.exploration.planar.setup import build_world, gait_prior
@@ -83,7 +84,10 @@ def explore_object(
         max_rotation: stop once the object has turned this much (true rotation) [rad];
             checked between phases, so the run ends with the phase during which the
             object passed it (a phase 1 turns it 10-40 deg).
-        use_prior: run ``planner.grasp.plan_gait`` on the nominal shape for the start grasp.
+        use_prior: run ``planner.grasp.plan_gait`` on the nominal shape: its first grasp is
+            the start grasp, and every phase planned from the estimate that parts from the
+            prior's phase at the sensed rotation is a ``"prior"`` event
+            (:mod:`.prior_track`).
         on_progress: ``callable(t)`` called with the simulated time [s] every
             :data:`PROGRESS_STEP` simulated seconds (e.g. to advance a progress bar).
 
@@ -117,6 +121,12 @@ def explore_object(
     nlp_build = time.perf_counter() - t_build
     runner = _Runner(world, ctrl, nlp, s, hand, start, duration, max_rotation)
     runner.on_progress = on_progress
+    runner.prior = PriorTrack.of(prior)
+    first = infeasible_message(prior)
+    if runner.prior is not None:
+        first = runner.prior.start_deviation(start["beta"])
+    if first:
+        runner.events.append({"t": world.time, "kind": "prior", "message": first})
     runner.shape = ShapeTracker.of(nominal, hand, float(np.abs(ctrl.sensing.taxel_u).max()))
     runner.execute()
     log = concat_logs(runner.logs)
@@ -184,6 +194,7 @@ class _Runner:
         self.corner = (CornerProbe(hand.params.left.pad_half_width, len(ctrl.sensing.taxel_u))
                        if s.corner_probe else None)  # fmt: skip
         self.explored = ExploredOutline() if s.stroke_overlap else None
+        self.prior: PriorTrack | None = None  # the map-space prior, indexed by pose
         self._posed = True  # the posed outline's fit at the phase start was used
         self._again = False  # the phase 2 being run repeats one planned from a rejected fit
 
@@ -214,6 +225,7 @@ class _Runner:
             seg, planned, nlp_t, why = self._plan(kind, est, obs.q)
             if seg is None and kind == 1 and self._after_no_plan(1, failures + 1) is None:
                 seg, planned, nlp_t, why = self._last_resort(est, obs.q, why)
+            self._follow(kind, seg, planned)
             if seg is None:
                 failures += 1
                 nxt = self._no_plan(kind, failures, why)
@@ -243,7 +255,32 @@ class _Runner:
                 if self._stalled():
                     self._end(*stall_outcome(self.rotation(), self._blocking_now()))
                     return
-            kind, skip = self._next(kind, event, est)
+            nxt = self._next(kind, event, est)
+            if kind == 2 and nxt[0] != 2 and self.prior is not None:
+                self._prior_event(2, self.prior.transition_deviation(
+                    self.theta, nxt[1], f"phase 2 ended by {event}"))  # fmt: skip
+            kind, skip = nxt
+
+    def _follow(self, kind: int, seg, planned: float) -> None:
+        """A ``prior`` event where the plan of phase ``kind`` (``seg``, None: no plan;
+        ``planned`` [rad], phase 1) parts from the prior's phase at the sensed rotation
+        (:class:`.prior_track.PriorTrack`; phase 1: a far shorter turn or none, phases 2/3:
+        a regrasp to another contact)."""
+        if self.prior is None:
+            return
+        if kind == 1:
+            msg = self.prior.phase1_deviation(self.theta, planned if seg is not None else None)
+        elif seg is not None and seg.target is not None:
+            msg = self.prior.regrasp_deviation(kind, self.theta, seg.target)
+        else:
+            msg = ""
+        self._prior_event(kind, msg)
+
+    def _prior_event(self, kind: int, msg: str) -> None:
+        """Record the ``prior`` event ``msg`` of phase ``kind`` (nothing for "")."""
+        if msg:
+            self.events.append({"t": self.world.time, "kind": "prior", "phase": kind,
+                                "message": msg})  # fmt: skip
 
     def _last_blocked(self) -> str:
         """What the gait was last found blocked by, for a run that ends on a symptom (a lost

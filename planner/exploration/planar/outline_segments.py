@@ -101,6 +101,7 @@ def outline_explore_segment(
     else:
         s1 = path.point_at_angle(tracker.pose[:2], target_beta)
     ds = math.remainder(s1 - s0, path.length)
+    end = path.at(s0 + ds)[0]
     phi0 = float(q[3 * k : 3 * k + 3].sum())
     turn = 0.0 if phi_end is None or k == 0 else float(phi_end) - phi0
     r = hand.params.right.tip_radius
@@ -135,6 +136,7 @@ def outline_explore_segment(
         hold_force=lambda t: float(hold(t)),
         explore_force=lambda t: float(fexp(t)),
         theta0=theta0,
+        target=math.atan2(end[1] - float(tracker.pose[1]), end[0] - float(tracker.pose[0])),
     )
 
 

@@ -27,6 +27,9 @@ class Segment:
         contact_target: where on the exploring pad its contact is held [m] (tactile
             centroid ``u``; a PI on the pad's orientation, ``controller_kernel``'s contact
             servo), or None: the pad's orientation follows ``explore`` alone.
+        target: world polar angle [rad] about the estimated centre where the explorer's
+            contact ends (phases 2/3: the regrasp; :mod:`.prior_track` compares it with the
+            prior's handoff), or None (phase 1).
     """
 
     kind: int
@@ -38,6 +41,7 @@ class Segment:
     explore_force: Callable | None = None
     theta0: float = 0.0
     contact_target: float | None = None
+    target: float | None = None
 
 
 _NO_POSE = (0.0,) * 7

@@ -19,7 +19,14 @@ _COLORS = {1: "#dbe9f6", 2: "#fde5cc", 3: "#dff2dc"}
 #: the pad is "at the ridge" within this polar angle of it (ridge half-width ~2.3 deg) [rad]
 RIDGE_WINDOW = math.radians(4.0)
 #: event kinds marked on the timeline, with their markers
-_EVENT_MARKS = {"transition_4": "v", "deviation": "x", "no_plan": "s", "sim": "D", "end": "*"}
+_EVENT_MARKS = {
+    "transition_4": "v",
+    "deviation": "x",
+    "no_plan": "s",
+    "sim": "D",
+    "end": "*",
+    "prior": "|",
+}
 #: event kinds that repeat what the phase bars show
 _PHASE_EVENTS = ("phase_end", "phase")
 

@@ -320,6 +320,7 @@ def explore_segment(
         hold_force=_ramp_function(hold),
         explore_force=_ramp_function(fexp),
         theta0=theta0,
+        target=b1,
     )
 
 

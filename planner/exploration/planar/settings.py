@@ -98,6 +98,17 @@ class GaitSettings:
             further (``RollingNLP(relax_start=True)``; round nominal shapes): a phase 2 that
             ends at a joint stop can leave the tip touching the object 92-107 deg from its
             axis where the NLP's range is 69 deg. The friction cones stay as they are.
+        follow_prior: on a posed nominal outline (a non-round ``nominal``), phases 2/3 move
+            the explorer to the handoff of the prior (``plan_gait`` on that outline, found
+            stable and reachable in map space) at the sensed rotation
+            (:class:`.prior_track.PriorTrack`) instead of back to the start grasp's world
+            angle; the right tip's pivot regrasp (:mod:`.pivot_planning`) still takes
+            precedence in phase 2. Measured 2026-11-24 (rounded squares 6-14 cm, the true
+            outline as model, seeds 0-2, 60 s): the 15 runs turned 656 deg in all instead
+            of 407 (10 cm: 141/127/38 deg instead of 3/23/24; 12 cm: 12 deg each instead
+            of 54/2/100); no run reached a full turn either way. Round nominal shapes plan
+            their regrasps by the §2.2.3 heuristics, which land within 15 deg of the
+            circle prior's handoffs.
             Measured with ``left_regrasp`` on the 27 runs above: 10 full turns instead of
             9. The tip's relaxation in every plan (not only the last) gave 6 (the regrasp
             it replaces was the better move where it was possible). Relaxing the start's
@@ -152,6 +163,7 @@ class GaitSettings:
     wall_approach: bool = False
     left_regrasp: bool = True
     last_resort: bool = True
+    follow_prior: bool = True
     explore_force: float = 0.3
     object_mass: float = 0.05
     object_kp: tuple[float, float, float] = (80.0, 80.0, 0.8)

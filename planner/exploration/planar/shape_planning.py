@@ -136,8 +136,10 @@ def _pivot_phase1(runner, q, est, local, geometric: bool = False):
 
 
 def plan_explore(runner, kind: int, est, q):
-    """The phase-2/3 segment on the posed outline: back to the start grasp's world angle
-    (a grasp that was stable and reachable with the object resting on the palm); with
+    """The phase-2/3 segment on the posed outline: to the prior's handoff at the sensed
+    rotation (``settings.follow_prior``, :mod:`.prior_track`), else back to the start
+    grasp's world angle (a grasp that was stable and reachable with the object resting on
+    the palm); with
     :data:`PLAN_PIVOT` the right tip goes where the next pivot reaches furthest, and there
     is no phase 2 (None and why) when that pivot could not turn the object (the stuck left
     pad or every regrasp of the right tip at the end of the workspace: a phase 2 there only
@@ -146,6 +148,12 @@ def plan_explore(runner, kind: int, est, q):
     from planner.exploration.planar.outline_segments import outline_explore_segment
 
     target = runner.start["beta"][1 if kind == 2 else 0]
+    if runner.s.follow_prior and runner.prior is not None:
+        # the prior's handoff at the sensed rotation: map space found it stable and
+        # reachable on this outline (settings.follow_prior)
+        st = runner.prior.step(kind, runner.theta)
+        if st is not None and math.isfinite(st.end[1 if kind == 2 else 0]):
+            target = st.end[1 if kind == 2 else 0]
     point = phi = None
     # the next phase 1 pivots only from a pad contact the tactile array senses (the posed
     # outline's local circle needs it)
