@@ -31,9 +31,11 @@ SHORT_PLAN = 0.5
 ROTATION_TOL = math.radians(5.0)
 
 
-def _wrap(a: float) -> float:
-    """``a`` [rad] wrapped to (-pi, pi]."""
-    return math.atan2(math.sin(a), math.cos(a))
+def world_angle(alpha: float, pose: int, resolution: int) -> float:
+    """World polar angle [rad] about the object's centre of the prior's object-frame contact
+    angle ``alpha`` [rad] at pose index ``pose`` of a ``resolution``-pose grid (the object
+    turned by ``-2 pi pose / resolution``); not wrapped."""
+    return float(alpha) - 2.0 * math.pi * pose / resolution
 
 
 def _deg(a: float) -> str:
@@ -85,13 +87,12 @@ class PriorTrack:
         n = int(gait.resolution)
         steps = []
         for i, ph in enumerate(gait.phases):
-            a0 = -2.0 * math.pi * ph.pose_start / n
-            a1 = -2.0 * math.pi * ph.pose_end / n
+            k0, k1 = ph.pose_start, ph.pose_end
             steps.append(PriorStep(
-                index=i, kind=int(ph.phase), pose=int(ph.pose_start) % n,
+                index=i, kind=int(ph.phase), pose=int(k0) % n,
                 rotation=float(ph.rotation),
-                start=(float(ph.start["left"]) + a0, float(ph.start["right"]) + a0),
-                end=(float(ph.end["left"]) + a1, float(ph.end["right"]) + a1),
+                start=tuple(world_angle(ph.start[f], k0, n) for f in ("left", "right")),
+                end=tuple(world_angle(ph.end[f], k1, n) for f in ("left", "right")),
                 transition=str(ph.transition),
             ))  # fmt: skip
         return cls(tuple(steps), n)
@@ -121,7 +122,8 @@ class PriorTrack:
         first = next((st for st in self.steps if st.kind == 1), None)
         if first is None:
             return ""
-        off = [abs(_wrap(float(b) - a)) for b, a in zip(beta, first.start, strict=True)]
+        pairs = zip(beta, first.start, strict=True)
+        off = [abs(math.remainder(float(b) - a, 2 * math.pi)) for b, a in pairs]
         if max(off) <= SAME_CONTACT:
             return ""
         return (f"start grasp at left {_deg(beta[0])} deg, right {_deg(beta[1])} deg (world); "
@@ -152,7 +154,7 @@ class PriorTrack:
             return ""
         finger = 1 if kind == 2 else 0
         aim = st.end[finger]
-        if not math.isfinite(aim) or abs(_wrap(target - aim)) <= SAME_CONTACT:
+        if not math.isfinite(aim) or abs(math.remainder(target - aim, 2 * math.pi)) <= SAME_CONTACT:
             return ""
         name = "the right finger's contact" if kind == 2 else "the left pad's contact"
         return (f"phase {kind} moves {name} to {_deg(target)} deg (world); the prior's "
@@ -180,4 +182,4 @@ def infeasible_message(gait) -> str:
             "is planned from the sensed estimate alone")  # fmt: skip
 
 
-__all__ = ["PriorStep", "PriorTrack", "infeasible_message"]
+__all__ = ["PriorStep", "PriorTrack", "infeasible_message", "world_angle"]

@@ -13,6 +13,7 @@ from planner.exploration.planar.heuristics import (
     start_grasp_candidates,
 )
 from planner.exploration.planar.objects import rest_height
+from planner.exploration.planar.prior_track import world_angle
 
 
 def gait_prior(nominal, radius: float, hand, mu: float):
@@ -52,10 +53,9 @@ def prior_world_grasp(prior) -> tuple[float, float]:
     ``pose_start``, where the object has turned by ``-pose_start 2 pi / resolution`` (they
     were used as world angles before, which put the prior's grasp 20 deg off)."""
     ph = prior.phases[0]
-    theta = -2.0 * math.pi * ph.pose_start / prior.resolution
-    left = (ph.start["left"] + theta) % (2 * math.pi)
-    right = math.remainder(ph.start["right"] + theta, 2 * math.pi)
-    return float(left), float(right)
+    left = world_angle(ph.start["left"], ph.pose_start, prior.resolution) % (2 * math.pi)
+    right = world_angle(ph.start["right"], ph.pose_start, prior.resolution)
+    return float(left), math.remainder(right, 2 * math.pi)
 
 
 #: a start grasp whose fingertips penetrate the palm or the object deeper than this is
