@@ -162,6 +162,83 @@ def test_regrasp_orientation_maximizes_the_joint_margin():
         assert score(other) <= best + 1e-9
 
 
+def _posed_runner(hand, W, pose):
+    """The slice of the phase machine's runner that ``shape_planning`` reads: the hand and
+    a tracker posing the world polygon ``W`` at ``pose``."""
+    from types import SimpleNamespace
+
+    outline = SimpleNamespace(posed=lambda p: np.asarray(W, float))
+    return SimpleNamespace(hand=hand, shape=SimpleNamespace(pose=np.asarray(pose), outline=outline))
+
+
+def test_posed_regrasp_orientation_is_the_circle_heuristic_on_a_circle():
+    """On a posed outline that is a fine polygon of a circle, the round tip's regrasp
+    orientation (shape_planning._regrasp_tip_orientation) is the circle's heuristic
+    (heuristics.regrasp_orientation) over the same next phase-1 travel."""
+    from planner.exploration.planar import phase_planning, shape_planning
+    from planner.exploration.planar.heuristics import regrasp_orientation
+    from planner.exploration.planar.segments import MAX_REORIENT
+
+    hand, c, R = _ball_hand(), np.array([0.0, 0.05]), 0.05
+    a = np.linspace(0, 2 * np.pi, 2000, endpoint=False)
+    W = c + R * np.c_[np.cos(a), np.sin(a)]
+    runner = _posed_runner(hand, W, [c[0], c[1], 0.0])
+    for beta in np.radians([0.0, 24.0, 40.0]):
+        want = regrasp_orientation(hand, c, R, beta, phase_planning.PHASE1_TRAVEL)
+        q = np.zeros(6)
+        q[3] = want  # the tip's orientation now (the sum of its joints) is the answer
+        got = shape_planning._regrasp_tip_orientation(runner, beta, q)
+        assert got == pytest.approx(want, abs=0.02)  # the 61-point grid, 1 deg apart
+        q[3] = want - 2.0  # far away: the turn is clipped
+        got = shape_planning._regrasp_tip_orientation(runner, beta, q)
+        assert got == pytest.approx(want - 2.0 + MAX_REORIENT, abs=1e-12)
+
+
+def test_posed_regrasp_orientation_on_a_square():
+    """On a 6 cm square on the palm the regrasp orientation keeps the contact within the
+    heuristic's spread (0.5 rad) of the tip's axis. On the top face no orientation of that
+    spread has a larger joint-limit margin at the new contact and after the next phase 1;
+    on the right face none reaches both, and it is the four-region preference clipped to
+    the spread (§2.2.3; the 8 cm rounded square's regrasps left the contact 97-106 deg off
+    the axis when the tip kept its orientation)."""
+    from planner.exploration.planar import phase_planning, shape_planning
+    from planner.exploration.planar.heuristics import _reach_margin, preferred_orientation
+
+    hand = _ball_hand()
+    r = hand.params.right.tip_radius
+    h = 0.03
+    corners = np.array([[-h, 0.0], [h, 0.0], [h, 2 * h], [-h, 2 * h]])  # on the palm, CCW
+    t = np.linspace(0, 1, 80, endpoint=False)[:, None]  # dense, as posed outlines are
+    W = np.vstack([a + t * (b - a) for a, b in zip(corners, np.roll(corners, -1, axis=0))])
+    c = np.array([0.0, h])
+    runner = _posed_runner(hand, W, [0.0, h, 0.0])
+    b = -phase_planning.PHASE1_TRAVEL
+    turn = np.array([[math.cos(b), -math.sin(b)], [math.sin(b), math.cos(b)]])
+    cases = (  # (target polar angle, the tip's centre there, the apex orientation)
+        (math.radians(70.0), lambda a: np.array([h / math.tan(a), 2 * h + r]), math.pi),
+        (math.radians(10.0), lambda a: np.array([h + r, h + h * math.tan(a)]), 0.5 * math.pi),
+    )
+    for k, (target, centre_of, apex) in enumerate(cases):
+        q = np.array([0.0, 0.0, 0.0, apex, 0.0, 0.0])  # the tip now at the apex
+        phi = shape_planning._regrasp_tip_orientation(runner, target, q)
+        assert abs(phi - apex) <= shape_planning.TIP_SPREAD + 1e-9
+        tip = centre_of(target)
+        pts = (tip, c + turn @ (tip - c))
+
+        def score(p, pts=pts):
+            return min(_reach_margin(hand, "right", x[None], np.array([p]))[0] for x in pts)
+
+        grid = [score(o) for o in apex + np.linspace(-0.5, 0.5, 21)]
+        if k == 0:
+            assert score(phi) > 0.3
+            assert max(grid) <= score(phi) + 1e-9
+        else:
+            assert not np.isfinite(grid).any()
+            pref = preferred_orientation(hand, "right", tip)
+            want = apex + float(np.clip(math.remainder(pref - apex, 2 * math.pi), -0.5, 0.5))
+            assert phi == pytest.approx(want, abs=1e-12)
+
+
 def test_prior_grasp_in_world_angles():
     """plan_gait's contact angles are object-frame angles at its start pose; the start grasp
     needs world angles (object angle + rotation of the pose)."""

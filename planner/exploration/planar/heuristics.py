@@ -155,16 +155,23 @@ def regrasp_orientation(
     """
     r = hand.params.right.tip_radius
     c = np.asarray(centre, float)
-    apex = beta + 0.5 * math.pi
+    centres = [c + (radius + r) * np.array([math.cos(b), math.sin(b)]) for b in (beta, beta - travel)]
+    return tip_orientation(hand, centres, beta + 0.5 * math.pi, spread, n)
+
+
+def tip_orientation(hand, tip_centres, apex: float, spread: float = 0.5, n: int = 61) -> float:
+    """Orientation [rad] of the round right tip, within ``spread`` [rad] of ``apex`` [rad]
+    (the orientation that touches the surface at the tip's axis: the surface's outward
+    normal angle + pi/2), that maximizes the smallest joint-limit margin over the tip
+    centres ``tip_centres`` (each (2,) [m]; the same orientation at each); the four-region
+    preference at the first centre (clipped to the spread) when no orientation reaches them
+    all (the §2.2.3 heuristic, :func:`regrasp_orientation` on a circle)."""
     phis = apex + np.linspace(-spread, spread, n)
-    pts = [
-        np.broadcast_to(c + (radius + r) * np.array([math.cos(b), math.sin(b)]), (n, 2))
-        for b in (beta, beta - travel)
-    ]
-    m = np.minimum(*(_reach_margin(hand, "right", p, phis) for p in pts))
+    pts = [np.broadcast_to(np.asarray(p, float), (n, 2)) for p in tip_centres]
+    m = np.min([_reach_margin(hand, "right", p, phis) for p in pts], axis=0)
     if not np.isfinite(m).any():
         pref = preferred_orientation(hand, "right", pts[0][0])
-        return apex + float(np.clip(pref - apex, -spread, spread))
+        return apex + float(np.clip(math.remainder(pref - apex, 2 * math.pi), -spread, spread))
     return float(phis[int(np.argmax(m))])
 
 
@@ -214,4 +221,5 @@ __all__ = [
     "regrasp_orientation",
     "stable_pair",
     "start_grasp_candidates",
+    "tip_orientation",
 ]

@@ -22,11 +22,19 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from planner.exploration.planar import phase_planning, pivot_planning
 
 #: largest travel of the planned centre in phase 1 on a posed outline [m] (a square pivoting
 #: on its corner lifts its centre up to 23 mm)
 SHAPE_TRAVEL = 0.03
+#: the round tip's phase-2 regrasp on a posed outline ends at the §2.2.3 preferred
+#: orientation for the next phase 1 (:func:`_regrasp_tip_orientation`; False: it keeps its
+#: orientation)
+TIP_ORIENTATION = True
+#: how far from the tip's axis that orientation may put the contact [rad]
+TIP_SPREAD = 0.5
 #: plan phase 1 of a posed polygon with ``planner.trajectory.OutlineNLP`` (its contacts'
 #: modes) instead of the local circle. Off: the controller (its object impedance and
 #: rolling PD) tracks a circle about the pad-based centre, and the polygon plans it executed
@@ -173,9 +181,39 @@ def plan_explore(runner, kind: int, est, q):
             return None, 0.0, 0.0, why
         point = face.start + best[0] * face.tangent
         phi = best[1]
+    elif kind == 2 and TIP_ORIENTATION:
+        phi = _regrasp_tip_orientation(runner, target, q)
     seg = outline_explore_segment(kind, est, q, runner.shape, target, runner.theta, runner.s,
                                   runner.hand, target_point=point, phi_end=phi)  # fmt: skip
     return seg, 0.0, 0.0, ""
+
+
+def _regrasp_tip_orientation(runner, target: float, q) -> float:
+    """Orientation [rad] of the round right tip at the end of its phase-2 regrasp to the
+    posed outline's point at world polar angle ``target`` [rad] about its centre: the
+    §2.2.3 heuristic (:func:`.heuristics.tip_orientation`) at that point and where the next
+    phase 1 takes it (the point turned ``PHASE1_TRAVEL`` clockwise about the centre), the
+    change from the tip's orientation now at most ``segments.MAX_REORIENT``. Keeping the
+    orientation instead left the 8 cm rounded square's contact 97-106 deg from the tip's
+    axis after the regrasp, beyond its 69 deg rolling range, and phase 1 had no plan."""
+    from planner.exploration.planar.heuristics import tip_orientation
+    from planner.exploration.planar.outline_segments import PolylinePath
+    from planner.exploration.planar.segments import MAX_REORIENT
+
+    shape = runner.shape
+    c = np.asarray(shape.pose[:2], float)
+    path = PolylinePath(shape.outline.posed(shape.pose))
+    w = runner.hand.params.left.pad_half_width
+    s1 = path.point_at_angle(c, target)
+    n = path.normal_angle(s1, 0.25 * w)  # the outward normal there, smoothed over a corner
+    r = runner.hand.params.right.tip_radius
+    tip = np.asarray(path.at(s1)[0]) + r * np.array([math.cos(n), math.sin(n)])
+    a = -phase_planning.PHASE1_TRAVEL
+    rot = np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
+    phi1 = tip_orientation(runner.hand, [tip, c + rot @ (tip - c)], n + 0.5 * math.pi, TIP_SPREAD)
+    phi0 = float(q[3:6].sum())
+    return phi0 + float(np.clip(math.remainder(phi1 - phi0, 2 * math.pi), -MAX_REORIENT,
+                                MAX_REORIENT))  # fmt: skip
 
 
 def _best_regrasp(runner, W, face, q):
