@@ -209,7 +209,8 @@ def test_posed_regrasp_orientation_on_a_square():
     h = 0.03
     corners = np.array([[-h, 0.0], [h, 0.0], [h, 2 * h], [-h, 2 * h]])  # on the palm, CCW
     t = np.linspace(0, 1, 80, endpoint=False)[:, None]  # dense, as posed outlines are
-    W = np.vstack([a + t * (b - a) for a, b in zip(corners, np.roll(corners, -1, axis=0))])
+    ends = np.roll(corners, -1, axis=0)
+    W = np.vstack([a + t * (b - a) for a, b in zip(corners, ends, strict=True)])
     c = np.array([0.0, h])
     runner = _posed_runner(hand, W, [0.0, h, 0.0])
     b = -phase_planning.PHASE1_TRAVEL

@@ -155,7 +155,8 @@ def regrasp_orientation(
     """
     r = hand.params.right.tip_radius
     c = np.asarray(centre, float)
-    centres = [c + (radius + r) * np.array([math.cos(b), math.sin(b)]) for b in (beta, beta - travel)]
+    centres = [c + (radius + r) * np.array([math.cos(b), math.sin(b)])
+               for b in (beta, beta - travel)]  # fmt: skip
     return tip_orientation(hand, centres, beta + 0.5 * math.pi, spread, n)
 
 
