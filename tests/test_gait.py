@@ -7,6 +7,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import assume, given
+from hypothesis import strategies as st
 
 from planner.errors import InvalidParameter
 from planner.exploration.planar import circle_with_ridge, explore_object
@@ -238,6 +240,54 @@ def test_posed_regrasp_orientation_on_a_square():
             pref = preferred_orientation(hand, "right", tip)
             want = apex + float(np.clip(math.remainder(pref - apex, 2 * math.pi), -0.5, 0.5))
             assert phi == pytest.approx(want, abs=1e-12)
+
+
+@given(st.floats(-math.pi, math.pi), st.floats(-math.pi, math.pi), st.floats(0.1, 2.0))
+def test_pair_margin_on_a_circle_is_stable_pair(b_left, b_right, mu):
+    """On a circle (outward normals = polar angles) the outline pair margin is the circle's
+    Yoshikawa-Nagai margin of heuristics.stable_pair."""
+    from planner.exploration.planar.heuristics import stable_pair
+    from planner.exploration.planar.shape_planning import pair_margin
+
+    assume(abs(math.remainder(b_left - b_right, 2 * math.pi)) > 1e-3)
+    c, R = np.array([0.01, 0.05]), 0.04
+    pl = c + R * np.array([math.cos(b_left), math.sin(b_left)])
+    pr = c + R * np.array([math.cos(b_right), math.sin(b_right)])
+    want = stable_pair(b_left, b_right, mu, 0.0)
+    assert pair_margin(pl, b_left, pr, b_right, mu) == pytest.approx(want, abs=1e-9)
+
+
+def test_stable_target_moves_a_regrasp_into_the_planning_cones():
+    """The explorer's regrasp target stays where the grasp is stable with the NLP's margin
+    at the planning friction and otherwise moves, within STABLE_WINDOW, to the nearest
+    (1 deg steps) angle where it is. A 6 cm square (half side h) on the palm, the left pad
+    at height 0.2 h on the left face, the right tip on the right face at polar angle beta:
+    both normals horizontal, the contact line at atan((1 + tan(beta) - 0.2) / 2) from
+    them, inside atan(0.8) - 0.15 rad while tan(beta) <= 2 tan(atan(0.8) - 0.15) - 0.8
+    (beta <= 19.7 deg)."""
+    from types import SimpleNamespace
+
+    from planner.exploration.planar import shape_planning
+    from planner.exploration.planar.settings import GaitSettings
+
+    h = 0.03
+    corners = np.array([[-h, 0.0], [h, 0.0], [h, 2 * h], [-h, 2 * h]])
+    t = np.linspace(0, 1, 240, endpoint=False)[:, None]
+    ends = np.roll(corners, -1, axis=0)
+    W = np.vstack([a + t * (b - a) for a, b in zip(corners, ends, strict=True)])
+    runner = _posed_runner(_ball_hand(), W, [0.0, h, 0.0])
+    runner.s = GaitSettings()  # planning mu 0.8, NLP margin 0.15 rad
+    est = SimpleNamespace(p=np.array([[-h, 0.2 * h], [h, h]]))
+    half = math.atan(runner.s.planning_mu) - runner.s.nlp_margin
+    edge = math.atan(2 * math.tan(half) - 0.8)
+    assert math.degrees(edge) == pytest.approx(19.68, abs=0.01)
+    for target in np.radians([5.0, 15.0]):  # stable: kept
+        assert shape_planning._stable_target(runner, 2, target, est) == target
+    got = shape_planning._stable_target(runner, 2, math.radians(26.0), est)
+    assert edge - math.radians(1.3) <= got <= edge + math.radians(0.3)
+    # beyond the window: the most stable angle in it, the window's end
+    got = shape_planning._stable_target(runner, 2, math.radians(40.0), est)
+    assert got == pytest.approx(math.radians(40.0) - shape_planning.STABLE_WINDOW, abs=1e-9)
 
 
 def test_prior_grasp_in_world_angles():

@@ -151,11 +151,14 @@ def test_a_run_reports_where_it_parts_from_the_prior():
     assert not [e for e in silent.events if e["kind"] == "prior"]
 
 
-def test_posed_outline_regrasps_to_the_prior_handoff():
+def test_posed_outline_regrasps_to_the_prior_handoff(monkeypatch):
     """``shape_planning.plan_explore`` sends the explorer to the prior's handoff at the
-    sensed rotation (``follow_prior``), else back to the start grasp's world angle."""
+    sensed rotation (``follow_prior``), else back to the start grasp's world angle (before
+    the move into the planning cones, tested in test_gait.py)."""
     from planner.exploration.planar import shape_planning
     from planner.exploration.planar.settings import GaitSettings
+
+    monkeypatch.setattr(shape_planning, "STABLE_WINDOW", 0.0)
 
     tr = PriorTrack.of(CIRCLE)
     seen = {}

@@ -12,9 +12,12 @@ outline instead of a circle):
   controller's per-step centre and the plan agree; or, with :data:`PLAN_ON_OUTLINE`, the
   polygon NLP (:class:`planner.trajectory.OutlineNLP`);
 * phases 2/3: the explorer's contact along the posed outline
-  (:func:`.outline_segments.outline_explore_segment`) back to the start grasp's world angle;
-  with :data:`PLAN_PIVOT` the right tip's phase 2 ends where the next pivot reaches furthest
-  (or does not run when no pivot can follow it), on the face under it or, with
+  (:func:`.outline_segments.outline_explore_segment`) to the prior's handoff
+  (``settings.follow_prior``) or back to the start grasp's world angle, moved by up to
+  :data:`STABLE_WINDOW` into the planning friction cones (:func:`_stable_target`), the round
+  tip turning to the §2.2.3 orientation for the next phase 1 (:data:`TIP_ORIENTATION`);
+  with :data:`PLAN_PIVOT` the right tip's phase 2 ends where the next pivot reaches
+  furthest (or does not run when no pivot can follow it), on the face under it or, with
   :data:`NEXT_FACE_REGRASP`, over the far corner on the next face.
 """
 
@@ -35,6 +38,10 @@ SHAPE_TRAVEL = 0.03
 TIP_ORIENTATION = True
 #: how far from the tip's axis that orientation may put the contact [rad]
 TIP_SPREAD = 0.5
+#: the explorer's regrasp target moves up to this far (world polar angle about the posed
+#: centre) to where the contact line of the next grasp lies inside the planning cones with
+#: the NLP's margin (:func:`_stable_target`; 0: not moved) [rad]
+STABLE_WINDOW = math.radians(8.0)
 #: plan phase 1 of a posed polygon with ``planner.trajectory.OutlineNLP`` (its contacts'
 #: modes) instead of the local circle. Off: the controller (its object impedance and
 #: rolling PD) tracks a circle about the pad-based centre, and the polygon plans it executed
@@ -162,6 +169,8 @@ def plan_explore(runner, kind: int, est, q):
         st = runner.prior.step(kind, runner.theta)
         if st is not None and math.isfinite(st.end[1 if kind == 2 else 0]):
             target = st.end[1 if kind == 2 else 0]
+    if STABLE_WINDOW > 0:
+        target = _stable_target(runner, kind, target, est)
     point = phi = None
     # the next phase 1 pivots only from a pad contact the tactile array senses (the posed
     # outline's local circle needs it)
@@ -214,6 +223,44 @@ def _regrasp_tip_orientation(runner, target: float, q) -> float:
     phi0 = float(q[3:6].sum())
     return phi0 + float(np.clip(math.remainder(phi1 - phi0, 2 * math.pi), -MAX_REORIENT,
                                 MAX_REORIENT))  # fmt: skip
+
+
+def pair_margin(p_hold, n_hold: float, p, n: float, mu: float) -> float:
+    """Yoshikawa-Nagai margin [rad] of the two-contact grasp at the points ``p_hold``,
+    ``p`` (2,) [m] with outward normal angles ``n_hold``, ``n`` [rad]: ``atan(mu)`` minus
+    the larger angle between the contact line and an inward normal (>= 0: both forces along
+    the line lie in their friction cones, eq. 2.9; :func:`.heuristics.stable_pair` on a
+    circle, where the normals are the polar angles)."""
+    d = np.asarray(p, float) - np.asarray(p_hold, float)
+    u = d / max(float(np.hypot(*d)), 1e-12)
+    a_hold = math.acos(min(max(-(u[0] * math.cos(n_hold) + u[1] * math.sin(n_hold)), -1.0), 1.0))
+    a = math.acos(min(max(u[0] * math.cos(n) + u[1] * math.sin(n), -1.0), 1.0))
+    return math.atan(mu) - max(a_hold, a)
+
+
+def _stable_target(runner, kind: int, target: float, est) -> float:
+    """The explorer's regrasp target [rad] (world polar angle about the posed centre) within
+    :data:`STABLE_WINDOW` of ``target`` nearest to it whose grasp with the holding finger's
+    sensed contact has a :func:`pair_margin` of at least ``settings.nlp_margin`` at the
+    planning friction (``settings.planning_mu``), else the one with the largest margin. The
+    prior's handoffs are stable at the map's mu (1.0) but 1-11 deg outside the executor's
+    mu-0.8 cones, and the next phase-1 NLP found no plan there."""
+    from planner.exploration.planar.outline_segments import PolylinePath
+
+    shape, s = runner.shape, runner.s
+    c = shape.pose[:2]
+    path = PolylinePath(shape.outline.posed(shape.pose))
+    w = 0.25 * runner.hand.params.left.pad_half_width
+    s_hold = path.arclength_of(est.p[0 if kind == 2 else 1])
+    p_hold, n_hold = path.at(s_hold)[0], path.normal_angle(s_hold, w)
+    best, out = -math.inf, target
+    steps = int(round(math.degrees(STABLE_WINDOW)))
+    for d in sorted(np.radians(np.arange(-steps, steps + 1)), key=abs):
+        s1 = path.point_at_angle(c, target + d)
+        m = pair_margin(p_hold, n_hold, path.at(s1)[0], path.normal_angle(s1, w), s.planning_mu)
+        if min(m, s.nlp_margin) > best + 1e-12:
+            best, out = min(m, s.nlp_margin), target + float(d)
+    return out
 
 
 def _best_regrasp(runner, W, face, q):
