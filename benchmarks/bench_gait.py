@@ -35,10 +35,10 @@ sensed contacts at every phase start, as the §2.3.1 simulation modelled the sha
 default both. Every object runs with each model for ``--seeds`` sensor-noise seeds (default
 3; column ``seed``): verdicts on non-round objects flip with the noise, so an object
 succeeds when most of its seeds do, and the notes count objects and runs (on 2026-11-24
-at 4737783, NumPy at AVX-512: the circle model succeeded on 11 of 32 objects, 35 of 96
-runs; the true outline on 8, 22 runs: rounded squares 2/5 against 1/5; given 120 s, full
-turns on 9 and 7 objects, 25 and 20 runs: circles, the 1.1:1 ellipse and two
-rounded-square runs). ``--only square,gon``
+at dc2ad09, NumPy at AVX-512: the circle model succeeded on 11 of 32 objects, 35 of 96
+runs; the true outline on 10, 27 runs: rounded squares 2/5 with either model; given
+120 s, full turns on 9 and 7 objects, 25 and 20 runs: circles, the 1.1:1 ellipse and two
+circle-model rounded-square runs). ``--only square,gon``
 runs the objects whose name or family contains one of the substrings. ``--phase-log``
 prints every object's phases measured against the truth after the table
 (:func:`planner.exploration.planar.phase_log.phase_rows`: true vs sensed rotation, the
