@@ -7,12 +7,13 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import assume, given
+from hypothesis import assume, example, given
 from hypothesis import strategies as st
 
 from planner.errors import InvalidParameter
 from planner.exploration.planar import circle_with_ridge, explore_object
 from planner.exploration.planar.objects import mean_radius, rest_height
+from planner.exploration.planar.outline_segments import PolylinePath
 from planner.geometry import shapes
 
 
@@ -185,14 +186,15 @@ def test_posed_regrasp_orientation_is_the_circle_heuristic_on_a_circle():
     a = np.linspace(0, 2 * np.pi, 2000, endpoint=False)
     W = c + R * np.c_[np.cos(a), np.sin(a)]
     runner = _posed_runner(hand, W, [c[0], c[1], 0.0])
+    path = PolylinePath(W)  # the posed outline, as plan_explore builds it
     for beta in np.radians([0.0, 24.0, 40.0]):
         want = regrasp_orientation(hand, c, R, beta, phase_planning.PHASE1_TRAVEL)
         q = np.zeros(6)
         q[3] = want  # the tip's orientation now (the sum of its joints) is the answer
-        got = shape_planning._regrasp_tip_orientation(runner, beta, q)
+        got = shape_planning._regrasp_tip_orientation(runner, path, beta, q)
         assert got == pytest.approx(want, abs=0.02)  # the 61-point grid, 1 deg apart
         q[3] = want - 2.0  # far away: the turn is clipped
-        got = shape_planning._regrasp_tip_orientation(runner, beta, q)
+        got = shape_planning._regrasp_tip_orientation(runner, path, beta, q)
         assert got == pytest.approx(want - 2.0 + MAX_REORIENT, abs=1e-12)
 
 
@@ -215,6 +217,7 @@ def test_posed_regrasp_orientation_on_a_square():
     W = np.vstack([a + t * (b - a) for a, b in zip(corners, ends, strict=True)])
     c = np.array([0.0, h])
     runner = _posed_runner(hand, W, [0.0, h, 0.0])
+    path = PolylinePath(W)  # the posed outline, as plan_explore builds it
     b = -phase_planning.PHASE1_TRAVEL
     turn = np.array([[math.cos(b), -math.sin(b)], [math.sin(b), math.cos(b)]])
     cases = (  # (target polar angle, the tip's centre there, the apex orientation)
@@ -223,7 +226,7 @@ def test_posed_regrasp_orientation_on_a_square():
     )
     for k, (target, centre_of, apex) in enumerate(cases):
         q = np.array([0.0, 0.0, 0.0, apex, 0.0, 0.0])  # the tip now at the apex
-        phi = shape_planning._regrasp_tip_orientation(runner, target, q)
+        phi = shape_planning._regrasp_tip_orientation(runner, path, target, q)
         assert abs(phi - apex) <= shape_planning.TIP_SPREAD + 1e-9
         tip = centre_of(target)
         pts = (tip, c + turn @ (tip - c))
@@ -243,18 +246,21 @@ def test_posed_regrasp_orientation_on_a_square():
 
 
 @given(st.floats(-math.pi, math.pi), st.floats(-math.pi, math.pi), st.floats(0.1, 2.0))
-def test_pair_margin_on_a_circle_is_stable_pair(b_left, b_right, mu):
-    """On a circle (outward normals = polar angles) the outline pair margin is the circle's
-    Yoshikawa-Nagai margin of heuristics.stable_pair."""
+@example(3.1415926535897927, 5.960464477539063e-08, 1.0)  # antipodal: arccos was 3.5e-9 off
+def test_outline_stability_on_a_circle_is_stable_pair(b_left, b_right, mu):
+    """On a circle (inward normals = minus the polar directions) the general two-contact
+    margin the posed planner's regrasp targets use (planner.grasp.two_contact_stability)
+    is the circle's Yoshikawa-Nagai margin of heuristics.stable_pair."""
     from planner.exploration.planar.heuristics import stable_pair
-    from planner.exploration.planar.shape_planning import pair_margin
+    from planner.grasp import two_contact_stability
 
     assume(abs(math.remainder(b_left - b_right, 2 * math.pi)) > 1e-3)
     c, R = np.array([0.01, 0.05]), 0.04
-    pl = c + R * np.array([math.cos(b_left), math.sin(b_left)])
-    pr = c + R * np.array([math.cos(b_right), math.sin(b_right)])
+    ul = np.array([math.cos(b_left), math.sin(b_left)])
+    ur = np.array([math.cos(b_right), math.sin(b_right)])
     want = stable_pair(b_left, b_right, mu, 0.0)
-    assert pair_margin(pl, b_left, pr, b_right, mu) == pytest.approx(want, abs=1e-9)
+    got = two_contact_stability([c + R * ul, c + R * ur], [-ul, -ur], mu).margin
+    assert got == pytest.approx(want, abs=1e-9)
 
 
 def test_stable_target_moves_a_regrasp_into_the_planning_cones():
@@ -276,17 +282,18 @@ def test_stable_target_moves_a_regrasp_into_the_planning_cones():
     ends = np.roll(corners, -1, axis=0)
     W = np.vstack([a + t * (b - a) for a, b in zip(corners, ends, strict=True)])
     runner = _posed_runner(_ball_hand(), W, [0.0, h, 0.0])
+    path = PolylinePath(W)  # the posed outline, as plan_explore builds it
     runner.s = GaitSettings()  # planning mu 0.8, NLP margin 0.15 rad
     est = SimpleNamespace(p=np.array([[-h, 0.2 * h], [h, h]]))
     half = math.atan(runner.s.planning_mu) - runner.s.nlp_margin
     edge = math.atan(2 * math.tan(half) - 0.8)
     assert math.degrees(edge) == pytest.approx(19.68, abs=0.01)
     for target in np.radians([5.0, 15.0]):  # stable: kept
-        assert shape_planning._stable_target(runner, 2, target, est) == target
-    got = shape_planning._stable_target(runner, 2, math.radians(26.0), est)
+        assert shape_planning._stable_target(runner, path, 2, target, est) == target
+    got = shape_planning._stable_target(runner, path, 2, math.radians(26.0), est)
     assert edge - math.radians(1.3) <= got <= edge + math.radians(0.3)
     # beyond the window: the most stable angle in it, the window's end
-    got = shape_planning._stable_target(runner, 2, math.radians(40.0), est)
+    got = shape_planning._stable_target(runner, path, 2, math.radians(40.0), est)
     assert got == pytest.approx(math.radians(40.0) - shape_planning.STABLE_WINDOW, abs=1e-9)
 
 

@@ -62,9 +62,11 @@ def two_contact_stability(points, normals, mu: float) -> TwoContactStability:
         angles = np.array([np.pi, np.pi])
     else:
         u = d / dist
-        angles = np.array(
-            [np.arccos(np.clip(n[0] @ u, -1, 1)), np.arccos(np.clip(-n[1] @ u, -1, 1))]
-        )
+        # atan2(|sin|, cos): accurate near 0 and pi, where arccos of the dot product loses
+        # half the digits (1e-8 rad off at antipodal contacts)
+        cos = np.array([n[0] @ u, -n[1] @ u])
+        sin = np.linalg.norm(n - cos[:, None] * np.stack([u, -u]), axis=1)
+        angles = np.arctan2(sin, cos)
     forces = np.stack([u, -u])
     fn = np.array([forces[0] @ n[0], forces[1] @ n[1]])
     ft = np.linalg.norm(forces - fn[:, None] * n, axis=1)

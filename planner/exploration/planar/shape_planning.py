@@ -160,7 +160,7 @@ def plan_explore(runner, kind: int, est, q):
     pad or every regrasp of the right tip at the end of the workspace: a phase 2 there only
     let the held square fall back, +10 deg). Returns ``(segment or None, 0.0, 0.0, why)``
     (the planner's outcome as for phase 1)."""
-    from planner.exploration.planar.outline_segments import outline_explore_segment
+    from planner.exploration.planar.outline_segments import PolylinePath, outline_explore_segment
 
     target = runner.start["beta"][1 if kind == 2 else 0]
     if runner.s.follow_prior and runner.prior is not None:
@@ -169,8 +169,6 @@ def plan_explore(runner, kind: int, est, q):
         st = runner.prior.step(kind, runner.theta)
         if st is not None and math.isfinite(st.end[1 if kind == 2 else 0]):
             target = st.end[1 if kind == 2 else 0]
-    if STABLE_WINDOW > 0:
-        target = _stable_target(runner, kind, target, est)
     point = phi = None
     # the next phase 1 pivots only from a pad contact the tactile array senses (the posed
     # outline's local circle needs it)
@@ -190,28 +188,31 @@ def plan_explore(runner, kind: int, est, q):
             return None, 0.0, 0.0, why
         point = face.start + best[0] * face.tangent
         phi = best[1]
-    elif kind == 2 and TIP_ORIENTATION:
-        phi = _regrasp_tip_orientation(runner, target, q)
+    elif STABLE_WINDOW > 0 or (kind == 2 and TIP_ORIENTATION):
+        # (a pivot's regrasp point above overrides the target)
+        path = PolylinePath(runner.shape.outline.posed(runner.shape.pose))
+        if STABLE_WINDOW > 0:
+            target = _stable_target(runner, path, kind, target, est)
+        if kind == 2 and TIP_ORIENTATION:
+            phi = _regrasp_tip_orientation(runner, path, target, q)
     seg = outline_explore_segment(kind, est, q, runner.shape, target, runner.theta, runner.s,
                                   runner.hand, target_point=point, phi_end=phi)  # fmt: skip
     return seg, 0.0, 0.0, ""
 
 
-def _regrasp_tip_orientation(runner, target: float, q) -> float:
+def _regrasp_tip_orientation(runner, path, target: float, q) -> float:
     """Orientation [rad] of the round right tip at the end of its phase-2 regrasp to the
-    posed outline's point at world polar angle ``target`` [rad] about its centre: the
+    posed outline's (``path``, its :class:`.outline_segments.PolylinePath`) point at world
+    polar angle ``target`` [rad] about its centre: the
     §2.2.3 heuristic (:func:`.heuristics.tip_orientation`) at that point and where the next
     phase 1 takes it (the point turned ``PHASE1_TRAVEL`` clockwise about the centre), the
     change from the tip's orientation now at most ``segments.MAX_REORIENT``. Keeping the
     orientation instead left the 8 cm rounded square's contact 97-106 deg from the tip's
     axis after the regrasp, beyond its 69 deg rolling range, and phase 1 had no plan."""
     from planner.exploration.planar.heuristics import tip_orientation
-    from planner.exploration.planar.outline_segments import PolylinePath
     from planner.exploration.planar.segments import MAX_REORIENT
 
-    shape = runner.shape
-    c = np.asarray(shape.pose[:2], float)
-    path = PolylinePath(shape.outline.posed(shape.pose))
+    c = np.asarray(runner.shape.pose[:2], float)
     w = runner.hand.params.left.pad_half_width
     s1 = path.point_at_angle(c, target)
     n = path.normal_angle(s1, 0.25 * w)  # the outward normal there, smoothed over a corner
@@ -225,41 +226,35 @@ def _regrasp_tip_orientation(runner, target: float, q) -> float:
                                 MAX_REORIENT))  # fmt: skip
 
 
-def pair_margin(p_hold, n_hold: float, p, n: float, mu: float) -> float:
-    """Yoshikawa-Nagai margin [rad] of the two-contact grasp at the points ``p_hold``,
-    ``p`` (2,) [m] with outward normal angles ``n_hold``, ``n`` [rad]: ``atan(mu)`` minus
-    the larger angle between the contact line and an inward normal (>= 0: both forces along
-    the line lie in their friction cones, eq. 2.9; :func:`.heuristics.stable_pair` on a
-    circle, where the normals are the polar angles)."""
-    d = np.asarray(p, float) - np.asarray(p_hold, float)
-    u = d / max(float(np.hypot(*d)), 1e-12)
-    a_hold = math.acos(min(max(-(u[0] * math.cos(n_hold) + u[1] * math.sin(n_hold)), -1.0), 1.0))
-    a = math.acos(min(max(u[0] * math.cos(n) + u[1] * math.sin(n), -1.0), 1.0))
-    return math.atan(mu) - max(a_hold, a)
-
-
-def _stable_target(runner, kind: int, target: float, est) -> float:
+def _stable_target(runner, path, kind: int, target: float, est) -> float:
     """The explorer's regrasp target [rad] (world polar angle about the posed centre) within
-    :data:`STABLE_WINDOW` of ``target`` nearest to it whose grasp with the holding finger's
-    sensed contact has a :func:`pair_margin` of at least ``settings.nlp_margin`` at the
-    planning friction (``settings.planning_mu``), else the one with the largest margin. The
-    prior's handoffs are stable at the map's mu (1.0) but 1-11 deg outside the executor's
-    mu-0.8 cones, and the next phase-1 NLP found no plan there."""
-    from planner.exploration.planar.outline_segments import PolylinePath
+    :data:`STABLE_WINDOW` of ``target`` nearest to it (1 deg steps) whose grasp with the
+    holding finger's sensed contact, both on the posed outline ``path`` (its
+    :class:`.outline_segments.PolylinePath`), has a Yoshikawa-Nagai margin
+    (:func:`planner.grasp.two_contact_stability`, eq. 2.9) of at least
+    ``settings.nlp_margin`` at the planning friction (``settings.planning_mu``), else the
+    one with the largest margin. The prior's handoffs are stable at the map's mu (1.0) but
+    1-11 deg outside the executor's mu-0.8 cones, and the next phase-1 NLP found no plan
+    there."""
+    from planner.grasp.stability import two_contact_stability
 
-    shape, s = runner.shape, runner.s
-    c = shape.pose[:2]
-    path = PolylinePath(shape.outline.posed(shape.pose))
+    s = runner.s
+    c = runner.shape.pose[:2]
     w = 0.25 * runner.hand.params.left.pad_half_width
-    s_hold = path.arclength_of(est.p[0 if kind == 2 else 1])
-    p_hold, n_hold = path.at(s_hold)[0], path.normal_angle(s_hold, w)
+
+    def contact(arclength):  # the outline point and its inward unit normal
+        n = path.normal_angle(arclength, w)
+        return path.at(arclength)[0], [-math.cos(n), -math.sin(n)]
+
+    hold = contact(path.arclength_of(est.p[0 if kind == 2 else 1]))
     best, out = -math.inf, target
     steps = int(round(math.degrees(STABLE_WINDOW)))
     for d in sorted(np.radians(np.arange(-steps, steps + 1)), key=abs):
-        s1 = path.point_at_angle(c, target + d)
-        m = pair_margin(p_hold, n_hold, path.at(s1)[0], path.normal_angle(s1, w), s.planning_mu)
-        if min(m, s.nlp_margin) > best + 1e-12:
-            best, out = min(m, s.nlp_margin), target + float(d)
+        p, n = contact(path.point_at_angle(c, target + d))
+        m = min(two_contact_stability([hold[0], p], [hold[1], n], s.planning_mu).margin,
+                s.nlp_margin)  # fmt: skip
+        if m > best + 1e-12:
+            best, out = m, target + float(d)
     return out
 
 
@@ -290,7 +285,6 @@ __all__ = [
     "START_BY_GEOMETRY",
     "TIP_ORIENTATION",
     "TIP_SPREAD",
-    "pair_margin",
     "plan_explore",
     "plan_phase1",
     "set_radius",
