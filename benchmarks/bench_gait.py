@@ -38,7 +38,11 @@ succeeds when most of its seeds do, and the notes count objects and runs (on 202
 at dc2ad09, NumPy at AVX-512: the circle model succeeded on 11 of 32 objects, 35 of 96
 runs; the true outline on 10, 27 runs: rounded squares 2/5 with either model; given
 120 s, full turns on 9 and 7 objects, 25 and 20 runs: circles, the 1.1:1 ellipse and two
-circle-model rounded-square runs). ``--only square,gon``
+circle-model rounded-square runs; the same at 3ad0a1a). The notes' family lines also count
+how far map space turns each object from rest with the executor's planning friction
+(``rest_turn_reserve_deg``; plan_gait has the full mu): full turns on the circles and the
+1.1:1 ellipse only, the rounded squares 20-90 deg, and a disagreement names it.
+``--only square,gon``
 runs the objects whose name or family contains one of the substrings. ``--phase-log``
 prints every object's phases measured against the truth after the table
 (:func:`planner.exploration.planar.phase_log.phase_rows`: true vs sensed rotation, the
@@ -295,6 +299,13 @@ def explain(row: dict) -> str:
                 "start-grasp search (IK with joint margins, no penetration) does not")  # fmt: skip
     if row["verdict"] == "stalled":
         what = f"stalled at {row['rotation_deg']} deg in {row['sim_s']} s ({row['end_events']})"
+    reserve = row.get("rest_turn_reserve_deg")
+    if isinstance(reserve, int | float) and not isinstance(reserve, bool) and reserve < 360:
+        # plan_gait has the full friction; the executor plans with a reserve, and map space
+        # with that friction is what it can follow (the rounded squares: 20-90 deg)
+        return (f"disagree: plan_gait finds a gait with the full friction; with the "
+                f"executor's planning friction map space turns it {reserve:g} deg from rest; "
+                f"the executor: {what}")[:240]  # fmt: skip
     return f"disagree: plan_gait finds a gait; the executor: {what}"[:200]
 
 
@@ -464,12 +475,21 @@ def summary(rows: list[dict]) -> list[str]:
         succ = "; ".join(f"{tally(rs, m)} ({m})" for m in models)
         gait = sum(1 for r in one if r.get("plan_gait") == "gait")
         rest = sum(1 for r in one if r.get("rest_turn_deg") == 360)
+        turns = [r["rest_turn_reserve_deg"] for r in one
+                 if isinstance(r.get("rest_turn_reserve_deg"), int | float)]  # fmt: skip
+        reserve = ""
+        if turns:
+            k = sum(1 for x in turns if x >= 360)
+            short = sorted(x for x in turns if x < 360)
+            reserve = (f", with the executor's planning friction {k}/{len(turns)}"
+                       + (f" (the others {', '.join(f'{x:g}' for x in short)} deg)"
+                          if short else ""))  # fmt: skip
         full = ("; full turn given more time on "
                 + "; ".join(f"{tally(rs, m, _full_turn)} ({m})" for m in models)
                 if longer else "")  # fmt: skip
         lines.append(f"{fam}: executor succeeds on {succ}{full}; plan_gait on "
                      f"{gait}/{len(one)}, map space from rest turns {rest}/{len(one)} a full "
-                     "turn")  # fmt: skip
+                     f"turn{reserve}")  # fmt: skip
     return lines
 
 

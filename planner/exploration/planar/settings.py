@@ -16,6 +16,13 @@ class GaitSettings:
     Attributes:
         mu: friction coefficient the planner assumes [-] (the world uses the true one).
         friction_margin: fraction of ``mu`` kept in reserve in the controllers' cones [-].
+            The planners use ``planning_mu = mu (1 - friction_margin)`` too. With it the
+            map space of the rounded squares (``benchmarks/bench_gait.py``,
+            ``rest_turn_reserve_deg``) turns them only 80-90 deg from rest (14 cm: 20 deg)
+            where the full mu turns them fully, and the executor stops about there.
+            Lowering it does not help: rounded squares 6-14 cm, the true outline, seeds
+            0-2, 60 s, turned 1306 deg in total with 0.2, 1027 with 0.1 and 876 with 0
+            (measured 2026-11-24), because grasps planned at the cones' edges slip.
         internal_force: commanded internal (squeeze) force of the phase-1 grasp [N].
         carry_weight: after a phase 1 that ended at a workspace limit with the object more
             than the NLP's travel (1 cm) from where its plan put it (it rolled along the
