@@ -277,6 +277,14 @@ def _count(items: list[str]) -> str:
     return ", ".join(f"{k} x{v}" for k, v in sorted(counts.items(), key=lambda kv: -kv[1]))
 
 
+def _reserve_turn(row: dict) -> float | None:
+    """How far map space turns the row's object from rest with the executor's planning
+    friction [deg] (``rest_turn_reserve_deg``), or None (not computed, or map space
+    failed: "")."""
+    x = row.get("rest_turn_reserve_deg")
+    return float(x) if isinstance(x, int | float) else None
+
+
 def explain(row: dict) -> str:
     """Agreement of the executor with plan_gait, and why they disagree."""
     ok = row["verdict"] in ("full turn", "turning")
@@ -299,8 +307,8 @@ def explain(row: dict) -> str:
                 "start-grasp search (IK with joint margins, no penetration) does not")  # fmt: skip
     if row["verdict"] == "stalled":
         what = f"stalled at {row['rotation_deg']} deg in {row['sim_s']} s ({row['end_events']})"
-    reserve = row.get("rest_turn_reserve_deg")
-    if isinstance(reserve, int | float) and not isinstance(reserve, bool) and reserve < 360:
+    reserve = _reserve_turn(row)
+    if reserve is not None and reserve < 360:
         # plan_gait has the full friction; the executor plans with a reserve, and map space
         # with that friction is what it can follow (the rounded squares: 20-90 deg)
         return (f"disagree: plan_gait finds a gait with the full friction; with the "
@@ -475,8 +483,7 @@ def summary(rows: list[dict]) -> list[str]:
         succ = "; ".join(f"{tally(rs, m)} ({m})" for m in models)
         gait = sum(1 for r in one if r.get("plan_gait") == "gait")
         rest = sum(1 for r in one if r.get("rest_turn_deg") == 360)
-        turns = [r["rest_turn_reserve_deg"] for r in one
-                 if isinstance(r.get("rest_turn_reserve_deg"), int | float)]  # fmt: skip
+        turns = [x for x in map(_reserve_turn, one) if x is not None]
         reserve = ""
         if turns:
             k = sum(1 for x in turns if x >= 360)

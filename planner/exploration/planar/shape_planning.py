@@ -42,6 +42,9 @@ TIP_SPREAD = 0.5
 #: centre) to where the contact line of the next grasp lies inside the planning cones with
 #: the NLP's margin (:func:`_stable_target`; 0: not moved) [rad]
 STABLE_WINDOW = math.radians(8.0)
+#: the regrasp's contact normals on the posed outline are smoothed over this fraction of
+#: the pad's half-width [-] (:func:`_outline_contact`)
+NORMAL_SMOOTHING = 0.25
 #: plan phase 1 of a posed polygon with ``planner.trajectory.OutlineNLP`` (its contacts'
 #: modes) instead of the local circle. Off: the controller (its object impedance and
 #: rolling PD) tracks a circle about the pad-based centre, and the polygon plans it executed
@@ -200,6 +203,15 @@ def plan_explore(runner, kind: int, est, q):
     return seg, 0.0, 0.0, ""
 
 
+def _outline_contact(runner, path, arclength: float):
+    """The posed outline's (``path``, a :class:`.outline_segments.PolylinePath`) point at
+    ``arclength`` [m] (world, [m]) and its outward normal angle [rad], the normal smoothed
+    over :data:`NORMAL_SMOOTHING` times the pad's half-width (a corner's normal turns
+    gradually, as a fingertip rolling over it sees it)."""
+    width = NORMAL_SMOOTHING * runner.hand.params.left.pad_half_width
+    return path.at(arclength)[0], path.normal_angle(arclength, width)
+
+
 def _regrasp_tip_orientation(runner, path, target: float, q) -> float:
     """Orientation [rad] of the round right tip at the end of its phase-2 regrasp to the
     posed outline's (``path``, its :class:`.outline_segments.PolylinePath`) point at world
@@ -213,11 +225,9 @@ def _regrasp_tip_orientation(runner, path, target: float, q) -> float:
     from planner.exploration.planar.segments import MAX_REORIENT
 
     c = np.asarray(runner.shape.pose[:2], float)
-    w = runner.hand.params.left.pad_half_width
-    s1 = path.point_at_angle(c, target)
-    n = path.normal_angle(s1, 0.25 * w)  # the outward normal there, smoothed over a corner
+    point, n = _outline_contact(runner, path, path.point_at_angle(c, target))
     r = runner.hand.params.right.tip_radius
-    tip = np.asarray(path.at(s1)[0]) + r * np.array([math.cos(n), math.sin(n)])
+    tip = np.asarray(point) + r * np.array([math.cos(n), math.sin(n)])
     a = -phase_planning.PHASE1_TRAVEL
     rot = np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
     phi1 = tip_orientation(runner.hand, [tip, c + rot @ (tip - c)], n + 0.5 * math.pi, TIP_SPREAD)
@@ -240,11 +250,10 @@ def _stable_target(runner, path, kind: int, target: float, est) -> float:
 
     s = runner.s
     c = runner.shape.pose[:2]
-    w = 0.25 * runner.hand.params.left.pad_half_width
 
     def contact(arclength):  # the outline point and its inward unit normal
-        n = path.normal_angle(arclength, w)
-        return path.at(arclength)[0], [-math.cos(n), -math.sin(n)]
+        point, n = _outline_contact(runner, path, arclength)
+        return point, [-math.cos(n), -math.sin(n)]
 
     hold = contact(path.arclength_of(est.p[0 if kind == 2 else 1]))
     best, out = -math.inf, target
@@ -279,6 +288,7 @@ def _best_regrasp(runner, W, face, q):
 __all__ = [
     "PLAN_ON_OUTLINE",
     "NEXT_FACE_REGRASP",
+    "NORMAL_SMOOTHING",
     "PLAN_PIVOT",
     "SHAPE_TRAVEL",
     "STABLE_WINDOW",
