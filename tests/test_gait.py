@@ -302,8 +302,8 @@ def test_prior_grasp_in_world_angles():
     needs world angles (object angle + rotation of the pose)."""
     from planner.exploration.planar.setup import gait_prior, prior_world_grasp
 
-    prior = gait_prior(None, 0.05, _ball_hand(), 1.0)
-    assert prior is not None and prior.feasible
+    prior, error = gait_prior(None, 0.05, _ball_hand(), 1.0)
+    assert prior is not None and prior.feasible and error == ""
     ph = prior.phases[0]
     theta = -2 * math.pi * ph.pose_start / prior.resolution
     bl, br = prior_world_grasp(prior)

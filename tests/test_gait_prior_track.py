@@ -151,6 +151,28 @@ def test_a_run_reports_where_it_parts_from_the_prior():
     assert not [e for e in silent.events if e["kind"] == "prior"]
 
 
+def test_a_run_whose_prior_raises_says_so_and_goes_on(monkeypatch):
+    """When ``plan_gait`` raises on the planner's model the run has no prior (``result.prior``
+    None), its first event says why, and the gait is planned from the sensed estimate."""
+    import planner.grasp
+    from planner.errors import HapexError
+    from planner.exploration import explore_object
+    from planner.geometry import shapes
+
+    def broken(*args, **kwargs):
+        raise HapexError("grasp tables: out of memory")
+
+    monkeypatch.setattr(planner.grasp, "plan_gait", broken)
+    res = explore_object(shapes.circle(0.05), duration=0.3)
+    ev = [e for e in res.events if e["kind"] == "prior"]
+    assert res.prior is None and len(ev) == 1 and ev[0]["t"] == 0.0
+    assert ev[0]["message"] == (
+        "the prior (plan_gait on the planner's model) failed: grasp tables: out of memory; "
+        "every phase is planned from the sensed estimate alone")  # fmt: skip
+    assert res.phases and res.phases[0].phase == 1
+    assert infeasible_message(None, "") == ""
+
+
 def test_posed_outline_regrasps_to_the_prior_handoff(monkeypatch):
     """``shape_planning.plan_explore`` sends the explorer to the prior's handoff at the
     sensed rotation (``follow_prior``), else back to the start grasp's world angle (before

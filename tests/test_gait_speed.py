@@ -54,7 +54,7 @@ def _phases(loop: str, seed: int, kinds=(1, 2), seconds: float = 0.5, slip: floa
     cfg = _config()
     s, hand, profile = cfg.settings(), cfg.hand.hand(cfg.mu), cfg.object.profile()
     R = mean_radius(cfg.nominal.profile())
-    prior = gait_prior(cfg.nominal.profile(), R, hand, cfg.mu)
+    prior, _ = gait_prior(cfg.nominal.profile(), R, hand, cfg.mu)
     world, start = build_world(profile, hand, cfg.mu, R, prior, s, seed)
     ctrl = GaitController(hand, s, R, world.gravity)
     runner = _Runner(world, ctrl, RollingNLP(hand, knots=s.nlp_knots), s, hand, start, None,

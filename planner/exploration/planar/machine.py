@@ -111,7 +111,7 @@ def explore_object(
 
         hand = PlanarHand(gait_hand_params(mu))
     R = mean_radius(nominal if nominal is not None else profile)
-    prior = gait_prior(nominal, R, hand, s.mu) if use_prior else None
+    prior, prior_error = gait_prior(nominal, R, hand, s.mu) if use_prior else (None, "")
     world, start = build_world(profile, hand, mu, R, prior, s, seed)
     ctrl = GaitController(hand, s, R, world.gravity)
     from planner.trajectory import RollingNLP
@@ -122,7 +122,7 @@ def explore_object(
     runner = _Runner(world, ctrl, nlp, s, hand, start, duration, max_rotation)
     runner.on_progress = on_progress
     runner.prior = PriorTrack.of(prior)
-    first = infeasible_message(prior)
+    first = infeasible_message(prior, prior_error)
     if runner.prior is not None:
         first = runner.prior.start_deviation(start["beta"])
     if first:

@@ -171,10 +171,15 @@ class PriorTrack:
         return "on to phase 3; the prior skips it at this pose (transition 4)"
 
 
-def infeasible_message(gait) -> str:
-    """The ``"prior"`` event of a run without a prior gait to follow ("" when it has one)."""
+def infeasible_message(gait, error: str = "") -> str:
+    """The ``"prior"`` event of a run without a prior gait to follow ("" when it has one, or
+    when the run was asked for none): ``gait`` is ``plan_gait``'s result on the planner's
+    model, or None with ``error`` the message of the error it raised."""
     if gait is None:
-        return ""
+        if not error:
+            return ""
+        return (f"the prior (plan_gait on the planner's model) failed: {error}; every phase "
+                "is planned from the sensed estimate alone")  # fmt: skip
     if gait.feasible and gait.phases:
         return ""
     why = gait.reason or "no cyclic gait"

@@ -17,16 +17,22 @@ from planner.exploration.planar.prior_track import world_angle
 
 
 def gait_prior(nominal, radius: float, hand, mu: float):
-    """``planner.grasp.plan_gait`` on the planner's model (default the nominal circle) with
-    the friction ``mu`` [-] the planner assumes (``GaitSettings.mu``), or None (no gait)."""
+    """``planner.grasp.plan_gait`` on the planner's model (default the nominal circle of
+    ``radius`` [m]) with the friction ``mu`` [-] the planner assumes (``GaitSettings.mu``).
+
+    Returns:
+        ``(gait, error)``: the map-space gait (feasible or not) and "", or None and the
+        message of the :class:`~planner.errors.HapexError` ``plan_gait`` raised (the run goes
+        on without a prior and its first ``prior`` event says why).
+    """
     from planner.geometry import shapes
     from planner.grasp import plan_gait
 
     model = nominal if nominal is not None else shapes.circle(radius)
     try:
-        return plan_gait(model, hand, mu, resolution=72)
-    except HapexError:
-        return None
+        return plan_gait(model, hand, mu, resolution=72), ""
+    except HapexError as exc:
+        return None, str(exc)
 
 
 def _place(hand, profile, origin, beta, q_ref):
