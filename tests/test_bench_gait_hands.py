@@ -1,0 +1,85 @@
+"""benchmarks/bench_gait_hands.py: its hand grid (the gait's hand in it, the left finger the
+right one's mirror image), one study row against map space, and its notes."""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
+
+
+@pytest.fixture(scope="module")
+def study():
+    sys.path.insert(0, str(BENCH))
+    try:
+        import bench_gait_hands
+    finally:
+        sys.path.remove(str(BENCH))
+    return bench_gait_hands
+
+
+def test_the_grid_starts_with_the_gait_hand(study):
+    from robots.planar_hand.params import gait_hand_params
+
+    specs = study.grid(quick=False)
+    assert len(specs) == len(set(specs)) == 72
+    assert specs[0].is_gait_hand and not any(s.is_gait_hand for s in specs[1:])
+    assert specs[0].hand(0.7).params == gait_hand_params(0.7)
+    assert study.grid(quick=True) == specs[:2]
+
+
+def test_a_grid_hand_is_mirrored_and_changes_only_its_three_parameters(study):
+    from robots.planar_hand.params import gait_hand_params
+
+    spec = study.HandSpec(0.06, 0.12, (-90.0, 120.0))
+    p, ref = spec.hand(1.0).params, gait_hand_params(1.0)
+    assert p.right.base == (0.06, 0.0) and p.left.base == (-0.06, 0.0)
+    assert p.right.lengths == p.left.lengths == (0.12, *ref.right.lengths[1:])
+    assert np.rad2deg([p.right.lower[0], p.right.upper[0]]) == pytest.approx([-90.0, 120.0])
+    assert p.left.lower == tuple(-v for v in p.right.upper)
+    assert p.left.upper == tuple(-v for v in p.right.lower)
+    assert p.right.lower[1:] == ref.right.lower[1:] and p.right.upper[1:] == ref.right.upper[1:]
+    assert replace(p.right, base=ref.right.base, lengths=ref.right.lengths, lower=ref.right.lower,
+                   upper=ref.right.upper) == ref.right  # fmt: skip
+    assert p.palm_half_width == ref.palm_half_width and p.friction == 1.0
+
+
+def test_a_study_row_counts_full_turns_from_rest(study):
+    """The gait's hand on the quick batch: the row's counts are start_reach's."""
+    import bench_gait
+
+    from planner.exploration.planar.start_reach import start_reach
+
+    spec = study.grid(quick=True)[0]
+    row = study.study_hand((spec, 0.8, True))
+    hand = bench_gait.batch_hand(0.8)
+    for fam in {o.family for o in bench_gait.objects(True)}:
+        objs = [o for o in bench_gait.objects(True) if o.family == fam]
+        full = sum(start_reach(o.profile, hand, 0.8).full_turn for o in objs)
+        assert row[fam] == f"{full}/{len(objs)}"
+    assert row["gait_hand"] == "yes" and row["mu"] == 0.8
+    assert row["circle"] == "2/2"  # the quick batch's circles (2 and 6 cm) turn fully
+
+
+def test_the_notes_name_the_best_hands_per_square_family(study):
+    rows = [
+        {"mu": 1.0, "gait_hand": "yes", "base_x_cm": 10, "link1_cm": 10, "joint1_deg": "-40..90",
+         "square sharp": "0/6", "circle": "7/7"},
+        {"mu": 1.0, "gait_hand": "", "base_x_cm": 6, "link1_cm": 8, "joint1_deg": "-90..90",
+         "square sharp": "2/6", "circle": "7/7"},
+        {"mu": 0.8, "gait_hand": "yes", "base_x_cm": 10, "link1_cm": 10, "joint1_deg": "-40..90",
+         "square sharp": "0/6", "circle": "7/7"},
+    ]  # fmt: skip
+    notes = study.summary(rows, ["circle", "square sharp"])
+    assert notes == [
+        "mu 1, the gait's hand: circle 7/7, square sharp 0/6",
+        "mu 1, square sharp: at most 2/6 full turns over the 2 hands (1 hand, e.g. base 6 cm, "
+        "link 1 8 cm, joint 1 -90..90 deg)",
+        "mu 0.8, the gait's hand: circle 7/7, square sharp 0/6",
+        "mu 0.8, square sharp: at most 0/6 full turns over the 1 hand",
+    ]
