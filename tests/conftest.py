@@ -31,6 +31,19 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "dev"))
 ROOT = Path(__file__).resolve().parent.parent
 
 
+def benchmark_module(name: str):
+    """The benchmark script ``benchmarks/<name>.py`` imported as a module (with the
+    helpers it imports from that folder; the folder is not left on ``sys.path``)."""
+    import importlib
+
+    folder = str(ROOT / "benchmarks")
+    sys.path.insert(0, folder)
+    try:
+        return importlib.import_module(name)
+    finally:
+        sys.path.remove(folder)
+
+
 def run_cli(
     *args: str, cwd: Path | None = None, timeout: float = 300
 ) -> subprocess.CompletedProcess:

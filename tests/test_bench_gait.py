@@ -8,18 +8,14 @@ import sys
 from pathlib import Path
 
 import pytest
+from conftest import benchmark_module
 
 BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
 
 
 @pytest.fixture(scope="module")
 def bench():
-    sys.path.insert(0, str(BENCH))
-    try:
-        import bench_gait
-    finally:
-        sys.path.remove(str(BENCH))
-    return bench_gait
+    return benchmark_module("bench_gait")
 
 
 def _row(obj: str, family: str, model: str, seed: int, verdict: str, **kw) -> dict:

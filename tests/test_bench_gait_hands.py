@@ -3,24 +3,16 @@ right one's mirror image), one study row against map space, and its notes."""
 
 from __future__ import annotations
 
-import sys
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pytest
-
-BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
+from conftest import benchmark_module
 
 
 @pytest.fixture(scope="module")
 def study():
-    sys.path.insert(0, str(BENCH))
-    try:
-        import bench_gait_hands
-    finally:
-        sys.path.remove(str(BENCH))
-    return bench_gait_hands
+    return benchmark_module("bench_gait_hands")
 
 
 def test_the_grid_starts_with_the_gait_hand(study):
@@ -51,9 +43,9 @@ def test_a_grid_hand_is_mirrored_and_changes_only_its_three_parameters(study):
 
 def test_a_study_row_counts_full_turns_from_rest(study):
     """The gait's hand on the quick batch: the row's counts are start_reach's."""
-    import bench_gait
-
     from planner.exploration.planar.start_reach import start_reach
+
+    bench_gait = benchmark_module("bench_gait")
 
     spec = study.grid(quick=True)[0]
     row = study.study_hand((spec, 0.8, True))

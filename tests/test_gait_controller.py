@@ -7,6 +7,7 @@ from __future__ import annotations
 import gait_replay
 import numpy as np
 import pytest
+from conftest import benchmark_module
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -141,11 +142,7 @@ def test_controller_interface_kept(recording):
 
 def test_plain_numpy_controller_gives_the_same_torques(recording):
     """The benchmark's naive controller (numpy + Pinocchio + qpsolvers) on the recording."""
-    import sys
-    from pathlib import Path
-
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-    from naive_gait import NaiveGaitController
+    NaiveGaitController = benchmark_module("naive_gait").NaiveGaitController
 
     ctrl = gait_replay.make_controller(recording, NaiveGaitController)
     calls = [w["calls"][:40] for w in recording["windows"]]

@@ -8,6 +8,7 @@ import math
 import re
 
 import pytest
+from conftest import benchmark_module
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -101,20 +102,10 @@ def test_the_scenario_descriptions_numbers(hand):
     assert "left finger's reach" in full_cone.blocking
 
 
-def _bench():
-    import sys
-    from pathlib import Path
-
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-    import bench_gait
-
-    return bench_gait
-
-
 def test_the_batch_table_columns(hand):
     """bench_gait's rest_* columns: the reserve (mu 0.8) never turns further than mu = 1,
     and the agree column names the full turn plan_gait's search misses."""
-    bench = _bench()
+    bench = benchmark_module("bench_gait")
     circle = bench.rest_reach(shapes.circle(0.05), hand, 1.0)
     assert circle == {"rest_turn_deg": 360, "rest_turn_reserve_deg": 360, "rest_blocking": ""}
     row = bench.rest_reach(shapes.ellipse(0.05, 0.05 / 1.5), hand, 1.0)
