@@ -97,17 +97,18 @@ def study_hand(args) -> dict:
     from planner.errors import HapexError
     from planner.exploration.planar.start_reach import start_reach
 
-    spec, mu, quick = args
+    spec, mu, min_epsilon, quick = args
     hand = spec.hand(mu)
     t0 = time.perf_counter()
     turns: dict[str, list[bool]] = {}
     for obj in objects(quick):
         try:
-            full = start_reach(obj.profile, hand, mu).full_turn
+            full = start_reach(obj.profile, hand, mu, min_epsilon=min_epsilon).full_turn
         except HapexError:  # an object that does not fit this hand
             full = False
         turns.setdefault(obj.family, []).append(full)
-    row = {"benchmark": "hand", "mu": mu, "gait_hand": "yes" if spec.is_gait_hand else "",
+    row = {"benchmark": "hand", "mu": mu, "min_epsilon": min_epsilon,
+           "gait_hand": "yes" if spec.is_gait_hand else "",
            "base_x_cm": round(100 * spec.base_x, 1), "link1_cm": round(100 * spec.link1, 1),
            "joint1_deg": f"{spec.joint1[0]:g}..{spec.joint1[1]:g}"}  # fmt: skip
     for fam, v in turns.items():
@@ -126,19 +127,22 @@ def _hands(n: int) -> str:
 
 
 def summary(rows: list[dict], families: list[str]) -> list[str]:
-    """Notes: per friction, the gait's hand and the hands that turn the most squares."""
+    """Notes: per friction and stability threshold, the gait's hand and the hands that turn
+    the most squares."""
     notes = []
-    for mu in sorted({r["mu"] for r in rows}, reverse=True):
-        at = [r for r in rows if r["mu"] == mu]
+    cases = sorted({(r["mu"], r["min_epsilon"]) for r in rows}, key=lambda c: (-c[0], c[1]))
+    for mu, eps in cases:
+        at = [r for r in rows if (r["mu"], r["min_epsilon"]) == (mu, eps)]
+        case = f"mu {mu:g}" + (f", epsilon >= {eps:g}" if eps else "")
         gait = [r for r in at if r["gait_hand"]]
         if gait:
             counts = ", ".join(f"{f} {gait[0][f]}" for f in families)
-            notes.append(f"mu {mu:g}, the gait's hand: {counts}")
+            notes.append(f"{case}, the gait's hand: {counts}")
         for fam in (f for f in families if f.startswith("square")):
             best = max(_full(r, fam) for r in at)
             n = str(at[0][fam]).split("/")[1]
             hands = [r for r in at if _full(r, fam) == best]
-            line = f"mu {mu:g}, {fam}: at most {best}/{n} full turns over the {_hands(len(at))}"
+            line = f"{case}, {fam}: at most {best}/{n} full turns over the {_hands(len(at))}"
             if best:
                 h = hands[0]
                 line += (f" ({_hands(len(hands))}, e.g. base {h['base_x_cm']:g} cm, link 1 "
@@ -156,8 +160,9 @@ def main() -> None:
     if args.jobs < 1:
         p.error(f"--jobs: {args.jobs}: expected at least 1")
     t0 = time.perf_counter()
-    mus = (1.0, GaitSettings(mu=1.0).planning_mu)
-    tasks = [(spec, mu, args.quick) for mu in mus for spec in grid(args.quick)]
+    s = GaitSettings(mu=1.0)
+    cases = ((1.0, 0.0), (s.planning_mu, 0.0), (s.planning_mu, s.min_epsilon))
+    tasks = [(spec, *case, args.quick) for case in cases for spec in grid(args.quick)]
     with mp.get_context("fork").Pool(args.jobs) as pool:
         rows = []
         for i, row in enumerate(pool.imap(study_hand, tasks), 1):
@@ -172,13 +177,15 @@ def main() -> None:
         f"{list(GAIT_UPPER_DEG)} deg, bases at +-10 cm, links 10/6/4 cm) with base "
         f"half-spacing {[round(100 * b) for b in BASE_X]} cm, link 1 "
         f"{[round(100 * v) for v in LINK1]} cm, joint 1 from {list(JOINT1_LOWER)} to "
-        f"{list(JOINT1_UPPER)} deg (left finger mirrored); mu {mus[1]:g} = the executor's "
-        "planning friction (GaitSettings.friction_margin)",
+        f"{list(JOINT1_UPPER)} deg (left finger mirrored); mu {s.planning_mu:g} = the executor's "
+        "planning friction (GaitSettings.friction_margin), min_epsilon "
+        f"{s.min_epsilon:g} its phase-1 stability threshold (GaitSettings.min_epsilon; 0: "
+        "force closure only, as plan_gait)",
         f"total wall {time.perf_counter() - t0:.0f} s, {args.jobs} worker processes; load "
         f"average at the end {load_average()}",
     ]
-    cols = ["benchmark", "mu", "gait_hand", "base_x_cm", "link1_cm", "joint1_deg", *families,
-            "wall_s"]  # fmt: skip
+    cols = ["benchmark", "mu", "min_epsilon", "gait_hand", "base_x_cm", "link1_cm",
+            "joint1_deg", *families, "wall_s"]  # fmt: skip
     write_report("bench_gait_hands", rows, title="hapex map-space hand study (issue 11, "
                  "§2.3.1 batch)", out=args.out, notes=notes, columns=cols)  # fmt: skip
 

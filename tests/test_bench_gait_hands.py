@@ -48,30 +48,32 @@ def test_a_study_row_counts_full_turns_from_rest(study):
     bench_gait = benchmark_module("bench_gait")
 
     spec = study.grid(quick=True)[0]
-    row = study.study_hand((spec, 0.8, True))
+    row = study.study_hand((spec, 0.8, 0.01, True))
     hand = bench_gait.batch_hand(0.8)
     for fam in {o.family for o in bench_gait.objects(True)}:
         objs = [o for o in bench_gait.objects(True) if o.family == fam]
-        full = sum(start_reach(o.profile, hand, 0.8).full_turn for o in objs)
+        full = sum(start_reach(o.profile, hand, 0.8, min_epsilon=0.01).full_turn for o in objs)
         assert row[fam] == f"{full}/{len(objs)}"
-    assert row["gait_hand"] == "yes" and row["mu"] == 0.8
+    assert row["gait_hand"] == "yes" and (row["mu"], row["min_epsilon"]) == (0.8, 0.01)
     assert row["circle"] == "2/2"  # the quick batch's circles (2 and 6 cm) turn fully
 
 
 def test_the_notes_name_the_best_hands_per_square_family(study):
-    rows = [
-        {"mu": 1.0, "gait_hand": "yes", "base_x_cm": 10, "link1_cm": 10, "joint1_deg": "-40..90",
-         "square sharp": "0/6", "circle": "7/7"},
-        {"mu": 1.0, "gait_hand": "", "base_x_cm": 6, "link1_cm": 8, "joint1_deg": "-90..90",
-         "square sharp": "2/6", "circle": "7/7"},
-        {"mu": 0.8, "gait_hand": "yes", "base_x_cm": 10, "link1_cm": 10, "joint1_deg": "-40..90",
-         "square sharp": "0/6", "circle": "7/7"},
-    ]  # fmt: skip
+    def row(mu, eps, gait, base, sharp):
+        return {"mu": mu, "min_epsilon": eps, "gait_hand": "yes" if gait else "",
+                "base_x_cm": base, "link1_cm": 8, "joint1_deg": "-90..90",
+                "square sharp": sharp, "circle": "7/7"}  # fmt: skip
+
+    rows = [row(1.0, 0.0, True, 10, "0/6"), row(1.0, 0.0, False, 6, "2/6"),
+            row(0.8, 0.01, True, 10, "0/6"), row(0.8, 0.0, True, 10, "1/6")]  # fmt: skip
     notes = study.summary(rows, ["circle", "square sharp"])
     assert notes == [
         "mu 1, the gait's hand: circle 7/7, square sharp 0/6",
         "mu 1, square sharp: at most 2/6 full turns over the 2 hands (1 hand, e.g. base 6 cm, "
         "link 1 8 cm, joint 1 -90..90 deg)",
-        "mu 0.8, the gait's hand: circle 7/7, square sharp 0/6",
-        "mu 0.8, square sharp: at most 0/6 full turns over the 1 hand",
+        "mu 0.8, the gait's hand: circle 7/7, square sharp 1/6",
+        "mu 0.8, square sharp: at most 1/6 full turns over the 1 hand (1 hand, e.g. base 10 "
+        "cm, link 1 8 cm, joint 1 -90..90 deg)",
+        "mu 0.8, epsilon >= 0.01, the gait's hand: circle 7/7, square sharp 0/6",
+        "mu 0.8, epsilon >= 0.01, square sharp: at most 0/6 full turns over the 1 hand",
     ]
