@@ -50,7 +50,8 @@ SOLVER_PACKAGES = ("daqp", "proxsuite", "clarabel", "osqp", "qpsolvers", "casadi
 
 
 def git_commit() -> str:
-    """hapex's git commit (short hash, ``+dirty`` with uncommitted changes), or ``unknown``."""
+    """hapex's git commit (short hash, ``+dirty`` with uncommitted changes outside
+    ``benchmarks/results/``), or ``unknown``."""
     root = Path(__file__).resolve().parents[1]
     try:
         head = subprocess.run(
@@ -61,8 +62,16 @@ def git_commit() -> str:
             timeout=10,
             check=True,
         ).stdout
-        dirty = subprocess.run(
-            ["git", "status", "--porcelain", "--untracked-files=no"],
+        dirty = subprocess.run(  # reports of earlier runs are results, not measured code
+            [
+                "git",
+                "status",
+                "--porcelain",
+                "--untracked-files=no",
+                "--",
+                ".",
+                ":(exclude)benchmarks/results",
+            ],
             cwd=root,
             capture_output=True,
             text=True,
@@ -189,13 +198,13 @@ def write_report(
     print(table)
     for n in notes:
         print(f"- {n}")
+    env = environment()  # before writing: a rewritten tracked report is not a dirty tree
     out.mkdir(parents=True, exist_ok=True)
     with open(out / f"{name}.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(columns), extrasaction="ignore")
         w.writeheader()
         for r in rows:
             w.writerow(r)
-    env = environment()
     md = [
         f"# {title}",
         "",
