@@ -7,15 +7,18 @@ turns are map space's at its planning friction but for one object): for every ha
 around the gait's hand -- the fingers' base half-spacing, the first link's length and the
 first joint's range (the other links, joints and tips those of
 ``robots.planar_hand.gait_hand_params``, the left finger the right one's mirror image) --
-and for the contact friction ``mu = 1`` (the thesis' Fig. 2.12 simulation: a grasp on the
-cones' edge counts) and the executor's planning friction (``mu (1 - friction_margin)`` =
-0.8), how many of each family's objects turn a full turn from the resting pose
+and for three cases -- the contact friction ``mu = 1`` with force closure alone (as
+``plan_gait``; the thesis' Fig. 2.12 simulation: a grasp on the cones' edge counts), the
+executor's planning friction (``mu (1 - friction_margin)`` = 0.8), and that friction with
+the executor's phase-1 stability threshold (``GaitSettings.min_epsilon``) -- how many of
+each family's objects turn a full turn from the resting pose
 (:func:`planner.exploration.planar.start_reach.start_reach`: every start grasp and handoff,
 5 deg grid).
 
-One row per hand and friction: full turns per family (``k/N``), the hand's parameters, and
-``gait_hand`` = yes for the hand the executor uses. Pure map space (no simulation): about
-0.5-1.5 s per hand and friction.
+One row per hand and case: full turns per family (``k/N``), the hand's parameters, and
+``gait_hand`` = yes for the hand the executor uses. Pure map space (no simulation): 2-4 s
+per hand and case on an idle 2-core machine (the 216 tasks in about 4 min; 8 min with the
+test suite running beside it).
 
 Run: ``python benchmarks/bench_gait_hands.py [--quick] [--jobs N] [--out DIR]`` (``--quick``:
 the gait's hand and one neighbour, every 4th object).
