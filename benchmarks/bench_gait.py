@@ -17,7 +17,8 @@ Rows:
   hand and mu; ``rest_turn_deg`` / ``rest_blocking``: how far map-space gaits can turn the
   object from where it rests unturned, searched over every start grasp and handoff
   (:mod:`planner.exploration.planar.start_reach`), and the constraint that stops them
-  (``rest_turn_reserve_deg``: with the friction the executor plans with). Every run then
+  (``rest_turn_reserve_deg``: with the friction and the phase-1 stability threshold the
+  executor plans with). Every run then
   goes on up to ``--full-turn`` simulated seconds (default 120; the verdict columns stay
   its state at ``--duration``, which is what a run of that length gives): ``full_turn_s``
   says when it had turned the object 360 deg (blank: never), ``run_end`` how it ended -
@@ -38,10 +39,11 @@ succeeds when most of its seeds do, and the notes count objects and runs (on 202
 at dc2ad09, NumPy at AVX-512: the circle model succeeded on 11 of 32 objects, 35 of 96
 runs; the true outline on 10, 27 runs: rounded squares 2/5 with either model; given
 120 s, full turns on 9 and 7 objects, 25 and 20 runs: circles, the 1.1:1 ellipse and two
-circle-model rounded-square runs; the same at 3ad0a1a). The notes' family lines also count
-how far map space turns each object from rest with the executor's planning friction
-(``rest_turn_reserve_deg``; plan_gait has the full mu): full turns on the circles and the
-1.1:1 ellipse only, the rounded squares 20-90 deg, and a disagreement names it.
+circle-model rounded-square runs; the same at 3ad0a1a and at 1c1b2ff). The notes' family
+lines also count how far map space turns each object from rest with the executor's planning
+friction and phase-1 stability threshold (``rest_turn_reserve_deg``; plan_gait has the full
+mu and force closure alone): full turns on the circles, the 1.1:1 ellipse and 2 of the 5
+polygons only, the rounded squares 20-85 deg, and a disagreement names it.
 ``--only square,gon``
 runs the objects whose name or family contains one of the substrings. ``--phase-log``
 prints every object's phases measured against the truth after the table
@@ -145,18 +147,22 @@ def map_verdict(profile, hand, mu: float) -> tuple[bool, str]:
 def rest_reach(profile, hand, mu: float) -> dict:
     """Map space from the resting pose (:func:`planner.exploration.planar.start_reach.
     start_reach`, every start grasp and handoff): ``rest_turn_deg`` (360 for a full turn)
-    and ``rest_blocking`` (what stops it) with ``mu``, and ``rest_turn_reserve_deg`` with
-    the executor's planning friction ``mu (1 - GaitSettings.friction_margin)``."""
+    and ``rest_blocking`` (what stops it) with ``mu`` and force closure alone (as
+    plan_gait), and ``rest_turn_reserve_deg`` with what the executor plans with: the
+    friction ``mu (1 - GaitSettings.friction_margin)`` and grasps above its phase-1
+    stability threshold ``GaitSettings.min_epsilon``."""
     from planner.errors import HapexError
     from planner.exploration.planar.settings import GaitSettings
     from planner.exploration.planar.start_reach import start_reach
 
-    reserve = GaitSettings(mu=mu).planning_mu
+    s = GaitSettings(mu=mu)
     try:
-        sr, sr_reserve = (start_reach(profile, hand, m) for m in (mu, reserve))
+        sr = start_reach(profile, hand, mu)
+        sr_reserve = start_reach(profile, hand, s.planning_mu, min_epsilon=s.min_epsilon)
     except HapexError as exc:
         return {"rest_turn_deg": "", "rest_turn_reserve_deg": "", "rest_blocking": f"error: {exc}"}
-    why = sr.blocking or (sr_reserve.blocking and f"with mu {reserve:g}: {sr_reserve.blocking}")
+    why = sr.blocking or (sr_reserve.blocking and f"with mu {s.planning_mu:g} and epsilon >= "
+                          f"{s.min_epsilon:g}: {sr_reserve.blocking}")  # fmt: skip
     return {"rest_turn_deg": round(math.degrees(sr.rotation)),
             "rest_turn_reserve_deg": round(math.degrees(sr_reserve.rotation)),
             "rest_blocking": why}  # fmt: skip
@@ -279,8 +285,8 @@ def _count(items: list[str]) -> str:
 
 def _reserve_turn(row: dict) -> float | None:
     """How far map space turns the row's object from rest with the executor's planning
-    friction [deg] (``rest_turn_reserve_deg``), or None (not computed, or map space
-    failed: "")."""
+    friction and stability threshold [deg] (``rest_turn_reserve_deg``), or None (not
+    computed, or map space failed: "")."""
     x = row.get("rest_turn_reserve_deg")
     return float(x) if isinstance(x, int | float) else None
 
@@ -293,8 +299,8 @@ def explain(row: dict) -> str:
     if ok == (row["plan_gait"] == "gait"):
         if not ok and row.get("rest_turn_deg") == 360:
             return ("agree; but map space from rest has a full turn that plan_gait's search "
-                    f"misses ({row['rest_turn_reserve_deg']} deg with the executor's friction "
-                    "reserve)")  # fmt: skip
+                    f"misses ({row['rest_turn_reserve_deg']} deg with the executor's planning "
+                    "friction and threshold)")  # fmt: skip
         return "agree"
     if ok:
         return ("disagree: plan_gait finds no cyclic rolling gait in map space "
@@ -309,11 +315,12 @@ def explain(row: dict) -> str:
         what = f"stalled at {row['rotation_deg']} deg in {row['sim_s']} s ({row['end_events']})"
     reserve = _reserve_turn(row)
     if reserve is not None and reserve < 360:
-        # plan_gait has the full friction; the executor plans with a reserve, and map space
-        # with that friction is what it can follow (the rounded squares: 20-90 deg)
+        # plan_gait has the full friction and force closure alone; the executor plans with
+        # a friction reserve and a stability threshold, and map space with those is what
+        # it can follow
         return (f"disagree: plan_gait finds a gait with the full friction; with the "
-                f"executor's planning friction map space turns it {reserve:g} deg from rest; "
-                f"the executor: {what}")[:240]  # fmt: skip
+                f"executor's planning friction and threshold map space turns it {reserve:g} "
+                f"deg from rest; the executor: {what}")[:240]  # fmt: skip
     return f"disagree: plan_gait finds a gait; the executor: {what}"[:200]
 
 
@@ -488,7 +495,8 @@ def summary(rows: list[dict]) -> list[str]:
         if turns:
             k = sum(1 for x in turns if x >= 360)
             short = sorted(x for x in turns if x < 360)
-            reserve = (f", with the executor's planning friction {k}/{len(turns)}"
+            reserve = (f", with the executor's planning friction and threshold "
+                       f"{k}/{len(turns)}"
                        + (f" (the others {', '.join(f'{x:g}' for x in short)} deg)"
                           if short else ""))  # fmt: skip
         full = ("; full turn given more time on "
@@ -694,7 +702,8 @@ def main() -> None:
         "exhaustively from the object resting unturned (every start grasp and handoff; "
         "planar/start_reach.py): how far it can turn and the constraint that stops it "
         "(rest_turn_reserve_deg: the same with the executor's planning friction, mu less "
-        "its friction_margin); "
+        "its friction_margin, and grasps above its phase-1 stability threshold, "
+        "epsilon >= GaitSettings.min_epsilon); "
         "the executor's models (column model): circle = a nominal circle of the object's "
         "area, refitted to the sensed contacts; true = the object's outline, posed from "
         "the sensed contacts at every phase start"

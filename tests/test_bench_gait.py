@@ -89,14 +89,14 @@ def test_a_longer_run_gives_the_verdict_of_the_short_one(bench):
 
 
 def test_map_space_with_the_planning_friction_explains_a_disagreement(bench):
-    """plan_gait has the full friction, the executor plans with a reserve: a run that fails
-    where plan_gait finds a gait names how far map space with that reserve turns the object
-    from rest, and the family line counts those turns (the rounded squares: 20-90 deg)."""
+    """plan_gait has the full friction, the executor plans with a reserve and a stability
+    threshold: a run that fails where plan_gait finds a gait names how far map space with
+    those turns the object from rest, and the family line counts those turns."""
     base = {"verdict": "failed", "plan_gait": "gait", "reason": "no stable grasp",
             "rest_turn_deg": 360}  # fmt: skip
     short = bench.explain({**base, "rest_turn_reserve_deg": 90})
     assert short.startswith("disagree: plan_gait finds a gait with the full friction;")
-    assert "planning friction map space turns it 90 deg from rest" in short
+    assert "planning friction and threshold map space turns it 90 deg from rest" in short
     assert short.endswith("the executor: no stable grasp")
     full = bench.explain({**base, "rest_turn_reserve_deg": 360})
     assert full == "disagree: plan_gait finds a gait; the executor: no stable grasp"
@@ -106,7 +106,7 @@ def test_map_space_with_the_planning_friction_explains_a_disagreement(bench):
             for o, x in (("a", 90), ("b", 360), ("c", 20))]  # fmt: skip
     squares = next(x for x in bench.summary(rows) if x.startswith("squares:"))
     tail = ("map space from rest turns 3/3 a full turn, with the executor's planning "
-            "friction 1/3 (the others 20, 90 deg)")  # fmt: skip
+            "friction and threshold 1/3 (the others 20, 90 deg)")  # fmt: skip
     assert squares.endswith(tail)
 
 

@@ -103,14 +103,15 @@ def test_the_scenario_descriptions_numbers(hand):
 
 
 def test_the_batch_table_columns(hand):
-    """bench_gait's rest_* columns: the reserve (mu 0.8) never turns further than mu = 1,
-    and the agree column names the full turn plan_gait's search misses."""
+    """bench_gait's rest_* columns: the executor's planning (mu 0.8, epsilon >= 0.01) never
+    turns further than mu = 1 with force closure alone, and the agree column names the full
+    turn plan_gait's search misses."""
     bench = benchmark_module("bench_gait")
     circle = bench.rest_reach(shapes.circle(0.05), hand, 1.0)
     assert circle == {"rest_turn_deg": 360, "rest_turn_reserve_deg": 360, "rest_blocking": ""}
     row = bench.rest_reach(shapes.ellipse(0.05, 0.05 / 1.5), hand, 1.0)
     assert row["rest_turn_deg"] == 360 and row["rest_turn_reserve_deg"] < 360
-    assert row["rest_blocking"].startswith("with mu 0.8: ")
+    assert row["rest_blocking"].startswith("with mu 0.8 and epsilon >= 0.01: ")
     row.update(verdict="failed", plan_gait="no gait")
     assert bench.explain(row).startswith("agree; but map space from rest has a full turn")
     row.update(rest_turn_deg=10)
