@@ -4,24 +4,28 @@ The executed gait does not turn the batch's squares (``bench_gait.py``). Is that
 chose (the thesis gives no dimensions: ``robots/planar_hand/params.py``) or the squares?
 This study asks map space, which bounds the executor (``bench_gait.py``: the executor's full
 turns are map space's at its planning friction but for one object): for every hand of a grid
-around the gait's hand -- the fingers' base half-spacing, the first link's length and the
-first joint's range (the other links, joints and tips those of
-``robots.planar_hand.gait_hand_params``, the left finger the right one's mirror image) --
-and for three cases -- the contact friction ``mu = 1`` with force closure alone (as
-``plan_gait``; the thesis' Fig. 2.12 simulation: a grasp on the cones' edge counts), the
-executor's planning friction (``mu (1 - friction_margin)`` = 0.8), and that friction with
-the executor's phase-1 stability threshold (``GaitSettings.min_epsilon``) -- how many of
-each family's objects turn a full turn from the resting pose
+around the gait's hand -- the fingers' base half-spacing, the first link's length, the
+first joint's range (the other links and joints those of
+``robots.planar_hand.gait_hand_params``, the left finger the right one's mirror image) and
+the left fingertip (the flat pad carrying the 8x8 array, as on the gait's hand, or a round
+tip of 2.5 cm, the right one's, or of 1.5 cm: the thesis, §2.3.2, found "the combination of
+one flat fingertip and one 2.5 cm radius fingertip was fairly restrictive" and wished for a
+curved 1.5 cm tactile fingertip) -- and for three cases -- the contact friction ``mu = 1``
+with force closure alone (as ``plan_gait``; the thesis' Fig. 2.12 simulation: a grasp on
+the cones' edge counts), the executor's planning friction (``mu (1 - friction_margin)`` =
+0.8), and that friction with the executor's phase-1 stability threshold
+(``GaitSettings.min_epsilon``) -- how many of each family's objects turn a full turn from
+the resting pose
 (:func:`planner.exploration.planar.start_reach.start_reach`: every start grasp and handoff,
 5 deg grid).
 
 One row per hand and case: full turns per family (``k/N``), the hand's parameters, and
-``gait_hand`` = yes for the hand the executor uses. Pure map space (no simulation): 2-4 s
-per hand and case on an idle 2-core machine (the 216 tasks in about 4 min; 8 min with the
-test suite running beside it).
+``gait_hand`` = yes for the gait's geometry (its bases, links and joint ranges; with the flat
+left pad it is the hand the executor uses). Pure map space (no simulation): 2-4 s per hand
+and case on an idle 2-core machine (the 648 tasks in about 12 min).
 
 Run: ``python benchmarks/bench_gait_hands.py [--quick] [--jobs N] [--out DIR]`` (``--quick``:
-the gait's hand and one neighbour, every 4th object).
+the gait's geometry with each left tip, every 4th object).
 """
 
 from __future__ import annotations
@@ -45,6 +49,8 @@ BASE_X = (0.06, 0.08, 0.10, 0.12)
 LINK1 = (0.08, 0.10, 0.12)
 JOINT1_LOWER = (-40.0, -65.0, -90.0)
 JOINT1_UPPER = (90.0, 120.0)
+#: the left fingertips: None = the flat pad (the gait's hand), else a round tip's radius [m]
+LEFT_TIPS = (None, 0.025, 0.015)
 
 
 @dataclass(frozen=True)
@@ -55,11 +61,21 @@ class HandSpec:
         base_x: |x| of both fingers' first joints [m] (right at +base_x, left mirrored).
         link1: length of the first link of both fingers [m].
         joint1: (lower, upper) limit of the right finger's first joint [deg] (left mirrored).
+        left_radius: None for the flat left pad (the gait's hand), else the radius of a round
+            left tip [m].
     """
 
     base_x: float
     link1: float
     joint1: tuple[float, float]
+    left_radius: float | None = None
+
+    @property
+    def left_tip(self) -> str:
+        """The left fingertip in words (``"flat pad"``, ``"round 2.5 cm"``)."""
+        if self.left_radius is None:
+            return "flat pad"
+        return f"round {100 * self.left_radius:g} cm"
 
     def hand(self, mu: float):
         """The :class:`robots.planar_hand.PlanarHand` of this spec with friction ``mu``."""
@@ -71,6 +87,8 @@ class HandSpec:
         p = ranged_hand_params(lower, upper, mu)
         right, left = p.right, p.left
         lengths = (self.link1, *right.lengths[1:])
+        if self.left_radius is not None:
+            left = replace(left, tip="round", tip_radius=self.left_radius)
         return PlanarHand(replace(
             p,
             right=replace(right, base=(self.base_x, 0.0), lengths=lengths),
@@ -78,21 +96,27 @@ class HandSpec:
         ))  # fmt: skip
 
     @property
-    def is_gait_hand(self) -> bool:
-        """This is the executor's hand (``gait_hand_params``)."""
+    def is_gait_geometry(self) -> bool:
+        """Bases, links and joint ranges are the executor's hand's (``gait_hand_params``)."""
         from robots.planar_hand.params import default_finger
 
         f = default_finger("right")
         return (self.base_x, self.link1) == (f.base[0], f.lengths[0]) and self.joint1 == (
             GAIT_LOWER_DEG[0], GAIT_UPPER_DEG[0])  # fmt: skip
 
+    @property
+    def is_gait_hand(self) -> bool:
+        """This is the executor's hand (``gait_hand_params``: its geometry, the flat pad)."""
+        return self.is_gait_geometry and self.left_radius is None
+
 
 def grid(quick: bool) -> list[HandSpec]:
-    """The hands of the study (the gait's hand first)."""
-    specs = [HandSpec(b, l1, (lo, hi)) for b, l1, lo, hi in
-             itertools.product(BASE_X, LINK1, JOINT1_LOWER, JOINT1_UPPER)]  # fmt: skip
-    specs.sort(key=lambda s: not s.is_gait_hand)
-    return specs[:2] if quick else specs
+    """The hands of the study: the gait's geometry with each left tip first (the gait's hand
+    itself first of all), then the others, flat pads first."""
+    specs = [HandSpec(b, l1, (lo, hi), tip) for tip, b, l1, lo, hi in
+             itertools.product(LEFT_TIPS, BASE_X, LINK1, JOINT1_LOWER, JOINT1_UPPER)]  # fmt: skip
+    specs.sort(key=lambda s: not s.is_gait_geometry)
+    return specs[: len(LEFT_TIPS)] if quick else specs
 
 
 def study_hand(args) -> dict:
@@ -111,7 +135,7 @@ def study_hand(args) -> dict:
             full = False
         turns.setdefault(obj.family, []).append(full)
     row = {"benchmark": "hand", "mu": mu, "min_epsilon": min_epsilon,
-           "gait_hand": "yes" if spec.is_gait_hand else "",
+           "gait_hand": "yes" if spec.is_gait_geometry else "", "left_tip": spec.left_tip,
            "base_x_cm": round(100 * spec.base_x, 1), "link1_cm": round(100 * spec.link1, 1),
            "joint1_deg": f"{spec.joint1[0]:g}..{spec.joint1[1]:g}"}  # fmt: skip
     for fam, v in turns.items():
@@ -130,17 +154,24 @@ def _hands(n: int) -> str:
 
 
 def summary(rows: list[dict], families: list[str]) -> list[str]:
-    """Notes: per friction and stability threshold, the gait's hand and the hands that turn
-    the most squares."""
+    """Notes: per friction, stability threshold and left fingertip, the gait's geometry and
+    the hands that turn the most squares."""
     notes = []
     cases = sorted({(r["mu"], r["min_epsilon"]) for r in rows}, key=lambda c: (-c[0], c[1]))
-    for mu, eps in cases:
-        at = [r for r in rows if (r["mu"], r["min_epsilon"]) == (mu, eps)]
+    tips = list(dict.fromkeys(r.get("left_tip", "flat pad") for r in rows))
+    for (mu, eps), tip in itertools.product(cases, tips):
+        at = [r for r in rows if (r["mu"], r["min_epsilon"], r.get("left_tip", "flat pad"))
+              == (mu, eps, tip)]  # fmt: skip
+        if not at:
+            continue
         case = f"mu {mu:g}" + (f", epsilon >= {eps:g}" if eps else "")
+        if len(tips) > 1:
+            case += f", left {tip}"
         gait = [r for r in at if r["gait_hand"]]
         if gait:
             counts = ", ".join(f"{f} {gait[0][f]}" for f in families)
-            notes.append(f"{case}, the gait's hand: {counts}")
+            whose = "hand" if tip == "flat pad" else "geometry"
+            notes.append(f"{case}, the gait's {whose}: {counts}")
         for fam in (f for f in families if f.startswith("square")):
             best = max(_full(r, fam) for r in at)
             n = str(at[0][fam]).split("/")[1]
@@ -180,14 +211,16 @@ def main() -> None:
         f"{list(GAIT_UPPER_DEG)} deg, bases at +-10 cm, links 10/6/4 cm) with base "
         f"half-spacing {[round(100 * b) for b in BASE_X]} cm, link 1 "
         f"{[round(100 * v) for v in LINK1]} cm, joint 1 from {list(JOINT1_LOWER)} to "
-        f"{list(JOINT1_UPPER)} deg (left finger mirrored); mu {s.planning_mu:g} = the executor's "
+        f"{list(JOINT1_UPPER)} deg (left finger mirrored), left tip "
+        f"{[HandSpec(0, 0, (0, 0), r).left_tip for r in LEFT_TIPS]} (the right tip round "
+        f"2.5 cm); mu {s.planning_mu:g} = the executor's "
         "planning friction (GaitSettings.friction_margin), min_epsilon "
         f"{s.min_epsilon:g} its phase-1 stability threshold (GaitSettings.min_epsilon; 0: "
         "force closure only, as plan_gait)",
         f"total wall {time.perf_counter() - t0:.0f} s, {args.jobs} worker processes; load "
         f"average at the end {load_average()}",
     ]
-    cols = ["benchmark", "mu", "min_epsilon", "gait_hand", "base_x_cm", "link1_cm",
+    cols = ["benchmark", "mu", "min_epsilon", "left_tip", "gait_hand", "base_x_cm", "link1_cm",
             "joint1_deg", *families, "wall_s"]  # fmt: skip
     write_report("bench_gait_hands", rows, title="hapex map-space hand study (issue 11, "
                  "§2.3.1 batch)", out=args.out, notes=notes, columns=cols)  # fmt: skip
