@@ -39,11 +39,12 @@ succeeds when most of its seeds do, and the notes count objects and runs (on 202
 at dc2ad09, NumPy at AVX-512: the circle model succeeded on 11 of 32 objects, 35 of 96
 runs; the true outline on 10, 27 runs: rounded squares 2/5 with either model; given
 120 s, full turns on 9 and 7 objects, 25 and 20 runs: circles, the 1.1:1 ellipse and two
-circle-model rounded-square runs; the same at 3ad0a1a and at 1c1b2ff). The notes' family
-lines also count how far map space turns each object from rest with the executor's planning
-friction and phase-1 stability threshold (``rest_turn_reserve_deg``; plan_gait has the full
-mu and force closure alone): full turns on the circles, the 1.1:1 ellipse and 2 of the 5
-polygons only, the rounded squares 20-85 deg, and a disagreement names it.
+circle-model rounded-square runs; the same since, last at the commit the results name).
+The notes' family lines also count how far map space turns each object from rest with the
+executor's planning friction and phase-1 stability threshold (``rest_turn_reserve_deg``;
+plan_gait has the full mu and force closure alone): full turns on the circles, the 1.1:1
+ellipse and 2 of the 5 polygons only, the rounded squares 20-85 deg, and a disagreement
+names it.
 ``--only square,gon``
 runs the objects whose name or family contains one of the substrings. ``--phase-log``
 prints every object's phases measured against the truth after the table
