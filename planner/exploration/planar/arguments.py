@@ -11,6 +11,12 @@ from planner import checks
 from planner.errors import InvalidParameter
 from planner.exploration.planar.settings import GaitSettings
 
+#: the fingertips the executor is written for: (left, right) = the flat pad with the 8x8
+#: tactile array and the 2.5 cm soft round tip (``robots.planar_hand.params``). The map-space
+#: tools (``plan_gait``, ``start_reach``) take any tips; ``benchmarks/bench_gait_hands.py``
+#: measures what a round left tip would give.
+EXECUTOR_TIPS = ("flat", "round")
+
 
 def _closed_profile(name: str, value: object, what: str) -> None:
     if getattr(value, "closed", False) is not True:
@@ -63,6 +69,13 @@ def check_arguments(
         if not isinstance(hand, PlanarHand):
             raise InvalidParameter(f"hand: expected a robots.planar_hand.PlanarHand or None, "
                                    f"got {type(hand).__name__}")  # fmt: skip
+        tips = (hand.params.left.tip, hand.params.right.tip)
+        if tips != EXECUTOR_TIPS:
+            raise InvalidParameter(
+                f"hand: expected the left finger's flat pad and the right finger's round tip "
+                f"(the executor's planners, sensing and controllers are written for them: the "
+                f"thesis' hand), got a {tips[0]} left and a {tips[1]} right fingertip"
+            )
     if not isinstance(use_prior, bool):
         raise InvalidParameter(f"use_prior: expected True or False, got {use_prior!r}")
     if on_progress is not None and not callable(on_progress):
