@@ -22,7 +22,8 @@ the resting pose
 One row per hand and case: full turns per family (``k/N``), the hand's parameters, and
 ``gait_hand`` = yes for the gait's geometry (its bases, links and joint ranges; with the flat
 left pad it is the hand the executor uses). Pure map space (no simulation): 2-4 s per hand
-and case on an idle 2-core machine (the 648 tasks in about 12 min).
+and case on a 2-core machine (the 648 tasks in 19 min, 23 min with the test suite running
+beside it).
 
 Run: ``python benchmarks/bench_gait_hands.py [--quick] [--jobs N] [--out DIR]`` (``--quick``:
 the gait's geometry with each left tip, every 4th object).
