@@ -54,6 +54,11 @@ JOINT1_UPPER = (90.0, 120.0)
 LEFT_TIPS = (None, 0.025, 0.015)
 
 
+def tip_name(radius: float | None) -> str:
+    """A left fingertip in words: ``"flat pad"`` (``radius`` None), ``"round 2.5 cm"``."""
+    return "flat pad" if radius is None else f"round {100 * radius:g} cm"
+
+
 @dataclass(frozen=True)
 class HandSpec:
     """One hand of the grid (the rest of the hand is the gait's hand).
@@ -73,10 +78,8 @@ class HandSpec:
 
     @property
     def left_tip(self) -> str:
-        """The left fingertip in words (``"flat pad"``, ``"round 2.5 cm"``)."""
-        if self.left_radius is None:
-            return "flat pad"
-        return f"round {100 * self.left_radius:g} cm"
+        """The left fingertip in words (:func:`tip_name`)."""
+        return tip_name(self.left_radius)
 
     def hand(self, mu: float):
         """The :class:`robots.planar_hand.PlanarHand` of this spec with friction ``mu``."""
@@ -213,7 +216,7 @@ def main() -> None:
         f"half-spacing {[round(100 * b) for b in BASE_X]} cm, link 1 "
         f"{[round(100 * v) for v in LINK1]} cm, joint 1 from {list(JOINT1_LOWER)} to "
         f"{list(JOINT1_UPPER)} deg (left finger mirrored), left tip "
-        f"{[HandSpec(0, 0, (0, 0), r).left_tip for r in LEFT_TIPS]} (the right tip round "
+        f"{[tip_name(r) for r in LEFT_TIPS]} (the right tip round "
         f"2.5 cm); mu {s.planning_mu:g} = the executor's "
         "planning friction (GaitSettings.friction_margin), min_epsilon "
         f"{s.min_epsilon:g} its phase-1 stability threshold (GaitSettings.min_epsilon; 0: "

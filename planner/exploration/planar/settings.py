@@ -16,10 +16,11 @@ class GaitSettings:
     Attributes:
         mu: friction coefficient the planner assumes [-] (the world uses the true one).
         friction_margin: fraction of ``mu`` kept in reserve in the controllers' cones [-].
-            The planners use ``planning_mu = mu (1 - friction_margin)`` too. With it the
-            map space of the rounded squares (``benchmarks/bench_gait.py``,
-            ``rest_turn_reserve_deg``) turns them only 80-90 deg from rest (14 cm: 20 deg)
-            where the full mu turns them fully, and the executor stops about there.
+            The planners use ``planning_mu = mu (1 - friction_margin)`` too. With it and
+            ``min_epsilon`` the map space of the rounded squares
+            (``benchmarks/bench_gait.py``, ``rest_turn_reserve_deg``) turns them only 80-85
+            deg from rest (12 cm: 45, 14 cm: 20 deg) where the full mu turns them fully,
+            and the executor stops about there.
             Lowering it does not help: rounded squares 6-14 cm, the true outline, seeds
             0-2, 60 s, turned 1306 deg in total with 0.2, 1027 with 0.1 and 876 with 0
             (measured 2026-11-24), because grasps planned at the cones' edges slip.

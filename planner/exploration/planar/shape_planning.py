@@ -223,14 +223,14 @@ def _regrasp_tip_orientation(runner, path, target: float, q) -> float:
     axis after the regrasp, beyond its 69 deg rolling range, and phase 1 had no plan."""
     from planner.exploration.planar.heuristics import tip_orientation
     from planner.exploration.planar.segments import MAX_REORIENT
+    from planner.grasp.workspace import rotation
 
     c = np.asarray(runner.shape.pose[:2], float)
     point, n = _outline_contact(runner, path, path.point_at_angle(c, target))
     r = runner.hand.params.right.tip_radius
     tip = np.asarray(point) + r * np.array([math.cos(n), math.sin(n)])
-    a = -phase_planning.PHASE1_TRAVEL
-    rot = np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
-    phi1 = tip_orientation(runner.hand, [tip, c + rot @ (tip - c)], n + 0.5 * math.pi, TIP_SPREAD)
+    turned = c + rotation(-phase_planning.PHASE1_TRAVEL) @ (tip - c)
+    phi1 = tip_orientation(runner.hand, [tip, turned], n + 0.5 * math.pi, TIP_SPREAD)
     phi0 = float(q[3:6].sum())
     return phi0 + float(np.clip(math.remainder(phi1 - phi0, 2 * math.pi), -MAX_REORIENT,
                                 MAX_REORIENT))  # fmt: skip
