@@ -219,3 +219,38 @@ def test_tip_frames_match_the_hand_forward_kinematics():
         ref = hand.fingertip_pose(q, side)
         assert np.allclose(p, ref.position, rtol=0, atol=1e-12), side
         assert abs(phi[0] - ref.angle) <= 1e-12, side
+
+
+def _round_left_hand(radius=0.025):
+    from dataclasses import replace
+
+    from robots.planar_hand.params import gait_hand_params
+
+    p = gait_hand_params(1.0)
+    return PlanarHand(replace(p, left=replace(p.left, tip="round", tip_radius=radius)))
+
+
+@pytest.mark.parametrize("rL", [0.025, 0.015])
+def test_a_round_left_tip_rolls_by_eq_2_4(rL):
+    """A round left tip: its centre on the circle of radius R + r_L, its contact arclength
+    ``u = r_L (beta + pi/2 - phi)`` (from the apex), and pure rolling on both tips."""
+    from planner.exploration.planar.heuristics import start_grasp_candidates
+    from planner.exploration.planar.sensing import round_contact_arclength
+
+    hand = _round_left_hand(rL)
+    c = np.array([0.0, R])
+    bl, br, q0, _ = start_grasp_candidates(hand, c, R, 0.8)[0]
+    u0 = round_contact_arclength(bl, q0[:3].sum(), rL)
+    plan = RollingNLP(hand, knots=6).solve(q0, c, R, r, 0.8, np.array([bl, br]), u0)
+    assert plan.success
+    assert plan.rotation < -math.radians(10)
+    for k in range(len(plan.theta)):
+        tip = hand.fingertip_pose(plan.q[k], "left")
+        b = plan.beta[k, 0]
+        assert np.linalg.norm(tip.position - plan.centre[k]) == pytest.approx(R + rL, abs=1e-6)
+        assert math.atan2(*(plan.centre[k] - tip.position)[::-1]) == pytest.approx(
+            math.remainder(b + math.pi, 2 * math.pi), abs=1e-5
+        )
+        assert plan.u[k] == pytest.approx(round_contact_arclength(b, tip.angle, rL), abs=1e-7)
+    obj_L = R * ((plan.beta[:, 0] - plan.theta) - plan.beta[0, 0])
+    np.testing.assert_allclose(obj_L + (plan.u - plan.u[0]), 0.0, atol=1e-7)

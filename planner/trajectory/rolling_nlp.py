@@ -8,13 +8,16 @@ the fingers' workspaces and the grasp's stability allow.
 Decision variables at knots ``k = 0..N``: the object rotation ``theta_k`` [rad] (0 at the
 start) and centre ``c_k`` (2,) [m], the joint angles ``q_k`` (6,) [rad], the world polar
 angles ``beta_L,k``, ``beta_R,k`` of the two contacts about ``c_k`` [rad] and the contact
-position ``u_k`` across the flat left pad [m]. Constraints, at every knot:
+position ``u_k`` across the flat left pad [m] (a round left tip: its contact's arclength
+from the tip's apex). Constraints, at every knot:
 
 * finger kinematics (expressions walked from the Pinocchio model): the round right tip's
   centre at ``c + (R + r) n(beta_R)``; the flat left pad facing the object
-  (``phi_L = beta_L + pi/2`` up to a whole turn) with its point ``u`` on ``c + R n(beta_L)``;
+  (``phi_L = beta_L + pi/2`` up to a whole turn) with its point ``u`` on ``c + R n(beta_L)``
+  (a round left tip of radius ``r_L``: its centre at ``c + (R + r_L) n(beta_L)``);
 * pure rolling, eq. (2.4) integrated: the contact travels equal arclengths on the object
-  (``R (beta - theta)``) and on the fingertip (round: ``r (beta + pi - phi)``; pad: ``-u``):
+  (``R (beta - theta)``) and on the fingertip (round: ``r (beta + pi - phi)``, the left
+  one's ``u``; pad: ``-u``):
   ``R d(beta - theta) + d s_f = 0``;
 * joint limits with a margin (a joint that starts inside the margin band may stay there but
   not move further toward its limit), the pad contact within the pad, the round contact
@@ -66,7 +69,8 @@ class RollingPlan:
         centre: (N+1, 2) object centre [m].
         q: (N+1, 6) joint angles [rad].
         beta: (N+1, 2) world polar angles of the left and right contacts [rad].
-        u: (N+1,) contact position across the left pad [m].
+        u: (N+1,) contact position across the left pad [m] (a round left tip: its
+            contact's arclength from the apex, :func:`round_contact_arclength`'s).
         rotation: total rotation ``theta[-1]`` [rad].
         success: the solver converged; solve_time_s: wall time of the solve [s].
         solve_cpu_s: its CPU time [s] (what load on a shared machine does not inflate).
@@ -91,7 +95,8 @@ class RollingNLP:
     """The phase-1 NLP of one hand, built once, solved many times.
 
     Args:
-        hand: ``robots.planar_hand.PlanarHand`` with a flat left and a round right tip.
+        hand: ``robots.planar_hand.PlanarHand`` with a round right tip and a flat (the
+            thesis' hand) or round left tip.
         knots: number of intervals N (>= 2).
         max_step: largest rotation per interval [rad].
         max_tip_angle: largest angle of the round contact from the tip axis [rad].
@@ -139,6 +144,22 @@ class RollingNLP:
         rows = ConstraintRows()
         add, g = rows.add, rows.g
 
+        # the left tip: the flat pad (None) or a round tip's radius [m]; with a round one
+        # ``u`` is its contact's arclength from the apex [m], and the rolling term s_f = +u
+        rL = hand.params.left.tip_radius if hand.params.left.tip == "round" else None
+        self.left_round = rL is not None
+        sgn = 1.0 if rL is None else -1.0
+        cos_max = math.cos(self.max_tip_angle)
+        cos_tip0 = [None, None]
+
+        def tip_angle(cos_tip, k, i):
+            if k == 0:
+                cos_tip0[i] = cos_tip
+            if not relax_start:
+                add(cos_tip, cos_max, 1.0)
+            elif k > 0:
+                add(cos_tip - cs.fmin(cos_max, cos_tip0[i]), 0, cs.inf)
+
         lim = hand.joint_limits
         cos_cone = cs.cos(cs.atan(mu) - margin)
         obj = 0
@@ -153,8 +174,10 @@ class RollingNLP:
             dR = pR - (c + (R + r) * nR)
             add(dR[0], 0, 0)
             add(dR[1], 0, 0)
-            padp = pL + u * cs.vertcat(cs.cos(phL), cs.sin(phL))
-            dL = padp - (c + R * nL)
+            if rL is None:  # the flat pad's point u on the object
+                dL = pL + u * cs.vertcat(cs.cos(phL), cs.sin(phL)) - (c + R * nL)
+            else:  # a round left tip: its centre on the offset circle, u its arclength
+                dL = pL - (c + (R + rL) * nL)
             add(dL[0], 0, 0)
             add(dL[1], 0, 0)
             if k == 0:
@@ -166,10 +189,12 @@ class RollingNLP:
                 obj += 1e3 * (cs.sumsqr(c - c0) + 1e-4 * cs.sumsqr(cs.vertcat(bL, bR) - beta0))
                 obj += 1e3 * (u - u0) ** 2
             else:
-                # pad flat on the object: phi_L - beta_L constant
-                add((phL - bL) - (phiL0 - bL0), 0, 0)
-                # pure rolling, eq. (2.4): R d(beta - theta) + d s_f = 0
-                add(R * ((bL - th) - bL0) - (u - u_0), 0, 0)
+                if rL is None:  # pad flat on the object: phi_L - beta_L constant
+                    add((phL - bL) - (phiL0 - bL0), 0, 0)
+                else:  # the round tip's arclength u follows its contact angle
+                    add((u - u_0) - rL * ((bL - phL) - (bL0 - phiL0)), 0, 0)
+                # pure rolling, eq. (2.4): R d(beta - theta) + d s_f = 0 (pad: s_f = -u)
+                add(R * ((bL - th) - bL0) - sgn * (u - u_0), 0, 0)
                 phR0 = q0[3] + q0[4] + q0[5]
                 add(R * ((bR - th) - bR0) + r * ((bR - phR) - (bR0 - phR0)), 0, 0)
                 vp = X[nk * (k - 1) : nk * k]
@@ -184,17 +209,14 @@ class RollingNLP:
             for i in range(6 if k > 0 else 0):
                 add(q[i] - cs.fmin(lim[i, 0] + qm, q0[i]), 0, cs.inf)
                 add(q[i] - cs.fmax(lim[i, 1] - qm, q0[i]), -cs.inf, 0)
-            add(u, -pad_use * pad, pad_use * pad)
+            if rL is None:
+                add(u, -pad_use * pad, pad_use * pad)
+            else:  # a round left contact near its tip's axis, relaxed to the start
+                tip_angle(cs.cos(bL + math.pi / 2 - phL), k, 0)
             # round contact near the tip axis: angle of (-n_R) in the tip frame vs +y; with
             # relax_start a contact that starts farther round may stay there but not roll
             # further (the start is what it is)
-            cos_tip = cs.cos((bR + math.pi - phR) - math.pi / 2)
-            if k == 0:
-                cos_tip0 = cos_tip
-            if not relax_start:
-                add(cos_tip, math.cos(self.max_tip_angle), 1.0)
-            elif k > 0:
-                add(cos_tip - cs.fmin(math.cos(self.max_tip_angle), cos_tip0), 0, cs.inf)
+            tip_angle(cs.cos((bR + math.pi - phR) - math.pi / 2), k, 1)
             # stability: contact line inside both cones with a margin
             cL = c + R * nL
             cR = c + (R + 0.0) * nR
@@ -285,7 +307,8 @@ class RollingNLP:
             tip_radius: radius of the round right tip [m].
             mu: friction coefficient [-]; margin: angular stability margin [rad].
             beta0: (2,) world polar angles of the left/right contacts [rad].
-            u0: contact position across the left pad [m].
+            u0: contact position across the left pad [m] (a round left tip: the contact's
+                arclength from its apex [m]).
             joint_margin: distance kept from every joint limit [rad].
             warm: start from the previous solution (shifted to the new start).
             home_x: where the object centre should end, x [m] (default: where it starts).
@@ -363,9 +386,10 @@ class RollingNLP:
         names = (
             ["kinematics"] * 4
             + ["start"] * 0
-            + ["flat pad", "rolling", "rolling", "step"]
+            + ["left tip" if self.left_round else "flat pad", "rolling", "rolling", "step"]
             + ["joint limit"] * 12
-            + ["pad edge", "tip angle", "stability", "stability"]
+            + ["tip angle" if self.left_round else "pad edge", "tip angle"]
+            + ["stability", "stability"]
             + ["palm"] * max(self.K, 1)
             + ["travel", "set down", "rotation cap"]
         )

@@ -87,6 +87,29 @@ def pad_angle(beta: float, reference: float) -> float:
     return phi + 2 * math.pi * round((reference - phi) / (2 * math.pi))
 
 
+def left_tip_radius(hand) -> float | None:
+    """Radius [m] of the hand's round left tip, or None for the flat pad (the thesis' hand,
+    ``robots.planar_hand.params``)."""
+    left = hand.params.left
+    return float(left.tip_radius) if left.tip == "round" else None
+
+
+def left_ik(hand, point, beta: float, mid: float):
+    """Left finger joints (3,) touching the contact ``point`` (2,) [m] of outward normal
+    angle ``beta`` [rad] on the object: the flat pad lying on it (:func:`pad_angle`,
+    unwrapped near ``mid``), or a round tip with the best joint margin whose centre is
+    ``r_L`` out along the normal; None when unreachable."""
+    rL = left_tip_radius(hand)
+    if rL is None:
+        try:
+            return hand.inverse_kinematics("left", point, angle=pad_angle(beta, mid))
+        except Exception:  # noqa: BLE001 - unreachable candidates are skipped
+            return None
+    n = np.array([math.cos(beta), math.sin(beta)])
+    return best_margin_ik(hand, "left", np.asarray(point, float) + rL * n,
+                          around=beta + 0.5 * math.pi)  # fmt: skip
+
+
 def start_grasp_candidates(
     hand, centre, radius: float, mu: float, prior=None, stability_margin: float = 0.15
 ):
@@ -117,9 +140,8 @@ def start_grasp_candidates(
             continue
         nL = np.array([math.cos(a), math.sin(a)])
         nR = np.array([math.cos(b), math.sin(b)])
-        try:
-            qL = hand.inverse_kinematics("left", c + radius * nL, angle=pad_angle(a, mid))
-        except Exception:  # noqa: BLE001 - unreachable candidates are skipped
+        qL = left_ik(hand, c + radius * nL, a, mid)
+        if qL is None:
             continue
         qR = best_margin_ik(hand, "right", c + (radius + r) * nR, around=b + 0.5 * math.pi)
         if qR is None:
@@ -140,10 +162,18 @@ def _reach_margin(hand, finger: str, points: np.ndarray, phis: np.ndarray) -> np
 
 
 def regrasp_orientation(
-    hand, centre, radius: float, beta: float, travel: float, spread: float = 0.5, n: int = 61
+    hand,
+    centre,
+    radius: float,
+    beta: float,
+    travel: float,
+    spread: float = 0.5,
+    n: int = 61,
+    finger: str = "right",
 ) -> float:
-    """Orientation [rad] of the round right tip for its new grasp at world polar angle
-    ``beta`` [rad] on the estimated circle (``centre`` (2,), ``radius`` [m]).
+    """Orientation [rad] of a round tip (the right one, or ``finger`` "left" on a hand with
+    a round left tip) for its new grasp at world polar angle ``beta`` [rad] on the
+    estimated circle (``centre`` (2,), ``radius`` [m]).
 
     The §2.2.3 heuristic ("a preferred fingertip orientation - one that maximizes the local
     configuration space") evaluated where the finger will work: the orientation within
@@ -153,15 +183,17 @@ def regrasp_orientation(
     a few degrees, so the same orientation is checked there). Falls back to the four-region
     preference when no orientation reaches both points.
     """
-    r = hand.params.right.tip_radius
+    r = getattr(hand.params, finger).tip_radius
     c = np.asarray(centre, float)
     centres = [c + (radius + r) * np.array([math.cos(b), math.sin(b)])
                for b in (beta, beta - travel)]  # fmt: skip
-    return tip_orientation(hand, centres, beta + 0.5 * math.pi, spread, n)
+    return tip_orientation(hand, centres, beta + 0.5 * math.pi, spread, n, finger)
 
 
-def tip_orientation(hand, tip_centres, apex: float, spread: float = 0.5, n: int = 61) -> float:
-    """Orientation [rad] of the round right tip, within ``spread`` [rad] of ``apex`` [rad]
+def tip_orientation(
+    hand, tip_centres, apex: float, spread: float = 0.5, n: int = 61, finger: str = "right"
+) -> float:
+    """Orientation [rad] of a round tip (``finger``), within ``spread`` [rad] of ``apex`` [rad]
     (the orientation that touches the surface at the tip's axis: the surface's outward
     normal angle + pi/2), that maximizes the smallest joint-limit margin over the tip
     centres ``tip_centres`` (each (2,) [m]; the same orientation at each); the four-region
@@ -169,11 +201,23 @@ def tip_orientation(hand, tip_centres, apex: float, spread: float = 0.5, n: int 
     all (the §2.2.3 heuristic, :func:`regrasp_orientation` on a circle)."""
     phis = apex + np.linspace(-spread, spread, n)
     pts = [np.broadcast_to(np.asarray(p, float), (n, 2)) for p in tip_centres]
-    m = np.min([_reach_margin(hand, "right", p, phis) for p in pts], axis=0)
+    m = np.min([_reach_margin(hand, finger, p, phis) for p in pts], axis=0)
     if not np.isfinite(m).any():
-        pref = preferred_orientation(hand, "right", pts[0][0])
+        pref = preferred_orientation(hand, finger, pts[0][0])
         return apex + float(np.clip(math.remainder(pref - apex, 2 * math.pi), -spread, spread))
     return float(phis[int(np.argmax(m))])
+
+
+def _round_reach(hand, finger: str, centre, offset: float, betas, spread=0.5, n=61) -> float:
+    """The best (over orientations within ``spread`` [rad] of the apex at ``betas[0]``)
+    smallest joint-limit margin [rad] of a round tip whose centre visits
+    ``centre + offset n(beta)`` for each of ``betas`` [rad]; ``-inf`` if unreachable."""
+    phis = betas[0] + 0.5 * math.pi + np.linspace(-spread, spread, n)
+    m = np.full(n, np.inf)
+    for b in betas:
+        p = np.asarray(centre, float) + offset * np.array([math.cos(b), math.sin(b)])
+        m = np.minimum(m, _reach_margin(hand, finger, np.broadcast_to(p, (n, 2)), phis))
+    return float(m.max())
 
 
 def stable_pair(beta_left: float, beta_right: float, mu: float, margin: float) -> float:
@@ -187,7 +231,7 @@ def stable_pair(beta_left: float, beta_right: float, mu: float, margin: float) -
 def regrasp_left_angle(
     hand, centre, radius: float, beta_right: float, mu: float, margin: float, travel: float
 ) -> float | None:
-    """World polar angle [rad] of the left pad's new grasp (end of phase 3) for the next
+    """World polar angle [rad] of the left tip's new grasp (end of phase 3) for the next
     phase 1, or None when no stable, reachable one exists.
 
     Candidates from 120 to 180 deg: the pair with the right contact ``beta_right`` must be
@@ -197,6 +241,7 @@ def regrasp_left_angle(
     a higher contact also lets the pad carry more of the object's weight by friction.
     """
     c = np.asarray(centre, float)
+    rL = left_tip_radius(hand)
     cand = np.deg2rad(np.arange(120.0, 180.5, 2.5))
     best, arg = -np.inf, None
     mid = float(hand.finger_limits("left").sum(axis=0).mean())
@@ -205,9 +250,13 @@ def regrasp_left_angle(
         if stab < 0:
             continue
         bb = np.array([b, b - travel])
-        pts = c + radius * np.column_stack([np.cos(bb), np.sin(bb)])
-        phis = np.array([pad_angle(x, mid) for x in bb])
-        score = min(float(_reach_margin(hand, "left", pts, phis).min()), stab)
+        if rL is None:
+            pts = c + radius * np.column_stack([np.cos(bb), np.sin(bb)])
+            phis = np.array([pad_angle(x, mid) for x in bb])
+            reach = float(_reach_margin(hand, "left", pts, phis).min())
+        else:  # a round tip: its best orientation near the apex for both points
+            reach = _round_reach(hand, "left", c, radius + rL, bb)
+        score = min(reach, stab)
         if score > best:
             best, arg = score, float(b)
     return arg if best > 0 else None
@@ -216,6 +265,8 @@ def regrasp_left_angle(
 __all__ = [
     "best_margin_ik",
     "four_region_orientations",
+    "left_ik",
+    "left_tip_radius",
     "pad_angle",
     "preferred_orientation",
     "regrasp_left_angle",

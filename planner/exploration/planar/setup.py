@@ -8,8 +8,8 @@ import numpy as np
 
 from planner.errors import HapexError, InvalidParameter
 from planner.exploration.planar.heuristics import (
+    left_ik,
     best_margin_ik,
-    pad_angle,
     start_grasp_candidates,
 )
 from planner.exploration.planar.objects import rest_height
@@ -41,10 +41,8 @@ def _place(hand, profile, origin, beta, q_ref):
     pts, nrm = profile.point_at_polar_angle(np.asarray(beta, float))
     p = pts + origin
     r = hand.params.right.tip_radius
-    try:
-        ang = math.atan2(nrm[0, 1], nrm[0, 0])
-        qL = hand.inverse_kinematics("left", p[0], angle=pad_angle(ang, q_ref[:3].sum()))
-    except HapexError:
+    qL = left_ik(hand, p[0], math.atan2(nrm[0, 1], nrm[0, 0]), float(q_ref[:3].sum()))
+    if qL is None:
         return None
     apex = math.atan2(nrm[1, 1], nrm[1, 0]) + 0.5 * math.pi  # contact at the tip's apex
     qR = best_margin_ik(hand, "right", p[1] + r * nrm[1], around=apex)
