@@ -53,8 +53,8 @@ N_BUF = 34
 
 # layout of the geometry vector of the kernel
 _G_BASE_L, _G_LEN_L, _G_BASE_R, _G_LEN_R = 0, 2, 5, 7
-_G_R, _G_TIP_R, _G_PITCH2, _G_TOUCH = 10, 11, 12, 13
-N_GEO = 14
+_G_R, _G_TIP_R, _G_PITCH2, _G_TOUCH, _G_TIP_L = 10, 11, 12, 13, 14
+N_GEO = 15
 
 
 class GraspEstimate:
@@ -131,9 +131,13 @@ class GraspSensing:
             for f in (hand.params.left, hand.params.right)
         )
         (bl, ll), (br, lr) = self._geom
+        left = hand.params.left
+        #: radius of a round left tip [m] (0: the flat pad)
+        self.r_left = float(left.tip_radius) if left.tip == "round" else 0.0
         self.geo = np.array(
-            [*bl, *ll, *br, *lr, self.radius, self.r, self.array.pitch**2, TOUCH_FORCE]
-        )
+            [*bl, *ll, *br, *lr, self.radius, self.r, self.array.pitch**2, TOUCH_FORCE,
+             self.r_left]
+        )  # fmt: skip
         self.taxel_u = np.ascontiguousarray(self.array.u, dtype=float)
         self._no_image = np.zeros((self.array.rows, self.array.cols))
         self.buffer = np.zeros(N_BUF)
@@ -228,11 +232,15 @@ def sense_kernel(q, forces, image, has_image, source, geo, taxel_u, out):  # pra
             out[B_U] = moment / total
         elif total > 0.0 or out[B_TOUCH] != PLACED:  # PLACED lasts until a first pressure
             out[B_TOUCH] = 0.0
-    u = out[B_U]
     tLx, tLy, out[32] = _fingertip(q, 0, geo, _G_BASE_L, _G_LEN_L)
     tRx, tRy, out[33] = _fingertip(q, 3, geo, _G_BASE_R, _G_LEN_R)
-    cL, sL = math.cos(out[32]), math.sin(out[32])
     R, r = geo[_G_R], geo[_G_TIP_R]
+    rL = geo[_G_TIP_L]
+    if rL > 0.0:
+        _round_left(q, forces, source, geo, out, tLx, tLy, tRx, tRy)
+        return
+    u = out[B_U]
+    cL, sL = math.cos(out[32]), math.sin(out[32])
     pLx, pLy = tLx + u * cL, tLy + u * sL
     nLx, nLy = sL, -cL
     if source == 1 or (source == 0 and out[B_TOUCH] != 0.0):
@@ -240,6 +248,15 @@ def sense_kernel(q, forces, image, has_image, source, geo, taxel_u, out):  # pra
     else:  # resting on the palm, touching the right tip
         dy = R - tRy
         cx, cy = tRx - math.sqrt(max((R + r) ** 2 - dy * dy, 0.0)), R
+    _write_rest(forces, out, pLx, pLy, nLx, nLy, u, cx, cy, tLx, tLy, tRx, tRy, r)
+
+
+@njit(cache=True, nogil=True)
+def _write_rest(  # pragma: no cover
+    forces, out, pLx, pLy, nLx, nLy, u, cx, cy, tLx, tLy, tRx, tRy, r
+):
+    """The right contact (on its tip towards the centre ``c``), the polar angles, forces
+    and the grasp step's tip-frame contact geometry; the left contact is given."""
     dx, dy = cx - tRx, cy - tRy
     norm = max(math.hypot(dx, dy), 1e-12)
     dx, dy = dx / norm, dy / norm
@@ -258,6 +275,70 @@ def sense_kernel(q, forces, image, has_image, source, geo, taxel_u, out):  # pra
     out[20], out[21], out[22], out[23] = u, 0.0, r * tx, r * ty
     out[24], out[25], out[26], out[27] = 0.0, 1.0, tx, ty
     out[28], out[29], out[30], out[31] = tLx, tLy, tRx, tRy
+
+
+@njit(cache=True, nogil=True)
+def _palm_centre(tx, ty, offset, R, side):  # pragma: no cover
+    """Centre (x, y) [m] of the circle of radius ``R`` resting on the palm (``c_y = R``) at
+    distance ``offset`` from the tip centre ``t``, on the ``side`` (+1: right of it)."""
+    dy = R - ty
+    return tx + side * math.sqrt(max(offset * offset - dy * dy, 0.0)), R
+
+
+@njit(cache=True, nogil=True)
+def _round_left(q, forces, source, geo, out, tLx, tLy, tRx, tRy):  # pragma: no cover
+    """:func:`sense_kernel` for a round left tip of radius ``rL`` (no tactile array): the
+    contact lies on each tip towards the estimated centre, the centre from the left tip and
+    the palm (``source`` 1), the right tip and the palm (2) or, while both tips press
+    (``source`` 0: strain gauges above :data:`TOUCH_FORCE` along the line to the last
+    centre), the circle tangent to both tips nearest the last estimate (else the palm's).
+    ``u`` is the left contact's arclength from the tip's apex [m]; the contact flag is
+    whether the left tip presses."""
+    R, r, rL = geo[_G_R], geo[_G_TIP_R], geo[_G_TIP_L]
+    a, b = R + rL, R + r
+    px, py = out[10], out[11]
+    if py == 0.0:  # no estimate yet: the object on the palm at the right tip
+        px, py = _palm_centre(tRx, tRy, b, R, -1.0)
+    touch = True
+    for k in range(2):  # pressing: force on the object towards the last centre
+        tx, ty = (tLx, tLy) if k == 0 else (tRx, tRy)
+        dx, dy = px - tx, py - ty
+        norm = max(math.hypot(dx, dy), 1e-12)
+        if forces[k, 0] * dx / norm + forces[k, 1] * dy / norm < geo[_G_TOUCH]:
+            if k == 0:
+                out[B_TOUCH] = 0.0
+            touch = False
+        elif k == 0:
+            out[B_TOUCH] = 1.0
+    if source == 1:
+        cx, cy = _palm_centre(tLx, tLy, a, R, 1.0)
+    elif source == 2 or not touch:
+        cx, cy = _palm_centre(tRx, tRy, b, R, -1.0)
+    else:  # the circle tangent to both tips: the two-circle intersection nearest the last
+        ex, ey = tRx - tLx, tRy - tLy
+        d = max(math.hypot(ex, ey), 1e-12)
+        ex, ey = ex / d, ey / d
+        along = (a * a - b * b + d * d) / (2 * d)
+        h = math.sqrt(max(a * a - along * along, 0.0))
+        mx, my = tLx + along * ex, tLy + along * ey
+        c1x, c1y = mx - h * ey, my + h * ex
+        c2x, c2y = mx + h * ey, my - h * ex
+        if (c1x - px) ** 2 + (c1y - py) ** 2 <= (c2x - px) ** 2 + (c2y - py) ** 2:
+            cx, cy = c1x, c1y
+        else:
+            cx, cy = c2x, c2y
+    dx, dy = cx - tLx, cy - tLy
+    norm = max(math.hypot(dx, dy), 1e-12)
+    dx, dy = dx / norm, dy / norm
+    pLx, pLy = tLx + rL * dx, tLy + rL * dy
+    cL, sL = math.cos(out[32]), math.sin(out[32])
+    tx, ty = cL * dx + sL * dy, -sL * dx + cL * dy  # d in the left tip frame
+    alpha = math.atan2(ty, tx)  # tip-frame angle of the contact direction
+    u = rL * (alpha - 0.5 * math.pi)
+    out[B_U] = u
+    _write_rest(forces, out, pLx, pLy, -dx, -dy, u, cx, cy, tLx, tLy, tRx, tRy, r)
+    out[20], out[21] = rL * tx, rL * ty
+    out[24], out[25] = tx, ty
 
 
 @njit(cache=True, nogil=True)

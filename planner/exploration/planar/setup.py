@@ -8,8 +8,8 @@ import numpy as np
 
 from planner.errors import HapexError, InvalidParameter
 from planner.exploration.planar.heuristics import (
-    left_ik,
     best_margin_ik,
+    left_ik,
     start_grasp_candidates,
 )
 from planner.exploration.planar.objects import rest_height
