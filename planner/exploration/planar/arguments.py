@@ -11,11 +11,12 @@ from planner import checks
 from planner.errors import InvalidParameter
 from planner.exploration.planar.settings import GaitSettings
 
-#: the fingertips the executor is written for: (left, right) = the flat pad with the 8x8
-#: tactile array and the 2.5 cm soft round tip (``robots.planar_hand.params``). The map-space
-#: tools (``plan_gait``, ``start_reach``) take any tips; ``benchmarks/bench_gait_hands.py``
-#: measures what a round left tip would give.
-EXECUTOR_TIPS = ("flat", "round")
+#: the fingertips the executor runs, (left, right): the thesis' hand (the flat pad with the
+#: 8x8 tactile array and the 2.5 cm soft round tip, ``robots.planar_hand.params``), or a
+#: round left tip too (no tactile array: sensed like the right one, no pad strokes). The
+#: right finger is always round: phase 2 slides it along the object, which a pad's edges
+#: would catch.
+EXECUTOR_TIPS = (("flat", "round"), ("round", "round"))
 
 
 def _closed_profile(name: str, value: object, what: str) -> None:
@@ -70,11 +71,11 @@ def check_arguments(
             raise InvalidParameter(f"hand: expected a robots.planar_hand.PlanarHand or None, "
                                    f"got {type(hand).__name__}")  # fmt: skip
         tips = (hand.params.left.tip, hand.params.right.tip)
-        if tips != EXECUTOR_TIPS:
+        if tips not in EXECUTOR_TIPS:
             raise InvalidParameter(
-                f"hand: expected the left finger's flat pad and the right finger's round tip "
-                f"(the executor's planners, sensing and controllers are written for them: the "
-                f"thesis' hand), got a {tips[0]} left and a {tips[1]} right fingertip"
+                f"hand: expected a round right fingertip and a flat or round left one (the "
+                f"executor's planners, sensing and controllers are written for them), got a "
+                f"{tips[0]} left and a {tips[1]} right fingertip"
             )
     if not isinstance(use_prior, bool):
         raise InvalidParameter(f"use_prior: expected True or False, got {use_prior!r}")

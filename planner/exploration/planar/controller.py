@@ -240,6 +240,7 @@ def _constants(ctrl: GaitController, f_n_tip: int) -> np.ndarray:
     ks[ck.K_LIM_LO : ck.K_LIM_LO + 6] = ctrl.lim[:, 0]
     ks[ck.K_LIM_HI : ck.K_LIM_HI + 6] = ctrl.lim[:, 1]
     ks[ck.K_F_NT] = f_n_tip
+    ks[ck.K_RTIP_L] = ctrl.sensing.r_left
     return ks
 
 

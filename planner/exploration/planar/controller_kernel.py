@@ -60,7 +60,11 @@ K_USERVO, K_UTARGET, S_UINT = 65, 66, 67
 #: 1 once phase 1 took its rolling reference (``S_U0``, ``S_BETA0``) from its own first
 #: touching reading (0: not yet)
 S_REF = 68
-N_KS = 69
+#: radius of a round left tip [m] (0: the flat pad): its contact coordinate ``u`` is then an
+#: arclength on the tip (``s_L = u``; the pad's is ``s_L = -u``), it rolls with the
+#: effective radius ``r_L R / (r_L + R)`` and, exploring, is steered by its contact
+K_RTIP_L = 69
+N_KS = 70
 #: contact servo of the exploring pad: proportional gain [-], integral gain [1/s] and the
 #: largest orientation correction [rad] (:func:`_contact_servo`)
 USERVO_KP, USERVO_KI, USERVO_MAX = 0.5, 10.0, 0.2
@@ -155,7 +159,9 @@ def gait_kernel(  # pragma: no cover
     if kind == 1 and b[1] != 0.0:  # rolling integration (eq. 2.4)
         if ks[S_REF] == 0.0:  # from the phase's own first reading (see GaitController.start)
             ks[S_U0], ks[S_BETA0], ks[S_REF] = u, b[12], 1.0
-        ks[S_THETA] = ks[K_THETA0] + (b[12] - ks[S_BETA0]) - (u - ks[S_U0]) / R
+        # eq. (2.4): theta = dbeta_L + ds_L / R, with s_L = -u on the pad, +u on a round tip
+        sgn = 1.0 if ks[K_RTIP_L] > 0.0 else -1.0
+        ks[S_THETA] = ks[K_THETA0] + (b[12] - ks[S_BETA0]) + sgn * (u - ks[S_U0]) / R
     theta = ks[S_THETA]
     f_des = sv[V_FDES]
     h = 2 * int(ks[K_HOLDER])
@@ -179,10 +185,12 @@ def gait_kernel(  # pragma: no cover
         if kind == 1:
             w_des = sv[V_XD + 2] if sv[V_HAS_POSE] != 0.0 else 0.0
             # contact rates from pure rolling (eq. 2.4): ds = -d(phi - theta) / (k_f + k_o)
-            sdL = -R * (qd[0] + qd[1] + qd[2] - w_des)
+            rL = ks[K_RTIP_L]
+            sgn, kL = (1.0, rL * R / (rL + R)) if rL > 0.0 else (-1.0, R)
+            sdL = -kL * (qd[0] + qd[1] + qd[2] - w_des)
             sdR = -(r * R / (r + R)) * (qd[3] + qd[4] + qd[5] - w_des)
             g = (ks[K_ROLL_KP], ks[K_ROLL_KV], ks[K_ROLL_MAX])
-            m0 = _rolling_moment(-u, sdL, -u_des, 0.0, g[0], g[1], g[2])
+            m0 = _rolling_moment(sgn * u, sdL, sgn * u_des, 0.0, g[0], g[1], g[2])
             m1 = _rolling_moment(sR, sdR, sR_des, 0.0, g[0], g[1], g[2])
             kp = ks[K_HOLD_KP]
         # orientation of each grasping/holding fingertip along its planned path (phases
@@ -222,8 +230,8 @@ def _write_inputs(q, qd, b, sv, ks, inputs, kind, h, theta, f_cmd, m0, m1):  # p
         inputs[i], inputs[6 + i] = q[i], qd[i]
     for i in range(8):
         inputs[12 + i] = b[20 + i]
-    if kind == 3:  # the exploring pad is steered by its centre (it slides)
-        inputs[12], inputs[13] = 0.0, 0.0
+    if kind == 3 and ks[K_RTIP_L] == 0.0:  # the exploring pad is steered by its centre
+        inputs[12], inputs[13] = 0.0, 0.0  # (it slides); a round tip by its contact
     if sv[V_HAS_POSE] != 0.0:
         for i in range(6):
             inputs[20 + i] = sv[V_X + i]

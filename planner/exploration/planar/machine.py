@@ -191,9 +191,13 @@ class _Runner:
         self.sensed_features: list[float] = []  # object-frame angles of sensed bumps [rad]
         self.shape: ShapeTracker | None = None  # the posed nominal outline (non-round only)
         self.nlps: dict = {}  # the shape planner's NLPs, built at first use
+        # the pad's tactile strokes (corner probes, overlaps, back-strokes over features it
+        # slid across) need the flat pad; a round left tip explores like the right one
+        pad = not ctrl.sensing.r_left
         self.corner = (CornerProbe(hand.params.left.pad_half_width, len(ctrl.sensing.taxel_u))
-                       if s.corner_probe else None)  # fmt: skip
-        self.explored = ExploredOutline() if s.stroke_overlap else None
+                       if s.corner_probe and pad else None)  # fmt: skip
+        self.explored = ExploredOutline() if s.stroke_overlap and pad else None
+        self.backstrokes = s.sensed_features and pad
         self.prior: PriorTrack | None = None  # the map-space prior, indexed by pose
         self._posed = True  # the posed outline's fit at the phase start was used
         self._again = False  # the phase 2 being run repeats one planned from a rejected fit
@@ -430,7 +434,8 @@ class _Runner:
             rows = np.asarray(c.trace[n0:], dtype=float)
             if kind == 2:
                 cols = {k: rows[:, i] for i, k in enumerate(TRACE_NAMES)}
-                roll = pad_rolling(cols, self.ctrl.sensing.radius)
+                sens = self.ctrl.sensing
+                roll = pad_rolling(cols, sens.radius, round_tip=sens.r_left > 0.0)
                 self.theta += float(roll[-1] - roll[0])
             else:
                 self.theta -= (rows[-1, CX] - rows[0, CX]) / self.ctrl.sensing.radius
@@ -507,7 +512,7 @@ class _Runner:
         if self.corner is not None and self.shape is None and not self.records[-1].backstroke:
             rows = np.asarray(self.ctrl.trace[self._rows[0] : self._rows[1]], dtype=float)
             self.corner.observe(rows, self.ctrl.sensing.radius)
-        if self.s.sensed_features and not self.records[-1].backstroke:
+        if self.backstrokes and not self.records[-1].backstroke:
             self._via = phase_planning.feature_behind(self, event)
             if self._via is not None:
                 self.events.append({"t": self.world.time, "kind": "backstroke",

@@ -294,13 +294,16 @@ def held_pad_rolling(trace: dict, radius: float, edge: float = PAD_CENTROID_EDGE
     return _held(val, touch)
 
 
-def pad_rolling(trace: dict, radius: float) -> np.ndarray:
+def pad_rolling(trace: dict, radius: float, round_tip: bool = False) -> np.ndarray:
     """The rotation [rad] of an object of ``radius`` [m] rolling on the flat left pad, up to a
     constant, per trace row: ``beta_L - u / R`` (eq. 2.4; ``beta_L`` the unwrapped polar
     angle of the pad's contact about the sensed centre, ``u`` the contact's place on the
-    pad [m]); rows where the pad does not touch hold the last touching value."""
+    pad [m]; with ``round_tip`` a round left tip, ``u`` its contact's arclength from the
+    apex: ``beta_L + u / R``); rows where the tip does not touch hold the last touching
+    value."""
     b = np.unwrap(np.arctan2(trace["pLy"] - trace["cy"], trace["pLx"] - trace["cx"]))
-    return _held(b - np.asarray(trace["u"], float) / radius, np.asarray(trace["pad_touch"]) > 0)
+    s = np.asarray(trace["u"], float) * (1.0 if round_tip else -1.0)
+    return _held(b + s / radius, np.asarray(trace["pad_touch"]) > 0)
 
 
 def _held(val: np.ndarray, ok: np.ndarray) -> np.ndarray:

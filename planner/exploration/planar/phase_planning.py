@@ -257,10 +257,13 @@ def fit_radius(r, est, tip_radius: float) -> float:
     ... using a current estimate of the object curvature"): the circle tangent to the left
     pad at its sensed contact and touching the round right tip, ``|T - p + R n| = R + r``
     solved for ``R`` (``T`` tip centre, ``p``, ``n`` the pad's contact point and outward
-    normal, ``r`` the tip radius), clamped to ``RADIUS_FIT`` times the nominal one. On a
+    normal, ``r`` the tip radius), clamped to ``RADIUS_FIT`` times the nominal one; the
+    nominal radius with a round left tip (a circle of any radius touches both tips). On a
     non-circular object the nominal circle put the NLP's start out of reach of the fingers
     (solver failed at the start of the ellipse)."""
     R0 = r.R_nominal
+    if r.ctrl.sensing.r_left:  # two round tips: one circle per radius touches both
+        return R0
     d = est.tips[1] - est.p[0]
     den = 2.0 * (float(d @ est.n[0]) - tip_radius)
     if abs(den) < 1e-9 or not est.pad_touch:

@@ -212,7 +212,8 @@ def explore_segment(
     lead_end: bool = False,
 ):
     """The phase-2 (``kind`` 2: right explores) or phase-3 (left explores) segment that
-    moves the explorer's contact from its sensed angle to ``target_beta`` [rad];
+    moves the explorer's contact from its sensed angle to ``target_beta`` [rad] (a round
+    tip turned to the §2.2.3 orientation on the way, the flat pad lying on the outline);
     ``travel`` [rad] is the contact travel expected in the next phase 1 (for the
     orientation heuristic). ``via`` [rad] (phase 3 only): a back-stroke, to ``via`` and back
     to ``target_beta``, the pad's centre trailing its contact (:data:`EDGE_MARGIN`) so
@@ -241,12 +242,13 @@ def explore_segment(
     T = s.startup_time + T_move
     c = est.centre.copy()
     r = hand.params.right.tip_radius
-    if k == 1:
-        phi0 = float(q[3:6].sum())
+    if k == 1 or hand.params.left.tip == "round":
+        side = "right" if k == 1 else "left"
+        phi0 = float(q[3 * k : 3 * k + 3].sum())
         # §2.2.3: the orientation that keeps the finger farthest from its joint limits over
         # the new grasp and the next rotation (without it the right finger started phase 1
         # near its joint-1 stop and every rotation ended at its workspace limit after ~7 deg)
-        phi1 = regrasp_orientation(hand, c, radius, b1, travel)
+        phi1 = regrasp_orientation(hand, c, radius, b1, travel, finger=side)
         turn = math.atan2(math.sin(phi1 - phi0), math.cos(phi1 - phi0))
         phi1 = phi0 + float(np.clip(turn, -MAX_REORIENT, MAX_REORIENT))
 
