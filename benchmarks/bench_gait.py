@@ -126,11 +126,17 @@ def objects(quick: bool) -> list[BatchObject]:
     return out[::4] if quick else out
 
 
-def batch_hand(mu: float = 1.0):
-    """The gait's hand with friction ``mu`` [-] (``robots.planar_hand.gait_hand_params``)."""
+def batch_hand(mu: float = 1.0, left_tip: float | None = None):
+    """The gait's hand with friction ``mu`` [-] (``robots.planar_hand.gait_hand_params``);
+    with ``left_tip`` [m] a round left tip of that radius instead of the flat pad."""
+    from dataclasses import replace
+
     from robots.planar_hand import PlanarHand, gait_hand_params
 
-    return PlanarHand(gait_hand_params(mu))
+    p = gait_hand_params(mu)
+    if left_tip is not None:
+        p = replace(p, left=replace(p.left, tip="round", tip_radius=float(left_tip)))
+    return PlanarHand(p)
 
 
 def map_verdict(profile, hand, mu: float) -> tuple[bool, str]:
@@ -179,6 +185,7 @@ def run_object(
     map_space: bool = True,
     seed: int = 0,
     full_turn: float = 0.0,
+    left_tip: float | None = None,
 ) -> dict:
     """Execute one object (in a worker process); the batch row. ``nominal``: the planner's
     model, ``"circle"`` (a feature-less circle of the object's area) or ``"true"`` (the
@@ -191,11 +198,11 @@ def run_object(
     the same run goes on up to ``full_turn`` simulated seconds (or the full turn, or its
     failure); the verdict columns stay those at ``duration`` (the run is deterministic, so
     they are what a run of ``duration`` gives) and :func:`long_columns` adds how the longer
-    run ended."""
+    run ended. ``left_tip`` [m]: a round left tip of that radius (:func:`batch_hand`)."""
     from planner.exploration import explore_object
     from planner.exploration.planar.setup import check_fits
 
-    hand = batch_hand(mu)
+    hand = batch_hand(mu, left_tip)
     row = {"benchmark": "batch", "object": obj.name, "family": obj.family, "model": nominal,
            "seed": seed, "size_cm": obj.size_cm}  # fmt: skip
     if map_space:
@@ -399,7 +406,8 @@ def bench_batch(args) -> list[dict]:
     from planner.exploration import explore_object
     from planner.geometry import shapes
 
-    explore_object(shapes.circle(0.05), hand=batch_hand(), duration=0.05)  # warm-up, shared
+    tip = args.left_tip or None
+    explore_object(shapes.circle(0.05), hand=batch_hand(1.0, tip), duration=0.05)  # warm-up
     objs = interleaved(
         [
             o
@@ -410,7 +418,7 @@ def bench_batch(args) -> list[dict]:
     models = nominal_models(args.nominal)
     # map space once per object: with its first model's first seed
     tasks = [(o, args.duration, args.min_rotation, 1.0, m, args.phase_log,
-              m == models[0] and seed == 0, seed, args.full_turn)
+              m == models[0] and seed == 0, seed, args.full_turn, tip)
              for seed in range(args.seeds) for o in objs for m in models]  # fmt: skip
     rows = run_parallel(tasks, run_object, args.jobs, args.wall_cap, args.budget)
     first = {t[0].name: r for t, r in zip(tasks, rows, strict=True) if t[6]}
@@ -669,7 +677,12 @@ def main() -> None:
     )
     p.add_argument("--only", default="", help="comma-separated name/family substrings")
     p.add_argument("--phase-log", action="store_true", help="print every object's phases")
+    p.add_argument("--left-tip", type=float, default=0.0,
+                   help="a round left tip of this radius [m] instead of the flat pad (0: the "
+                   "pad); the report is then bench_gait_round_left")  # fmt: skip
     args = p.parse_args()
+    if args.left_tip < 0:
+        p.error(f"--left-tip: {args.left_tip:g}: expected a radius >= 0 [m]")
     try:
         nominal_models(args.nominal)  # a bad --nominal stops before any work
     except ValueError as exc:
@@ -697,7 +710,10 @@ def main() -> None:
            "run's): full_turn_s = when it had turned 360 deg, run_end = how it ended"
            if args.full_turn > args.duration else ""),
         f"hand: joint ranges {list(HAND_LOWER_DEG)} .. {list(HAND_UPPER_DEG)} deg (the "
-        "ball_with_ridge hand), mu = 1; regular polygons with sharp corners",
+        "ball_with_ridge hand), mu = 1, "
+        + (f"a round {1e3 * args.left_tip:g} mm left tip (no tactile array) instead of the "
+           "flat pad" if args.left_tip else "the flat left pad")
+        + "; regular polygons with sharp corners",
         "plan_gait: map space on the TRUE object (resolution 72, pure rolling, fixed "
         "contact model); rest_turn_deg / rest_blocking: the same map space searched "
         "exhaustively from the object resting unturned (every start grasp and handoff; "
@@ -727,7 +743,8 @@ def main() -> None:
             "full_turn_s", "run_turn_deg", "run_end",
             "ridge_error_deg", "agree", "plan_gait_reason", "rest_turn_deg",
             "rest_turn_reserve_deg", "rest_blocking"]  # fmt: skip
-    write_report("bench_gait", rows, title="hapex executed grasp gait (ch. 2, §2.3.1 batch)",
+    name = "bench_gait_round_left" if args.left_tip else "bench_gait"
+    write_report(name, rows, title="hapex executed grasp gait (ch. 2, §2.3.1 batch)",
                  out=args.out, notes=notes, columns=cols)  # fmt: skip
     for r in rows:
         if r.get("phase_log"):

@@ -139,3 +139,19 @@ def test_the_start_grasp_is_searched_with_the_planners_friction():
     assert math.degrees(beta(1.0, 1.0)[1]) == pytest.approx(15.0)
     with pytest.raises(InvalidParameter, match=r"does not fit.*mu 0\.08: the planner's mu 0\.1"):
         explore_object(DISC, mu=1.0, settings=GaitSettings(mu=0.1), duration=0.1)
+
+
+def test_a_round_left_tip_with_a_posed_outline_is_named():
+    """The posed-outline planner is written for the flat pad: a round left tip with a
+    non-round nominal is bad input naming ``nominal``; a round nominal passes."""
+    from dataclasses import replace
+
+    from robots.planar_hand import PlanarHand, gait_hand_params
+
+    p = gait_hand_params(1.0)
+    hand = PlanarHand(replace(p, left=replace(p.left, tip="round")))
+    square = shapes.rounded_rectangle(0.08, 0.08, 0.01)
+    with pytest.raises(InvalidParameter, match=r"^nominal: a hand with a round left tip "):
+        explore_object(square, hand=hand, mu=1.0, nominal=square, **OK)
+    check_arguments(square, hand, 1.0, shapes.circle(0.045), **OK)
+    check_arguments(square, PlanarHand(p), 1.0, square, **OK)  # the pad poses it
