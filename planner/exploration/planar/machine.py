@@ -72,7 +72,9 @@ def explore_object(
         hand: ``robots.planar_hand.PlanarHand`` (default: the gait's hand,
             ``robots.planar_hand.params.gait_hand_params``: flat left pad with the 8x8
             array, 2.5 cm round right tip, joint ranges widened from the thesis' 110 deg,
-            with which no circle keeps turning).
+            with which no circle keeps turning). A hand with a round left tip runs too
+            (no tactile array: sensed like the right tip, no pad strokes; a round
+            ``nominal`` only).
         mu: true friction coefficient of fingers, palm and object [-] (> 0).
         nominal: the planner's model of the object (a closed profile; default a feature-less
             circle of the object's area). A round one is used through its mean radius; a
@@ -97,7 +99,8 @@ def explore_object(
     Raises:
         InvalidParameter: bad arguments, named in the message (an open profile, mu <= 0, a
             negative seed, a duration shorter than one step, max_rotation <= 0, a wrong type
-            of hand / settings / on_progress, an object that does not fit the hand).
+            of hand / settings / on_progress, a hand whose right tip is not round, a round
+            left tip with a non-round nominal, an object that does not fit the hand).
     """
     wall0 = time.perf_counter()
     mu, seed, duration, max_rotation = check_arguments(
