@@ -116,6 +116,7 @@ def test_map_space_with_the_planning_friction_explains_a_disagreement(bench):
         (["--nominal", "sphere"], "--nominal: 'sphere': expected a comma-separated list"),
         (["--seeds", "0"], "--seeds: 0: expected at least 1"),
         (["--full-turn", "-1"], "--full-turn: -1: expected >= 0 simulated s"),
+        (["--left-tip", "-0.02"], "--left-tip: -0.02: expected a radius >= 0 [m]"),
     ],
 )
 def test_bad_arguments_are_usage_errors(args, message):
@@ -147,3 +148,14 @@ def test_turn_series_reads_the_clockwise_turn_at_any_time(bench):
     assert turns.at(9.0) == pytest.approx(400.0, abs=1e-6)
     cols = bench.long_columns(res, turns)
     assert cols == {"full_turn_s": 3.6, "run_end": "full turn", "run_turn_deg": 400.0}
+
+
+def test_the_batch_hand_takes_a_round_left_tip(bench):
+    """``--left-tip R``: the gait's hand with a round left tip of radius R, nothing else
+    changed."""
+    from dataclasses import replace
+
+    pad, tip = bench.batch_hand(0.9), bench.batch_hand(0.9, 0.02)
+    assert (tip.params.left.tip, tip.params.left.tip_radius) == ("round", 0.02)
+    assert tip.params == replace(pad.params, left=replace(pad.params.left, tip="round",
+                                                          tip_radius=0.02))  # fmt: skip
