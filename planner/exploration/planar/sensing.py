@@ -14,7 +14,12 @@ Here:
   and the palm (the object resting on the palm, ``c_y = R``);
 * object rotation during rolling (eq. 2.4 integrated): ``theta = Δbeta_L - Δu / R`` with
   ``beta_L = phi_L - pi/2`` the world angle of the pad contact;
-* strain gauges give the fingertip forces (applied on the object, WCS).
+* strain gauges give the fingertip forces (applied on the object, WCS);
+* a hand with a round left tip instead of the pad (no tactile array): both contacts lie on
+  their tips towards the estimated centre, which comes from both tips (the circle of radius
+  ``R`` tangent to them) while both press, else from a tip and the palm; ``u`` is the left
+  contact's arclength from its tip's apex and the rotation ``theta = Δbeta_L + Δu / R``
+  (:func:`_round_left`).
 
 The whole update is one compiled call (:func:`sense_kernel`, numba) writing into one flat
 buffer; the :class:`GraspEstimate`'s arrays are views of that buffer, so an update allocates
@@ -114,7 +119,7 @@ class GraspSensing:
     """Turns :class:`planner.sim.Observation` readings into a :class:`GraspEstimate`.
 
     Args:
-        hand: the ``robots.planar_hand.PlanarHand`` (flat left pad, round right tip).
+        hand: the ``robots.planar_hand.PlanarHand`` (flat or round left tip, round right).
         radius: the nominal object radius used by the estimate [m].
         tactile: the ``robots.sensors.TactileArray`` model (for reading images).
     """
