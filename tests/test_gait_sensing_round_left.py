@@ -82,3 +82,11 @@ def _lift(hand, q, centre):
         assert qk is not None
         out.append(qk)
     return np.r_[out[0], out[1]]
+
+
+def test_round_radius_is_the_round_tips_and_zero_for_the_pad(hand):
+    from robots.planar_hand import PlanarHand
+
+    assert hand.params.left.round_radius == RL
+    assert PlanarHand().params.left.round_radius == 0.0  # the flat pad
+    assert PlanarHand().params.right.round_radius == PlanarHand().params.right.tip_radius

@@ -168,8 +168,7 @@ class HandReachability:
 
     def tip_radius(self, finger: str) -> float:
         """Fingertip radius of a round tip (0 for a flat pad) [m]."""
-        f = self.hand.params.finger(finger)
-        return float(f.tip_radius) if f.tip == "round" else 0.0
+        return self.hand.params.finger(finger).round_radius
 
     def roll_length(self, finger: str) -> float:
         """Longest rolling travel of a contact over the fingertip in one phase [m]: the arc

@@ -146,7 +146,7 @@ class RollingNLP:
 
         # the left tip: the flat pad (None) or a round tip's radius [m]; with a round one
         # ``u`` is its contact's arclength from the apex [m], and the rolling term s_f = +u
-        rL = hand.params.left.tip_radius if hand.params.left.tip == "round" else None
+        rL = hand.params.left.round_radius or None
         self.left_round = rL is not None
         sgn = 1.0 if rL is None else -1.0
         cos_max = math.cos(self.max_tip_angle)

@@ -85,6 +85,11 @@ class FingerParams:
                 f"{self.tip_radius}, {self.pad_half_width}"
             )
 
+    @property
+    def round_radius(self) -> float:
+        """Radius of a round tip [m]; 0.0 for a flat pad."""
+        return float(self.tip_radius) if self.tip == "round" else 0.0
+
 
 @dataclass(frozen=True)
 class HandParams:

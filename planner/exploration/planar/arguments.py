@@ -26,14 +26,6 @@ def _closed_profile(name: str, value: object, what: str) -> None:
         )
 
 
-def _round(profile) -> bool:
-    """Whether the executor models ``profile`` as a circle (no posed outline)."""
-    from planner.exploration.planar.outline_pose import Outline
-    from planner.exploration.planar.shape_tracking import ROUND_TOL
-
-    return Outline.from_profile(profile).roundness() < ROUND_TOL
-
-
 def check_arguments(
     profile,
     hand,
@@ -85,7 +77,9 @@ def check_arguments(
                 f"executor's planners, sensing and controllers are written for them), got a "
                 f"{tips[0]} left and a {tips[1]} right fingertip"
             )
-        if tips[0] == "round" and nominal is not None and not _round(nominal):
+        from planner.exploration.planar.shape_tracking import is_round
+
+        if tips[0] == "round" and nominal is not None and not is_round(nominal):
             raise InvalidParameter(
                 "nominal: a hand with a round left tip runs with a round nominal model only "
                 "(the posed-outline planner is written for the flat pad), got a non-round "

@@ -17,6 +17,8 @@ import math
 
 import numpy as np
 
+from planner.errors import HapexError
+
 _CACHE: dict = {}
 
 
@@ -87,23 +89,16 @@ def pad_angle(beta: float, reference: float) -> float:
     return phi + 2 * math.pi * round((reference - phi) / (2 * math.pi))
 
 
-def left_tip_radius(hand) -> float | None:
-    """Radius [m] of the hand's round left tip, or None for the flat pad (the thesis' hand,
-    ``robots.planar_hand.params``)."""
-    left = hand.params.left
-    return float(left.tip_radius) if left.tip == "round" else None
-
-
 def left_ik(hand, point, beta: float, mid: float):
     """Left finger joints (3,) touching the contact ``point`` (2,) [m] of outward normal
     angle ``beta`` [rad] on the object: the flat pad lying on it (:func:`pad_angle`,
     unwrapped near ``mid``), or a round tip with the best joint margin whose centre is
     ``r_L`` out along the normal; None when unreachable."""
-    rL = left_tip_radius(hand)
-    if rL is None:
+    rL = hand.params.left.round_radius
+    if not rL:
         try:
             return hand.inverse_kinematics("left", point, angle=pad_angle(beta, mid))
-        except Exception:  # noqa: BLE001 - unreachable candidates are skipped
+        except HapexError:  # unreachable candidates are skipped
             return None
     n = np.array([math.cos(beta), math.sin(beta)])
     return best_margin_ik(hand, "left", np.asarray(point, float) + rL * n,
@@ -199,25 +194,21 @@ def tip_orientation(
     centres ``tip_centres`` (each (2,) [m]; the same orientation at each); the four-region
     preference at the first centre (clipped to the spread) when no orientation reaches them
     all (the §2.2.3 heuristic, :func:`regrasp_orientation` on a circle)."""
-    phis = apex + np.linspace(-spread, spread, n)
-    pts = [np.broadcast_to(np.asarray(p, float), (n, 2)) for p in tip_centres]
-    m = np.min([_reach_margin(hand, finger, p, phis) for p in pts], axis=0)
+    phis, m = _tip_margins(hand, finger, tip_centres, apex, spread, n)
     if not np.isfinite(m).any():
-        pref = preferred_orientation(hand, finger, pts[0][0])
+        pref = preferred_orientation(hand, finger, tip_centres[0])
         return apex + float(np.clip(math.remainder(pref - apex, 2 * math.pi), -spread, spread))
     return float(phis[int(np.argmax(m))])
 
 
-def _round_reach(hand, finger: str, centre, offset: float, betas, spread=0.5, n=61) -> float:
-    """The best (over orientations within ``spread`` [rad] of the apex at ``betas[0]``)
-    smallest joint-limit margin [rad] of a round tip whose centre visits
-    ``centre + offset n(beta)`` for each of ``betas`` [rad]; ``-inf`` if unreachable."""
-    phis = betas[0] + 0.5 * math.pi + np.linspace(-spread, spread, n)
-    m = np.full(n, np.inf)
-    for b in betas:
-        p = np.asarray(centre, float) + offset * np.array([math.cos(b), math.sin(b)])
-        m = np.minimum(m, _reach_margin(hand, finger, np.broadcast_to(p, (n, 2)), phis))
-    return float(m.max())
+def _tip_margins(hand, finger: str, tip_centres, apex: float, spread: float, n: int):
+    """``(phis, margins)``: ``n`` orientations [rad] within ``spread`` of ``apex`` and, for
+    each, the smallest joint-limit margin [rad] of the round tip of ``finger`` over the tip
+    centres ``tip_centres`` (each (2,) [m]) held at that orientation (``-inf``:
+    unreachable)."""
+    phis = apex + np.linspace(-spread, spread, n)
+    pts = [np.broadcast_to(np.asarray(p, float), (n, 2)) for p in tip_centres]
+    return phis, np.min([_reach_margin(hand, finger, p, phis) for p in pts], axis=0)
 
 
 def stable_pair(beta_left: float, beta_right: float, mu: float, margin: float) -> float:
@@ -241,7 +232,7 @@ def regrasp_left_angle(
     a higher contact also lets the pad carry more of the object's weight by friction.
     """
     c = np.asarray(centre, float)
-    rL = left_tip_radius(hand)
+    rL = hand.params.left.round_radius
     cand = np.deg2rad(np.arange(120.0, 180.5, 2.5))
     best, arg = -np.inf, None
     mid = float(hand.finger_limits("left").sum(axis=0).mean())
@@ -250,12 +241,14 @@ def regrasp_left_angle(
         if stab < 0:
             continue
         bb = np.array([b, b - travel])
-        if rL is None:
+        if not rL:
             pts = c + radius * np.column_stack([np.cos(bb), np.sin(bb)])
             phis = np.array([pad_angle(x, mid) for x in bb])
             reach = float(_reach_margin(hand, "left", pts, phis).min())
         else:  # a round tip: its best orientation near the apex for both points
-            reach = _round_reach(hand, "left", c, radius + rL, bb)
+            centres = c + (radius + rL) * np.column_stack([np.cos(bb), np.sin(bb)])
+            _, m = _tip_margins(hand, "left", centres, b + 0.5 * math.pi, 0.5, 61)
+            reach = float(m.max())
         score = min(reach, stab)
         if score > best:
             best, arg = score, float(b)
@@ -266,7 +259,6 @@ __all__ = [
     "best_margin_ik",
     "four_region_orientations",
     "left_ik",
-    "left_tip_radius",
     "pad_angle",
     "preferred_orientation",
     "regrasp_left_angle",

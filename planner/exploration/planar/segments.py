@@ -242,7 +242,7 @@ def explore_segment(
     T = s.startup_time + T_move
     c = est.centre.copy()
     r = hand.params.right.tip_radius
-    if k == 1 or hand.params.left.tip == "round":
+    if k == 1 or hand.params.left.round_radius:
         side = "right" if k == 1 else "left"
         phi0 = float(q[3 * k : 3 * k + 3].sum())
         # §2.2.3: the orientation that keeps the finger farthest from its joint limits over

@@ -136,9 +136,8 @@ class GraspSensing:
             for f in (hand.params.left, hand.params.right)
         )
         (bl, ll), (br, lr) = self._geom
-        left = hand.params.left
         #: radius of a round left tip [m] (0: the flat pad)
-        self.r_left = float(left.tip_radius) if left.tip == "round" else 0.0
+        self.r_left = hand.params.left.round_radius
         self.geo = np.array(
             [*bl, *ll, *br, *lr, self.radius, self.r, self.array.pitch**2, TOUCH_FORCE,
              self.r_left]
@@ -242,7 +241,7 @@ def sense_kernel(q, forces, image, has_image, source, geo, taxel_u, out):  # pra
     R, r = geo[_G_R], geo[_G_TIP_R]
     rL = geo[_G_TIP_L]
     if rL > 0.0:
-        _round_left(q, forces, source, geo, out, tLx, tLy, tRx, tRy)
+        _round_left(forces, source, geo, out, tLx, tLy, tRx, tRy)
         return
     u = out[B_U]
     cL, sL = math.cos(out[32]), math.sin(out[32])
@@ -291,7 +290,14 @@ def _palm_centre(tx, ty, offset, R, side):  # pragma: no cover
 
 
 @njit(cache=True, nogil=True)
-def _round_left(q, forces, source, geo, out, tLx, tLy, tRx, tRy):  # pragma: no cover
+def _presses(fx, fy, dx, dy, threshold):  # pragma: no cover
+    """Whether the force ``f`` on the object [N] has more than ``threshold`` [N] along the
+    direction ``d`` from the tip to the object's centre."""
+    return fx * dx + fy * dy >= threshold * max(math.hypot(dx, dy), 1e-12)
+
+
+@njit(cache=True, nogil=True)
+def _round_left(forces, source, geo, out, tLx, tLy, tRx, tRy):  # pragma: no cover
     """:func:`sense_kernel` for a round left tip of radius ``rL`` (no tactile array): the
     contact lies on each tip towards the estimated centre, the centre from the left tip and
     the palm (``source`` 1), the right tip and the palm (2) or, while both tips press
@@ -304,17 +310,9 @@ def _round_left(q, forces, source, geo, out, tLx, tLy, tRx, tRy):  # pragma: no 
     px, py = out[10], out[11]
     if py == 0.0:  # no estimate yet: the object on the palm at the right tip
         px, py = _palm_centre(tRx, tRy, b, R, -1.0)
-    touch = True
-    for k in range(2):  # pressing: force on the object towards the last centre
-        tx, ty = (tLx, tLy) if k == 0 else (tRx, tRy)
-        dx, dy = px - tx, py - ty
-        norm = max(math.hypot(dx, dy), 1e-12)
-        if forces[k, 0] * dx / norm + forces[k, 1] * dy / norm < geo[_G_TOUCH]:
-            if k == 0:
-                out[B_TOUCH] = 0.0
-            touch = False
-        elif k == 0:
-            out[B_TOUCH] = 1.0
+    left = _presses(forces[0, 0], forces[0, 1], px - tLx, py - tLy, geo[_G_TOUCH])
+    touch = left and _presses(forces[1, 0], forces[1, 1], px - tRx, py - tRy, geo[_G_TOUCH])
+    out[B_TOUCH] = 1.0 if left else 0.0
     if source == 1:
         cx, cy = _palm_centre(tLx, tLy, a, R, 1.0)
     elif source == 2 or not touch:

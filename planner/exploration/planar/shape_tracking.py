@@ -60,6 +60,17 @@ FACE_MARGIN = 0.002
 PALM_POINTS = 16
 
 
+def is_round(profile) -> bool:
+    """Whether the executor models the closed ``profile`` as a circle (its roundness below
+    :data:`ROUND_TOL`): a round nominal is used through its mean radius, any other one is
+    posed (:meth:`ShapeTracker.of`)."""
+    return _round(Outline.from_profile(profile))
+
+
+def _round(outline: Outline) -> bool:
+    return outline.roundness() < ROUND_TOL
+
+
 class ShapeTracker:
     """The posed nominal outline (module docstring).
 
@@ -94,7 +105,7 @@ class ShapeTracker:
         from planner.exploration.planar.objects import rest_height
 
         outline = Outline.from_profile(nominal)
-        if outline.roundness() < ROUND_TOL:
+        if _round(outline):
             return None
         return cls(outline, (0.0, rest_height(nominal), 0.0), hand, pad_u_max)
 
@@ -305,4 +316,4 @@ class ShapeTracker:
         return P
 
 
-__all__ = ["PALM_POINTS", "ROUND_TOL", "ShapeTracker"]
+__all__ = ["PALM_POINTS", "ROUND_TOL", "ShapeTracker", "is_round"]
