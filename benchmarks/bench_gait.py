@@ -129,14 +129,9 @@ def objects(quick: bool) -> list[BatchObject]:
 def batch_hand(mu: float = 1.0, left_tip: float | None = None):
     """The gait's hand with friction ``mu`` [-] (``robots.planar_hand.gait_hand_params``);
     with ``left_tip`` [m] a round left tip of that radius instead of the flat pad."""
-    from dataclasses import replace
-
     from robots.planar_hand import PlanarHand, gait_hand_params
 
-    p = gait_hand_params(mu)
-    if left_tip is not None:
-        p = replace(p, left=replace(p.left, tip="round", tip_radius=float(left_tip)))
-    return PlanarHand(p)
+    return PlanarHand(gait_hand_params(mu, left_tip))
 
 
 def map_verdict(profile, hand, mu: float) -> tuple[bool, str]:

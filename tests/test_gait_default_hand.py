@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -41,6 +42,26 @@ def test_ranged_hand_rejects_bad_ranges_and_friction():
         ranged_hand_params((10.0, 0.0, 0.0), (5.0, 90.0, 90.0))
     with pytest.raises(InvalidParameter, match="3 pairs"):
         ranged_hand_params((0.0, 0.0), (90.0, 90.0, 90.0))
+
+
+def test_a_round_left_tip_changes_the_left_tip_only():
+    """``left_tip_radius``: the same hand with a round left tip of that radius (the pad's
+    joint ranges, base and links kept); the scenario's ``hand.left_tip_radius`` builds it."""
+    pad = ranged_hand_params((-30.0, 5.0, -20.0), (80.0, 140.0, 120.0), 0.7)
+    tip = ranged_hand_params((-30.0, 5.0, -20.0), (80.0, 140.0, 120.0), 0.7, 0.015)
+    assert (tip.left.tip, tip.left.tip_radius, tip.left.round_radius) == ("round", 0.015, 0.015)
+    assert pad.left.round_radius == 0.0
+    assert tip == replace(pad, left=replace(pad.left, tip="round", tip_radius=0.015))
+    assert gait_hand_params(1.0, 0.025) == replace(
+        gait_hand_params(1.0), left=replace(gait_hand_params(1.0).left, tip="round")
+    )
+    assert (
+        HandConfig(left_tip_radius=0.02).hand(1.0).params
+        == PlanarHand(gait_hand_params(1.0, 0.02)).params
+    )
+    for bad in (0.0, -0.01, float("nan")):
+        with pytest.raises(InvalidParameter, match="left_tip_radius"):
+            gait_hand_params(1.0, bad)
 
 
 def test_scenario_default_and_library_default_are_the_gait_hand():

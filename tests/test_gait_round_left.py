@@ -6,7 +6,6 @@ tips, phases 2/3 hold it and move one tip each."""
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 
 import pytest
 
@@ -19,8 +18,7 @@ from planner.geometry import shapes
 def run():
     from robots.planar_hand import PlanarHand, gait_hand_params
 
-    p = gait_hand_params(1.0)
-    hand = PlanarHand(replace(p, left=replace(p.left, tip="round", tip_radius=0.025)))
+    hand = PlanarHand(gait_hand_params(1.0, left_tip_radius=0.025))
     return explore_object(shapes.circle(0.05), hand=hand, mu=1.0, duration=4.0,
                           settings=GaitSettings(mu=1.0), use_prior=False)  # fmt: skip
 

@@ -6,7 +6,6 @@ exact grasp of a circle placed by the start-grasp search."""
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 from types import SimpleNamespace
 
 import numpy as np
@@ -22,8 +21,7 @@ R, RL = 0.05, 0.025
 def hand():
     from robots.planar_hand import PlanarHand, gait_hand_params
 
-    p = gait_hand_params()
-    return PlanarHand(replace(p, left=replace(p.left, tip="round", tip_radius=RL)))
+    return PlanarHand(gait_hand_params(left_tip_radius=RL))
 
 
 def _obs(q, press=(1.0, 1.0), centre=(0.0, R), hand=None):

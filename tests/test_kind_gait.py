@@ -34,10 +34,15 @@ CIRCLE = "kind: gait\nobject:\n  shape: circle\n  radius: 0.05\n"  # fits the ha
         (CIRCLE + "hand:\n  joint_lower_deg: [10, 0, -10]\n  joint_upper_deg: [5, 110, 100]\n",
          "hand", "lower < upper"),
         (CIRCLE + "stroke_overlap: maybe\n", "stroke_overlap", "valid boolean"),
+        (CIRCLE + "hand:\n  left_tip_radius: 0.2\n", "hand.left_tip_radius",
+         "less than or equal to 0.05"),
+        (CIRCLE + "hand:\n  left_tip_radius: 0.025\nnominal:\n  shape: rounded_rectangle\n"
+         "  width: 0.08\n  height: 0.08\n  corner_radius: 0.01\n", "nominal",
+         "round nominal model only"),
     ],
     ids=["unknown-object", "unknown-nominal", "mu-zero", "mu-negative", "too-big",
          "too-small", "gain-negative", "gain-too-high", "damping-negative", "hold-force",
-         "joint-range", "switch-not-bool"],
+         "joint-range", "switch-not-bool", "left-tip-too-big", "round-left-outline-model"],
 )  # fmt: skip
 def test_bad_input_exits_2_with_key_path_and_writes_nothing(cli, tmp_path, text, key, words):
     scenario = tmp_path / "bad.yaml"
@@ -79,6 +84,24 @@ def test_quick_run_writes_the_figures_and_a_gif(cli, tmp_path):
         assert key in m
     assert m["true_features"] >= 2  # the ridge's two edges are curvature features
     assert doc["timings_s"]["animation"] > 0
+    assert m["left_tip_radius_m"] is None  # the flat pad
+
+
+def test_a_round_left_tip_runs_from_the_scenario(cli, tmp_path):
+    """``hand.left_tip_radius``: the gait runs with a round left tip (no tactile array, so no
+    tactile images), the run says which tip it had, and the figures draw it."""
+    out = tmp_path / "run"
+    proc = cli("run", "scenarios/ball_with_ridge.yaml", "--quick", "--out", str(out),
+               "--set", "hand.left_tip_radius=0.025")  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    doc = json.loads((out / "result.json").read_text())
+    assert doc["status"] == "ok", doc["reason"]
+    m = doc["metrics"]
+    assert m["left_tip_radius_m"] == 0.025
+    assert m["phases"] >= 1 and abs(m["rotation_deg"]) > 5.0
+    with np.load(out / "trajectory.npz") as z:
+        assert z["trace/images"].shape[0] == 0
+    assert (out / "plots" / "snapshots.png").stat().st_size > 0
 
 
 @pytest.fixture(scope="module")

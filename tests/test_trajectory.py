@@ -222,12 +222,9 @@ def test_tip_frames_match_the_hand_forward_kinematics():
 
 
 def _round_left_hand(radius=0.025):
-    from dataclasses import replace
-
     from robots.planar_hand.params import gait_hand_params
 
-    p = gait_hand_params(1.0)
-    return PlanarHand(replace(p, left=replace(p.left, tip="round", tip_radius=radius)))
+    return PlanarHand(gait_hand_params(1.0, left_tip_radius=radius))
 
 
 @pytest.mark.parametrize("rL", [0.025, 0.015])

@@ -31,6 +31,8 @@ def report(config, ctx, res, profile, duration: float, hand, noise_seed: int | N
     metrics["coverage_explorer_only"] = _explorer_coverage(res, profile)
     if noise_seed is not None:
         metrics["noise_seed"] = int(noise_seed)
+    # the left fingertip that ran: null for the flat pad, else the round tip's radius [m]
+    metrics["left_tip_radius_m"] = hand.params.left.round_radius or None
     if ridge is not None:
         metrics.update(_ridge_coverage(config, res, profile, hand))
     arrays = {f"log/{k}": v for k, v in res.log.arrays().items() if k != "pairs"}
@@ -65,9 +67,9 @@ def _explorer_coverage(res, profile) -> float:
 def _ridge_coverage(config, res, profile, hand) -> dict:
     """The untouched cells beside the ridge and the coverage outside its shadows
     (:func:`planner.exploration.planar.metrics.ridge_coverage`): the part of each side that
-    neither the round right tip nor the pad touching with its middle can reach (the
-    smaller of the two shadows), and ``ridge_probe_shadow_deg``: what the corner probe
-    leaves beside the far wall (:mod:`planner.exploration.planar.corner_probe`, its
+    neither the round right tip nor the pad touching with its middle (or a round left tip)
+    can reach (the smaller of the two shadows), and ``ridge_probe_shadow_deg``: what the
+    corner probe leaves beside the far wall (:mod:`planner.exploration.planar.corner_probe`, its
     contact :data:`~planner.exploration.planar.corner_probe.PROBE_EDGE` behind the pad's
     end: 2.9 deg on the 10 cm ball)."""
     from planner.exploration.planar.corner_probe import PROBE_EDGE
@@ -80,8 +82,10 @@ def _ridge_coverage(config, res, profile, hand) -> dict:
 
     o = config.object
     R = o.radius
-    shadow = min(round_tip_shadow(R, o.ridge_height, hand.params.right.tip_radius),
-                 pad_shadow(R, o.ridge_height, hand.params.left.pad_half_width))  # fmt: skip
+    left = hand.params.left
+    left_shadow = (round_tip_shadow(R, o.ridge_height, left.round_radius) if left.round_radius
+                   else pad_shadow(R, o.ridge_height, left.pad_half_width))  # fmt: skip
+    shadow = min(round_tip_shadow(R, o.ridge_height, hand.params.right.tip_radius), left_shadow)
     mask = coverage_mask(res.log, "object", profile)
     out = ridge_coverage(mask, math.radians(o.ridge_angle_deg), o.ridge_width / (2 * R), shadow)
     found = {f"ridge_{k}" if not k.startswith("coverage") else k: v for k, v in out.items()}

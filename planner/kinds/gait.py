@@ -37,6 +37,8 @@ Keys (SI units)::
     hand:                        # joint ranges of the RIGHT finger (the left one mirrors it)
       joint_lower_deg: [-40, 0, -10]
       joint_upper_deg: [90, 150, 130]   # the gait's hand (the thesis' fingers: [70, 110, 100])
+      left_tip_radius: null      # [m] a round left tip (e.g. 0.025, the right one's) instead
+                                 # of the flat pad; with a round (or no) nominal model only
     gains: {...}                 # see GainsConfig
     rolling: {amplitude: 0.003, period: 1.0}   # explicit_rolling only
     output: {animation: false}   # true: plots/animation.gif (+ the usual plots/formats/dpi)
@@ -44,7 +46,8 @@ Keys (SI units)::
 Outputs: ``result.json`` metrics (phases, transitions_4, rotation_deg, coverage,
 min_epsilon, slip_distance_m, explore_force_rms_error_N, internal_force_rms_error_N,
 features found vs the true features with angle errors, real_time_factor, NLP and control-step
-timings, last_phase, noise_seed: the seed ``explore_object`` got), ``phases.json``,
+timings, last_phase, noise_seed: the seed ``explore_object`` got, left_tip_radius_m: null
+for the flat pad), ``phases.json``,
 ``trajectory.npz`` (the simulator log ``log/*`` and the controller's sensed series
 ``trace/*``), plots ``snapshots`` (Fig. 2.12), ``forces`` (Fig. 2.14), ``contacts``
 (Fig. 2.10), ``timeline``, and ``plots/animation.gif``.
@@ -132,7 +135,10 @@ class GainsConfig(StrictModel):
 
 
 class HandConfig(StrictModel):
-    """Joint ranges of the two-finger hand (right finger; the left finger mirrors them).
+    """Joint ranges of the two-finger hand (right finger; the left finger mirrors them) and
+    its left fingertip: the flat pad with the 8x8 tactile array (default, the thesis' hand)
+    or a round tip of ``left_tip_radius`` [m] (no tactile array: its contact is sensed like
+    the right tip's; §2.3.2 found the flat-and-round pair "fairly restrictive").
 
     The default is the gait's hand (``robots.planar_hand.params.GAIT_LOWER_DEG`` ..
     ``GAIT_UPPER_DEG``). The thesis' fingers had about 110 deg per joint
@@ -144,6 +150,10 @@ class HandConfig(StrictModel):
     # would load Pinocchio on every CLI start (tests/test_gait_default_hand.py checks they agree)
     joint_lower_deg: tuple[float, float, float] = Field((-40.0, 0.0, -10.0))
     joint_upper_deg: tuple[float, float, float] = Field((90.0, 150.0, 130.0))
+    left_tip_radius: float | None = Field(
+        None, ge=0.005, le=0.05,
+        description="round left tip [m] (null: the flat pad with the 8x8 tactile array)",
+    )  # fmt: skip
 
     @model_validator(mode="after")
     def _ranges(self):
@@ -160,7 +170,10 @@ class HandConfig(StrictModel):
         from robots.planar_hand import PlanarHand
         from robots.planar_hand.params import ranged_hand_params
 
-        return PlanarHand(ranged_hand_params(self.joint_lower_deg, self.joint_upper_deg, mu))
+        params = ranged_hand_params(
+            self.joint_lower_deg, self.joint_upper_deg, mu, self.left_tip_radius
+        )
+        return PlanarHand(params)
 
 
 class RollingConfig(StrictModel):
@@ -210,8 +223,16 @@ class Config(ScenarioBase):
 
     @model_validator(mode="after")
     def _fits(self):
+        from planner.errors import InvalidParameter
+        from planner.exploration.planar.arguments import check_tips
         from planner.exploration.planar.setup import check_fits
 
+        tip = "flat" if self.hand.left_tip_radius is None else "round"
+        nominal = None if self.nominal is None else self.nominal.profile()
+        try:
+            check_tips(tip, "round", nominal)
+        except InvalidParameter as err:
+            raise ValueError(str(err)) from None
         why = check_fits(self.object.profile(), self.mu, hand=self.hand.hand(self.mu))
         if why:
             raise ValueError(f"object: {why}")

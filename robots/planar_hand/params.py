@@ -157,17 +157,34 @@ GAIT_LOWER_DEG = (-40.0, 0.0, -10.0)
 GAIT_UPPER_DEG = (90.0, 150.0, 130.0)
 
 
-def ranged_hand_params(lower_deg, upper_deg, friction: float = 1.0) -> HandParams:
+def ranged_hand_params(
+    lower_deg, upper_deg, friction: float = 1.0, left_tip_radius: float | None = None
+) -> HandParams:
     """The default fingers with the right finger's joint ranges ``lower_deg``..``upper_deg``
-    [deg] (3 each; the left finger mirrors them) and ``friction`` [-]."""
+    [deg] (3 each; the left finger mirrors them) and ``friction`` [-].
+
+    ``left_tip_radius`` [m]: None for the default flat left pad (with the 8x8 tactile
+    array), else a round left tip of that radius (§2.3.2's alternative: the right tip's
+    2.5 cm, or the curved 1.5 cm tip the thesis wished for).
+
+    Raises:
+        InvalidParameter: a negative friction or a non-positive ``left_tip_radius``.
+    """
     friction = checks.nonnegative("friction", friction)
     lo = tuple(float(np.deg2rad(v)) for v in lower_deg)
     hi = tuple(float(np.deg2rad(v)) for v in upper_deg)
     right = replace(default_finger("right"), lower=lo, upper=hi)
-    left = replace(default_finger("left"), lower=tuple(-v for v in hi), upper=tuple(-v for v in lo))
+    if left_tip_radius is None:
+        left = default_finger("left")
+    else:
+        radius = checks.positive("left_tip_radius", left_tip_radius, "m")
+        left = default_finger("left", tip="round", tip_radius=radius)
+    left = replace(left, lower=tuple(-v for v in hi), upper=tuple(-v for v in lo))
     return HandParams(left=left, right=right, friction=float(friction))
 
 
-def gait_hand_params(friction: float = 1.0) -> HandParams:
-    """The hand of the executed grasp gait (``GAIT_LOWER_DEG``..``GAIT_UPPER_DEG``)."""
-    return ranged_hand_params(GAIT_LOWER_DEG, GAIT_UPPER_DEG, friction)
+def gait_hand_params(friction: float = 1.0, left_tip_radius: float | None = None) -> HandParams:
+    """The hand of the executed grasp gait (``GAIT_LOWER_DEG``..``GAIT_UPPER_DEG``); with
+    ``left_tip_radius`` [m] a round left tip instead of the flat pad
+    (:func:`ranged_hand_params`)."""
+    return ranged_hand_params(GAIT_LOWER_DEG, GAIT_UPPER_DEG, friction, left_tip_radius)

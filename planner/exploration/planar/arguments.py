@@ -26,6 +26,31 @@ def _closed_profile(name: str, value: object, what: str) -> None:
         )
 
 
+def check_tips(left: str, right: str, nominal) -> None:
+    """Whether the executor runs a hand whose fingertips are ``left`` and ``right``
+    (``"flat"`` / ``"round"``, :data:`EXECUTOR_TIPS`) with the planner's model ``nominal``
+    (a closed Profile, or None for a circle of the object's area): a round left tip runs
+    with a round model only (the posed-outline planner is written for the flat pad).
+
+    Raises:
+        InvalidParameter: naming ``hand`` (tips the executor does not run) or ``nominal``.
+    """
+    if (left, right) not in EXECUTOR_TIPS:
+        raise InvalidParameter(
+            f"hand: expected a round right fingertip and a flat or round left one (the "
+            f"executor's planners, sensing and controllers are written for them), got a "
+            f"{left} left and a {right} right fingertip"
+        )
+    from planner.exploration.planar.shape_tracking import is_round
+
+    if left == "round" and nominal is not None and not is_round(nominal):
+        raise InvalidParameter(
+            "nominal: a hand with a round left tip runs with a round nominal model only "
+            "(the posed-outline planner is written for the flat pad), got a non-round "
+            "profile; pass None for a circle of the object's area"
+        )
+
+
 def check_arguments(
     profile,
     hand,
@@ -70,21 +95,7 @@ def check_arguments(
         if not isinstance(hand, PlanarHand):
             raise InvalidParameter(f"hand: expected a robots.planar_hand.PlanarHand or None, "
                                    f"got {type(hand).__name__}")  # fmt: skip
-        tips = (hand.params.left.tip, hand.params.right.tip)
-        if tips not in EXECUTOR_TIPS:
-            raise InvalidParameter(
-                f"hand: expected a round right fingertip and a flat or round left one (the "
-                f"executor's planners, sensing and controllers are written for them), got a "
-                f"{tips[0]} left and a {tips[1]} right fingertip"
-            )
-        from planner.exploration.planar.shape_tracking import is_round
-
-        if tips[0] == "round" and nominal is not None and not is_round(nominal):
-            raise InvalidParameter(
-                "nominal: a hand with a round left tip runs with a round nominal model only "
-                "(the posed-outline planner is written for the flat pad), got a non-round "
-                "profile; pass None for a circle of the object's area"
-            )
+        check_tips(hand.params.left.tip, hand.params.right.tip, nominal)
     if not isinstance(use_prior, bool):
         raise InvalidParameter(f"use_prior: expected True or False, got {use_prior!r}")
     if on_progress is not None and not callable(on_progress):
@@ -92,4 +103,4 @@ def check_arguments(
     return mu, seed, duration, max_rotation
 
 
-__all__ = ["check_arguments"]
+__all__ = ["EXECUTOR_TIPS", "check_arguments", "check_tips"]
