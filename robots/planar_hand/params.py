@@ -168,7 +168,8 @@ def ranged_hand_params(
     2.5 cm, or the curved 1.5 cm tip the thesis wished for).
 
     Raises:
-        InvalidParameter: a negative friction or a non-positive ``left_tip_radius``.
+        InvalidParameter: a negative friction, a non-positive ``left_tip_radius``, or ranges
+            that are not 3 pairs of ``lower < upper`` (checked by :class:`FingerParams`).
     """
     friction = checks.nonnegative("friction", friction)
     lo = tuple(float(np.deg2rad(v)) for v in lower_deg)
