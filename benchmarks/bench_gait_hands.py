@@ -88,11 +88,9 @@ class HandSpec:
 
         lower = (self.joint1[0], *GAIT_LOWER_DEG[1:])
         upper = (self.joint1[1], *GAIT_UPPER_DEG[1:])
-        p = ranged_hand_params(lower, upper, mu)
+        p = ranged_hand_params(lower, upper, mu, self.left_radius)
         right, left = p.right, p.left
         lengths = (self.link1, *right.lengths[1:])
-        if self.left_radius is not None:
-            left = replace(left, tip="round", tip_radius=self.left_radius)
         return PlanarHand(replace(
             p,
             right=replace(right, base=(self.base_x, 0.0), lengths=lengths),
