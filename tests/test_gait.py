@@ -392,3 +392,16 @@ def test_phase_record_names_of_the_issue():
                       planned_rotation=0.0, event="workspace limit")  # fmt: skip
     assert (rec.start_time, rec.end_time, rec.end_event) == (1.25, 2.0, "workspace limit")
     assert rec.duration == pytest.approx(0.75)
+
+
+def test_regrasp_orientation_refuses_a_pad_and_unknown_fingers():
+    """The heuristic orients a round tip: the default hand's left pad and a finger name that
+    is neither side are bad input, named."""
+    from planner.errors import InvalidParameter
+    from planner.exploration.planar.heuristics import regrasp_orientation
+
+    hand, c, R = _ball_hand(), np.array([0.0, 0.05]), 0.05
+    with pytest.raises(InvalidParameter, match="flat pad"):
+        regrasp_orientation(hand, c, R, math.radians(150), math.radians(20), finger="left")
+    with pytest.raises(InvalidParameter, match="'left' or 'right'"):
+        regrasp_orientation(hand, c, R, math.radians(24), math.radians(20), finger="thumb")

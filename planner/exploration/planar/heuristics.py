@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from planner.errors import HapexError
+from planner.errors import HapexError, InvalidParameter
 
 _CACHE: dict = {}
 
@@ -177,8 +177,15 @@ def regrasp_orientation(
     clockwise; in rolling on a circle of radius ~2 r the tip keeps its orientation to within
     a few degrees, so the same orientation is checked there). Falls back to the four-region
     preference when no orientation reaches both points.
+
+    Raises:
+        InvalidParameter: ``finger`` is not "left" or "right", or that finger has a flat pad.
     """
-    r = getattr(hand.params, finger).tip_radius
+    if finger not in ("left", "right"):
+        raise InvalidParameter(f"finger: must be 'left' or 'right', got {finger!r}")
+    r = getattr(hand.params, finger).round_radius
+    if r <= 0.0:
+        raise InvalidParameter(f"finger: the {finger} finger has a flat pad, not a round tip")
     c = np.asarray(centre, float)
     centres = [c + (radius + r) * np.array([math.cos(b), math.sin(b)])
                for b in (beta, beta - travel)]  # fmt: skip
