@@ -242,24 +242,37 @@ def test_a_phase_cut_by_the_duration_is_not_judged():
 
 def test_a_symptom_ending_names_what_last_blocked_the_gait():
     """A gait ending on a lost contact (or a dropped object, a simulator fault) says what
-    its planners last found blocking: the latest ``no_plan`` event naming a constraint
-    (the one in parentheses of the posed-outline planner's too); nothing from an event
-    whose check found none, or from other events."""
+    its planners last found blocking: the latest ``no_plan`` event naming a constraint;
+    nothing from an event whose check found none, or from other events."""
     from types import SimpleNamespace
 
-    from planner.exploration.planar import phase_planning
     from planner.exploration.planar.machine import _Runner
 
     def ended(*events):
         return _Runner._last_blocked(SimpleNamespace(events=list(events)))
 
-    fc = "phase-1 NLP: solver failed; blocking: force closure (contact line 5 deg outside x)"
-    old = {"t": 0.5, "kind": "no_plan", "phase": 1, "message": "y (blocking: workspace)"}
-    new = {"t": 1.086, "kind": "no_plan", "phase": 1, "message": fc}
-    end = {"t": 2.0, "kind": "phase_end", "phase": 1, "message": "blocking: reach (z)"}
-    assert ended(old, new, end) == (
-        " (last blocked at 1.09 s: blocking: force closure (contact line 5 deg outside x))"
-    )
+    fc = "blocking: force closure (contact line 5 deg outside x)"
+    old = {"t": 0.5, "kind": "no_plan", "phase": 1, "blocking": "blocking: workspace"}
+    new = {"t": 1.086, "kind": "no_plan", "phase": 1, "blocking": fc}
+    end = {"t": 2.0, "kind": "phase_end", "phase": 1, "blocking": "blocking: reach (z)"}
+    assert ended(old, new, end) == f" (last blocked at 1.09 s: {fc})"
     assert ended(old, end) == " (last blocked at 0.50 s: blocking: workspace)"
-    none = dict(new, message=phase_planning.NOT_BLOCKED)
+    none = dict(new, blocking="")
     assert ended(none, end) == "" and ended() == ""
+
+
+def test_the_blocking_phrase_of_every_planner_reason():
+    """``phase_planning.blocking_phrase`` finds the phrase in each planner's reason: bare
+    after the NLP's stop (with its own parentheses), in parentheses after the posed-outline
+    planner's, none in a reason without one or with only ``NOT_BLOCKED``."""
+    from planner.exploration.planar import phase_planning as pp
+
+    fc = "blocking: force closure (contact line 5 deg outside the friction cones)"
+    assert pp.blocking_phrase(f"phase-1 NLP: solver failed; {fc}") == fc
+    assert pp.blocking_phrase("pivot about the palm corner: x (blocking: workspace)") == (
+        "blocking: workspace"
+    )
+    ws = "blocking: workspace (the right finger's joint 1 0.1 deg from its lower limit)"
+    assert pp.blocking_phrase(f"no pivot ({ws})") == ws
+    assert pp.blocking_phrase(f"phase-1 NLP: solver failed; {pp.NOT_BLOCKED}") == ""
+    assert pp.blocking_phrase("phase 1 rotated 0.2 deg") == ""

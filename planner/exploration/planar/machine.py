@@ -292,15 +292,14 @@ class _Runner:
     def _last_blocked(self) -> str:
         """What the gait was last found blocked by, for a run that ends on a symptom (a lost
         contact, a dropped object, a simulator fault): `` (last blocked at T s: blocking:
-        ...)`` from the latest ``no_plan`` event that named a constraint, or "" (none did).
+        ...)`` from the latest ``no_plan`` event that named a constraint (its ``blocking``,
+        :func:`.phase_planning.blocking_phrase`), or "" (none did).
         A long thin ellipse whose phase-1 plans failed twice on force closure (the contact
         line 5-8 deg outside the cones) and whose next phase 1 then lost both contacts
         reported only "contact lost in phase 1"."""
         for e in reversed(self.events):
-            msg = e.get("message", "") if e.get("kind") == "no_plan" else ""
-            if "blocking: " in msg and phase_planning.NOT_BLOCKED not in msg:
-                i = msg.index("blocking: ")
-                what = msg[i:-1] if msg[i - 1 : i] == "(" else msg[i:]  # "... (blocking: x)"
+            what = e.get("blocking", "") if e.get("kind") == "no_plan" else ""
+            if what:
                 return f" (last blocked at {e['t']:.2f} s: {what})"
         return ""
 
@@ -338,7 +337,8 @@ class _Runner:
         the events (``no_plan``; ``regrasp`` when the left pad regrasps too) and the phase to
         run next (:meth:`_after_no_plan`), or None after ending the gait "failed"."""
         t = self.world.time
-        self.events.append({"t": t, "kind": "no_plan", "phase": kind, "message": why})
+        self.events.append({"t": t, "kind": "no_plan", "phase": kind, "message": why,
+                            "blocking": phase_planning.blocking_phrase(why)})  # fmt: skip
         nxt = self._after_no_plan(kind, failures)
         if nxt is None:
             self._end("failed", f"no stable grasp within the workspace ({why})")
@@ -381,7 +381,7 @@ class _Runner:
                     more = f", epsilon down to {min(eps):.3f} < {self.s.min_epsilon:g}"
             parts.append(f"{name} (phase 1 ended by {event} x{len(hit)}{more})")
         if parts:
-            return "blocking: " + ", ".join(parts)
+            return phase_planning.BLOCKING + ", ".join(parts)
         obs = self.world.observe()
         est = self.ctrl.sensing.update(obs, "auto")
         mu = self.s.planning_mu

@@ -204,8 +204,22 @@ def feature_behind(r, event: str) -> float | None:
     return bump[0] if bump[1] else None
 
 
+#: the prefix of the phrase naming what blocks the gait in a planner's reason
+BLOCKING = "blocking: "
 #: :func:`blocking`'s verdict when none of the three constraints blocks the sensed grasp
-NOT_BLOCKED = "blocking: none of force closure / workspace / reach at the start (IPOPT failed)"
+NOT_BLOCKED = BLOCKING + "none of force closure / workspace / reach at the start (IPOPT failed)"
+
+
+def blocking_phrase(why: str) -> str:
+    """The ``blocking: ...`` phrase of a planner's reason ``why`` ("" when it names no
+    constraint, or only :data:`NOT_BLOCKED`). The planners write it last, either bare
+    (``"phase-1 NLP: ...; blocking: force closure (...)"``, :func:`blocking`) or in
+    parentheses (``"... (blocking: workspace)"``, the posed-outline planner's); the
+    phrase itself may hold parentheses."""
+    i = why.find(BLOCKING)
+    if i < 0 or NOT_BLOCKED in why:
+        return ""
+    return why[i:-1] if why[i - 1 : i] == "(" and why.endswith(")") else why[i:]
 
 
 def blocking(r, est, q, mu: float) -> str:
@@ -214,20 +228,20 @@ def blocking(r, est, q, mu: float) -> str:
     or reach (no stable left grasp within the pad's reach)."""
     stab = stable_pair(float(est.beta[0]), float(est.beta[1]), mu, 0.0)
     if stab < 0:
-        return (f"blocking: force closure (contact line {math.degrees(-stab):.0f} deg "
+        return (f"{BLOCKING}force closure (contact line {math.degrees(-stab):.0f} deg "
                 "outside the friction cones)")  # fmt: skip
     lim = r.hand.joint_limits
     margin = np.minimum(np.asarray(q) - lim[:, 0], lim[:, 1] - np.asarray(q))
     j = int(np.argmin(margin))
     if margin[j] < r.s.joint_margin + 0.02:
-        return f"blocking: workspace ({joint_at_limit(q, lim, j)})"
+        return f"{BLOCKING}workspace ({joint_at_limit(q, lim, j)})"
     off = tip_contact_angle(r.hand, q, float(est.beta[1]))
     if abs(off) > r.nlp.max_tip_angle:
-        return (f"blocking: workspace (the right tip touches {math.degrees(abs(off)):.1f} deg "
+        return (f"{BLOCKING}workspace (the right tip touches {math.degrees(abs(off)):.1f} deg "
                 f"from its axis; phase 1 rolls it within {math.degrees(r.nlp.max_tip_angle):.0f}"
                 " deg)")  # fmt: skip
     if left_regrasp_angle(r, est, fallback=False) is None:
-        return "blocking: reach (no stable left grasp within the pad's reach)"
+        return BLOCKING + "reach (no stable left grasp within the pad's reach)"
     return NOT_BLOCKED
 
 

@@ -148,7 +148,7 @@ def _pivot_phase1(runner, q, est, local, geometric: bool = False):
     plan = pivot_planning.plan_pivot(runner.hand, W, face, d0, est, q, cap, s.nlp_knots)
     runner._plan1 = plan
     if not plan.success:
-        return None, 0.0, plan.solve_time_s, f"{plan.stop} (blocking: workspace)"
+        return None, 0.0, plan.solve_time_s, f"{plan.stop} ({phase_planning.BLOCKING}workspace)"
     seg = phase1_segment(plan, est, q, runner.theta, s, runner.hand, lift=0.0)
     return seg, plan.rotation, plan.solve_time_s, ""
 
@@ -186,7 +186,7 @@ def plan_explore(runner, kind: int, est, q):
             why = (
                 f"pivot about the palm corner: from a regrasp the right tip reaches "
                 f"{math.degrees(tip):.1f} deg, the left pad {math.degrees(pad):.1f} deg "
-                "(blocking: workspace)"
+                f"({phase_planning.BLOCKING}workspace)"
             )
             return None, 0.0, 0.0, why
         point = face.start + best[0] * face.tangent
