@@ -20,6 +20,11 @@ import numpy as np
 from planner.errors import HapexError, InvalidParameter
 
 _CACHE: dict = {}
+#: the §2.2.3 orientation of a round tip is searched within this angle of its apex [rad]
+#: (:func:`tip_orientation`) ...
+TIP_SPREAD = 0.5
+#: ... on this many orientations (1 deg apart) [-]
+TIP_ORIENTATIONS = 61
 
 
 def _margin(hand, finger: str, q: np.ndarray) -> np.ndarray:
@@ -162,8 +167,8 @@ def regrasp_orientation(
     radius: float,
     beta: float,
     travel: float,
-    spread: float = 0.5,
-    n: int = 61,
+    spread: float = TIP_SPREAD,
+    n: int = TIP_ORIENTATIONS,
     finger: str = "right",
 ) -> float:
     """Orientation [rad] of a round tip (the right one, or ``finger`` "left" on a hand with
@@ -193,7 +198,12 @@ def regrasp_orientation(
 
 
 def tip_orientation(
-    hand, tip_centres, apex: float, spread: float = 0.5, n: int = 61, finger: str = "right"
+    hand,
+    tip_centres,
+    apex: float,
+    spread: float = TIP_SPREAD,
+    n: int = TIP_ORIENTATIONS,
+    finger: str = "right",
 ) -> float:
     """Orientation [rad] of a round tip (``finger``), within ``spread`` [rad] of ``apex`` [rad]
     (the orientation that touches the surface at the tip's axis: the surface's outward
@@ -254,7 +264,8 @@ def regrasp_left_angle(
             reach = float(_reach_margin(hand, "left", pts, phis).min())
         else:  # a round tip: its best orientation near the apex for both points
             centres = c + (radius + rL) * np.column_stack([np.cos(bb), np.sin(bb)])
-            _, m = _tip_margins(hand, "left", centres, b + 0.5 * math.pi, 0.5, 61)
+            _, m = _tip_margins(hand, "left", centres, b + 0.5 * math.pi, TIP_SPREAD,
+                                TIP_ORIENTATIONS)  # fmt: skip
             reach = float(m.max())
         score = min(reach, stab)
         if score > best:
@@ -263,6 +274,8 @@ def regrasp_left_angle(
 
 
 __all__ = [
+    "TIP_ORIENTATIONS",
+    "TIP_SPREAD",
     "best_margin_ik",
     "four_region_orientations",
     "left_ik",

@@ -27,7 +27,7 @@ import math
 
 import numpy as np
 
-from planner.exploration.planar import phase_planning, pivot_planning
+from planner.exploration.planar import heuristics, phase_planning, pivot_planning
 
 #: largest travel of the planned centre in phase 1 on a posed outline [m] (a square pivoting
 #: on its corner lifts its centre up to 23 mm)
@@ -36,8 +36,9 @@ SHAPE_TRAVEL = 0.03
 #: orientation for the next phase 1 (:func:`_regrasp_tip_orientation`; False: it keeps its
 #: orientation)
 TIP_ORIENTATION = True
-#: how far from the tip's axis that orientation may put the contact [rad]
-TIP_SPREAD = 0.5
+#: how far from the tip's axis that orientation may put the contact [rad] (the circle
+#: heuristic's window, :data:`.heuristics.TIP_SPREAD`)
+TIP_SPREAD = heuristics.TIP_SPREAD
 #: the explorer's regrasp target moves up to this far (world polar angle about the posed
 #: centre) to where the contact line of the next grasp lies inside the planning cones with
 #: the NLP's margin (:func:`_stable_target`; 0: not moved) [rad]
