@@ -9,13 +9,15 @@ Rows:
   bounded simulated time (``--duration``, hard wall cap ``--wall-cap`` per object) with
   its outcome (status, reason, rotation, coverage, phases, transitions 4) and the verdict:
   ``full turn`` (360 deg), ``turning`` (still turning the object clockwise when the time
-  ran out: at least ``--min-rotation`` deg, or a completed cycle - two phase-1 rotations of
-  >= 5 deg each), ``stalled`` (ok but neither), ``failed`` (the gait ended with a reason),
-  ``does not fit`` (no start grasp: bad input of the gait kind), ``wall cap`` or ``not
-  run`` (over the total ``--budget``). The executor *succeeds* on ``full turn`` /
-  ``turning``; ``agree`` compares that with plan_gait's verdict on the same (true) object,
-  hand and mu; ``rest_turn_deg`` / ``rest_blocking``: how far map-space gaits can turn the
-  object from where it rests unturned, searched over every start grasp and handoff
+  ran out: at least ``--min-rotation`` deg, or a completed cycle that kept its progress -
+  two phase-1 rotations of >= 5 deg each and >= :data:`CYCLE_NET_DEG` deg net: a gait whose
+  phases 2/3 give back what its phases 1 turned is not turning the object), ``stalled``
+  (ok but neither), ``failed`` (the gait ended with a reason), ``does not fit`` (no start
+  grasp: bad input of the gait kind), ``wall cap`` or ``not run`` (over the total
+  ``--budget``). The executor *succeeds* on ``full turn`` / ``turning``; ``agree``
+  compares that with plan_gait's verdict on the same (true) object, hand and mu;
+  ``rest_turn_deg`` / ``rest_blocking``: how far map-space gaits can turn the object from
+  where it rests unturned, searched over every start grasp and handoff
   (:mod:`planner.exploration.planar.start_reach`), and the constraint that stops them
   (``rest_turn_reserve_deg``: with the friction and the phase-1 stability threshold the
   executor plans with). Every run then
@@ -76,6 +78,9 @@ import numpy as np  # noqa: E402
 sys.path.insert(0, str(Path(__file__).parent))
 from _common import arg_parser, load_average, write_report  # noqa: E402
 
+#: net clockwise rotation [deg] a run's two completed phase-1 rotations must have kept to
+#: count as "turning" below ``--min-rotation`` (twice the 5 deg each must turn)
+CYCLE_NET_DEG = 10.0
 #: joint ranges of the batch hand (right finger; the left mirrors it) [deg]: the gait's
 #: hand, ``explore_object``'s default (``robots.planar_hand.GAIT_LOWER_DEG`` / ``_UPPER_DEG``)
 from robots.planar_hand import GAIT_LOWER_DEG as HAND_LOWER_DEG  # noqa: E402
@@ -224,13 +229,7 @@ def run_object(
         row.update(long_columns(res, turns))
         if sim > duration + 1e-9 and turn < 359.0:  # the run outlived ``duration``
             status, reason = "ok", f"duration {duration:g} s reached"
-    if status == "failed":
-        verdict = "failed"
-    elif turn >= 359.0:
-        verdict = "full turn"
-    else:
-        cycled = sum(1 for x in ones if x >= 5.0) >= 2
-        verdict = "turning" if turn >= min_rotation_deg or cycled else "stalled"
+    verdict = run_verdict(status, turn, ones, min_rotation_deg)
     ends = [p.event for p in res.phases]
     row.update(
         verdict=verdict, status=status, reason=reason, rotation_deg=round(turn, 1),
@@ -246,6 +245,19 @@ def run_object(
 
         row["phase_log"] = [r.line() for r in phase_rows(res)]
     return row
+
+
+def run_verdict(status: str, turn: float, ones, min_rotation_deg: float) -> str:
+    """A batch run's verdict (module docstring) from its ``status`` ("ok" / "failed"), its
+    clockwise rotation ``turn`` [deg] when the time ran out, its phase-1 rotations ``ones``
+    [deg, clockwise] and the ``--min-rotation`` threshold [deg]: "failed", "full turn",
+    "turning" or "stalled"."""
+    if status == "failed":
+        return "failed"
+    if turn >= 359.0:
+        return "full turn"
+    cycled = sum(1 for x in ones if x >= 5.0) >= 2 and turn >= CYCLE_NET_DEG
+    return "turning" if turn >= min_rotation_deg or cycled else "stalled"
 
 
 @dataclass(frozen=True)
@@ -697,8 +709,8 @@ def main() -> None:
         f"batch: {args.duration:g} s simulated per run, sensor-noise seeds 0-{args.seeds - 1} "
         f"(wall cap {args.wall_cap:g} s), "
         f"{args.jobs} worker processes, total budget {args.budget:g} s; 'turning' = ok and "
-        f">= {args.min_rotation:g} deg clockwise or two phase-1 rotations >= 5 deg when the "
-        "time ran out; success = full turn or turning"
+        f">= {args.min_rotation:g} deg clockwise or two phase-1 rotations >= 5 deg and "
+        f">= {CYCLE_NET_DEG:g} deg net when the time ran out; success = full turn or turning"
         + (f"; every run then went on up to {args.full_turn:g} s simulated (the same "
            "deterministic run: verdict, status, reason and rotation_deg are its state at "
            f"{args.duration:g} s; coverage, phases, events, sim_s and wall_s are the whole "

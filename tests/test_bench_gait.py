@@ -46,6 +46,21 @@ def test_an_object_succeeds_when_most_of_its_seeds_do(bench):
     assert "objects 0/1, runs 0/3 (circle); objects 1/1, runs 2/3 (true)" in squares
 
 
+def test_verdicts_of_a_run(bench):
+    """Full turn from 359 deg; below --min-rotation a run is "turning" only when two of its
+    phase-1 rotations turned >= 5 deg each and it kept >= CYCLE_NET_DEG of them (a
+    hexagon's phases 2/3 gave back all but 0.8-2.8 deg of such cycles)."""
+    v = bench.run_verdict
+    assert v("failed", 400.0, [30.0, 30.0], 40.0) == "failed"
+    assert v("ok", 359.5, [], 40.0) == "full turn"
+    assert v("ok", 41.0, [41.0], 40.0) == "turning"
+    assert v("ok", 12.0, [6.0, 7.0], 40.0) == "turning"
+    assert v("ok", 2.8, [6.0, 7.0], 40.0) == "stalled"
+    assert v("ok", 39.0, [39.0], 40.0) == "stalled"
+    assert v("ok", 12.0, [6.0, 4.9], 40.0) == "stalled"
+    assert bench.CYCLE_NET_DEG == 10.0
+
+
 def test_a_tie_is_not_a_success(bench):
     rows = [_row("a", "ellipses", "circle", 0, "turning"),
             _row("a", "ellipses", "circle", 1, "failed")]  # fmt: skip
