@@ -37,11 +37,12 @@ planner, which knows only a nominal shape) and ``true`` (the object's outline, p
 sensed contacts at every phase start, as the §2.3.1 simulation modelled the shape); by
 default both. Every object runs with each model for ``--seeds`` sensor-noise seeds (default
 3; column ``seed``): verdicts on non-round objects flip with the noise, so an object
-succeeds when most of its seeds do, and the notes count objects and runs (on 2026-11-24
-at dc2ad09, NumPy at AVX-512: the circle model succeeded on 11 of 32 objects, 35 of 96
-runs; the true outline on 10, 27 runs: rounded squares 2/5 with either model; given
+succeeds when most of its seeds do, and the notes count objects and runs (on 2026-11-25
+at 88f1ca3, NumPy at AVX-512: the circle model succeeded on 10 of 32 objects, 32 of 96
+runs; the true outline on 9, 26 runs: rounded squares 2/5 with either model; given
 120 s, full turns on 9 and 7 objects, 25 and 20 runs: circles, the 1.1:1 ellipse and two
-circle-model rounded-square runs; the same since, last at the commit the results name).
+circle-model rounded-square runs. Before 88f1ca3 a completed cycle counted as turning
+whatever its net turn: 11 and 10 objects, 35 and 27 runs, the same runs otherwise).
 The notes' family lines also count how far map space turns each object from rest with the
 executor's planning friction and phase-1 stability threshold (``rest_turn_reserve_deg``;
 plan_gait has the full mu and force closure alone): full turns on the circles, the 1.1:1
