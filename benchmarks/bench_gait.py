@@ -55,8 +55,9 @@ prints every object's phases measured against the truth after the table
 centre estimate's error, each contact's ``|T| / N``).
 
 Run: ``python benchmarks/bench_gait.py [--quick] [--duration S] [--jobs N] [--seeds N]
-[--full-turn S] [--ball S] [--nominal circle,true] [--only SUBSTRINGS] [--phase-log]``
-(about 3 min on 2 cores with the defaults, 2026-11-24).
+[--full-turn S] [--ball S] [--nominal circle,true] [--only SUBSTRINGS] [--phase-log]
+[--left-tip R] [--gravity G]`` (about 3 min on 2 cores with the defaults, 2026-11-24).
+``--gravity 0`` runs the batch in a horizontal hand (report ``bench_gait_g0``).
 """
 
 from __future__ import annotations
@@ -82,6 +83,8 @@ from _common import arg_parser, load_average, write_report  # noqa: E402
 #: net clockwise rotation [deg] a run's two completed phase-1 rotations must have kept to
 #: count as "turning" below ``--min-rotation`` (twice the 5 deg each must turn)
 CYCLE_NET_DEG = 10.0
+#: the batch's gravity towards the palm [m/s^2] (``GaitSettings.gravity``'s default)
+STANDARD_GRAVITY = 9.81
 #: joint ranges of the batch hand (right finger; the left mirrors it) [deg]: the gait's
 #: hand, ``explore_object``'s default (``robots.planar_hand.GAIT_LOWER_DEG`` / ``_UPPER_DEG``)
 from robots.planar_hand import GAIT_LOWER_DEG as HAND_LOWER_DEG  # noqa: E402
@@ -187,6 +190,7 @@ def run_object(
     seed: int = 0,
     full_turn: float = 0.0,
     left_tip: float | None = None,
+    gravity: float = STANDARD_GRAVITY,
 ) -> dict:
     """Execute one object (in a worker process); the batch row. ``nominal``: the planner's
     model, ``"circle"`` (a feature-less circle of the object's area) or ``"true"`` (the
@@ -199,8 +203,10 @@ def run_object(
     the same run goes on up to ``full_turn`` simulated seconds (or the full turn, or its
     failure); the verdict columns stay those at ``duration`` (the run is deterministic, so
     they are what a run of ``duration`` gives) and :func:`long_columns` adds how the longer
-    run ended. ``left_tip`` [m]: a round left tip of that radius (:func:`batch_hand`)."""
+    run ended. ``left_tip`` [m]: a round left tip of that radius (:func:`batch_hand`).
+    ``gravity`` [m/s^2]: towards the palm (``GaitSettings.gravity``; 0: a horizontal hand)."""
     from planner.exploration import explore_object
+    from planner.exploration.planar import GaitSettings
     from planner.exploration.planar.setup import check_fits
 
     hand = batch_hand(mu, left_tip)
@@ -218,7 +224,7 @@ def run_object(
     model = obj.profile if nominal == "true" else None
     run_for = max(duration, full_turn)
     res = explore_object(obj.profile, hand=hand, mu=mu, nominal=model, duration=run_for,
-                         seed=seed)  # fmt: skip
+                         seed=seed, settings=GaitSettings(mu=mu, gravity=gravity))  # fmt: skip
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     sim = float(res.log.t[-1]) if len(res.log.t) else 0.0
     turns = TurnSeries.of(res)
@@ -426,7 +432,7 @@ def bench_batch(args) -> list[dict]:
     models = nominal_models(args.nominal)
     # map space once per object: with its first model's first seed
     tasks = [(o, args.duration, args.min_rotation, 1.0, m, args.phase_log,
-              m == models[0] and seed == 0, seed, args.full_turn, tip)
+              m == models[0] and seed == 0, seed, args.full_turn, tip, args.gravity)
              for seed in range(args.seeds) for o in objs for m in models]  # fmt: skip
     rows = run_parallel(tasks, run_object, args.jobs, args.wall_cap, args.budget)
     first = {t[0].name: r for t, r in zip(tasks, rows, strict=True) if t[6]}
@@ -688,7 +694,13 @@ def main() -> None:
     p.add_argument("--left-tip", type=float, default=0.0,
                    help="a round left tip of this radius [m] instead of the flat pad (0: the "
                    "pad); the report is then bench_gait_round_left")  # fmt: skip
+    p.add_argument("--gravity", type=float, default=STANDARD_GRAVITY,
+                   help="gravity towards the palm [m/s^2] (GaitSettings.gravity; 0: the "
+                   "hand in a horizontal plane); other than 9.81 the report's name ends "
+                   "_gG")  # fmt: skip
     args = p.parse_args()
+    if not 0 <= args.gravity <= 100:
+        p.error(f"--gravity: {args.gravity:g}: expected 0-100 [m/s^2]")
     if args.left_tip < 0:
         p.error(f"--left-tip: {args.left_tip:g}: expected a radius >= 0 [m]")
     try:
@@ -721,6 +733,8 @@ def main() -> None:
         "ball_with_ridge hand), mu = 1, "
         + (f"a round {1e3 * args.left_tip:g} mm left tip (no tactile array) instead of the "
            "flat pad" if args.left_tip else "the flat left pad")
+        + f", gravity {args.gravity:g} m/s^2 towards the palm"
+        + (" (a horizontal hand)" if args.gravity == 0 else "")
         + "; regular polygons with sharp corners",
         "plan_gait: map space on the TRUE object (resolution 72, pure rolling, fixed "
         "contact model); rest_turn_deg / rest_blocking: the same map space searched "
@@ -752,6 +766,8 @@ def main() -> None:
             "ridge_error_deg", "agree", "plan_gait_reason", "rest_turn_deg",
             "rest_turn_reserve_deg", "rest_blocking"]  # fmt: skip
     name = "bench_gait_round_left" if args.left_tip else "bench_gait"
+    if args.gravity != STANDARD_GRAVITY:
+        name += f"_g{args.gravity:g}"
     write_report(name, rows, title="hapex executed grasp gait (ch. 2, §2.3.1 batch)",
                  out=args.out, notes=notes, columns=cols)  # fmt: skip
     for r in rows:

@@ -12,7 +12,6 @@ from hypothesis import strategies as st
 
 from planner.errors import InvalidParameter
 from planner.exploration.planar.carry_squeeze import (
-    GRAVITY,
     carrying_squeeze,
     phase1_squeeze,
     symmetric_squeeze,
@@ -109,7 +108,7 @@ def test_higher_contacts_need_more_squeeze():
 
 def test_phase1_squeeze_floors_raises_and_caps():
     s = GaitSettings()
-    load = s.object_mass * GRAVITY
+    load = s.object_mass * s.gravity
     mu = s.mu * (1 - s.friction_margin)
     low = np.radians([[180.0, 0.0], [178.0, -2.0]])  # needs W / (2 mu) ~ 0.31 N
     assert phase1_squeeze(low, s, 0.0) == s.internal_force

@@ -27,6 +27,8 @@ Keys (SI units)::
     last_resort: true            # then phase 1 with the tip's range relaxed (GaitSettings)
     follow_prior: true           # posed nominal outline: regrasp to plan_gait's handoffs
     object_mass: 0.05            # [kg]
+    gravity: 9.81                # in the hand's plane, towards the palm [m/s^2]; 0: the hand
+                                 # lies in a horizontal plane (frictionless support)
     rotation_speed: 0.4          # phase-1 rotation speed [rad/s]
     explore_speed: 0.03          # exploring contact speed [m/s]
     duration: 40.0               # simulated time limit [s]
@@ -209,6 +211,7 @@ class Config(ScenarioBase):
     last_resort: bool = Field(True, description="last phase-1 plan, tip's range relaxed")
     follow_prior: bool = Field(True, description="regrasp to the prior's handoffs (outline)")
     object_mass: float = Field(0.05, gt=0, le=2, description="[kg]")
+    gravity: float = Field(9.81, ge=0, le=100, description="towards the palm [m/s^2]")
     rotation_speed: float = Field(0.4, gt=0, le=3, description="[rad/s]")
     explore_speed: float = Field(0.03, gt=0, le=0.5, description="[m/s]")
     duration: float = Field(40.0, gt=0, le=3600, description="simulated time limit [s]")
@@ -253,6 +256,7 @@ class Config(ScenarioBase):
             rolling_gains=g.rolling, hold_kp=g.hold_kp, hold_kv=g.hold_kv, tip_kp=g.tip_kp,
             tip_kv=g.tip_kv, rotation_speed=self.rotation_speed,
             explore_speed=self.explore_speed, dt=self.dt, control_rate=self.control_rate,
+            gravity=self.gravity,
         )  # fmt: skip
 
 

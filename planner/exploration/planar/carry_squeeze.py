@@ -31,9 +31,6 @@ import numpy as np
 
 from planner import checks
 
-#: standard gravity [m/s^2]
-GRAVITY = 9.81
-
 
 def _frame(beta: float) -> tuple[np.ndarray, np.ndarray]:
     """Inward normal and counter-clockwise tangent of a contact at world polar angle
@@ -106,13 +103,14 @@ def symmetric_squeeze(alpha: float, mu: float, load: float) -> float:
 def phase1_squeeze(beta, settings, lift: float) -> float:
     """The phase-1 internal force [N]: the commanded ``settings.internal_force``, raised
     where the planned grasp (``beta`` (N+1, 2) world contact angles of the plan's knots
-    [rad]) needs more to carry the object's weight (``settings.object_mass``) and its
+    [rad]) needs more to carry the object's weight (``settings.object_mass`` times
+    ``settings.gravity``) and its
     lift (``lift`` [m] against the object impedance's vertical stiffness) inside the
     controller's cones (``mu (1 - friction_margin)``), times ``1 + settings.carry_margin``;
     capped at ``settings.max_squeeze``."""
     s = settings
     mu = s.planning_mu
-    load = s.object_mass * GRAVITY + s.object_kp[1] * lift
+    load = s.object_mass * s.gravity + s.object_kp[1] * lift
     need = max(carrying_squeeze(float(bl), float(br), mu, load) for bl, br in np.asarray(beta))
     want = (1.0 + s.carry_margin) * need
     return float(min(max(s.internal_force, want), max(s.max_squeeze, s.internal_force)))

@@ -155,6 +155,17 @@ class GaitSettings:
         dt: simulator step [s]; control_rate: controller rate [Hz].
         nlp_knots: intervals of the phase-1 NLP; nlp_margin: its stability margin [rad].
         max_phases: phases before the executor stops (safety bound).
+        gravity: magnitude of the world's gravity in the hand's plane [m/s^2], pointing
+            from the object to the palm (the world's -y; the simulator's and the
+            controllers' gravity alike, and the weight the phase-1 squeeze carries).
+            9.81: the hand stands in a vertical plane, palm down (the default); 0: it lies
+            in a horizontal plane, the object's weight borne out of the plane by a
+            frictionless support (an air table). In the horizontal plane nothing but the
+            holding finger keeps a tilted object on the palm, and nothing tips it back
+            onto a face: measured 2026-11-25 (rounded squares 6-14 cm, circle model,
+            seeds 0-1, 30 s) the 6 cm one turned 393-520 deg there (-75..-82 deg under
+            gravity) while the 8 and 12 cm ones, which keep turning under gravity, failed
+            on force closure and workspace limits.
     """
 
     mu: float = 1.0
@@ -200,6 +211,7 @@ class GaitSettings:
     nlp_knots: int = 6
     nlp_margin: float = 0.15
     max_phases: int = 200
+    gravity: float = 9.81
 
     @property
     def planning_mu(self) -> float:
@@ -227,6 +239,7 @@ class GaitSettings:
         checks.vector("rolling_gains", self.rolling_gains, 3)
         checks.integer("nlp_knots", self.nlp_knots, 2)
         checks.integer("max_phases", self.max_phases, 1)
+        checks.in_range("gravity", self.gravity, 0.0, 100.0, unit="m/s^2")
 
 
 __all__ = ["GaitSettings"]

@@ -143,7 +143,7 @@ def build_world(
     bl, br, q = found
     if dry:
         return None, {"beta": (bl, br), "q": q, "rest": np.array([0.0, h, 0.0])}
-    world = PlanarWorld(dt=settings.dt, seed=seed)
+    world = PlanarWorld(dt=settings.dt, gravity=(0.0, -settings.gravity), seed=seed)
     world.add_hand(hand, q)
     world.add_body(profile, (0.0, h, 0.0), settings.object_mass, friction=mu, name="object")
     return world, {"beta": (bl, br), "q": q, "rest": np.array([0.0, h, 0.0])}
