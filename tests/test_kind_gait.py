@@ -87,6 +87,20 @@ def test_quick_run_writes_the_figures_and_a_gif(cli, tmp_path):
     assert m["true_features"] >= 2  # the ridge's two edges are curvature features
     assert doc["timings_s"]["animation"] > 0
     assert m["left_tip_radius_m"] is None  # the flat pad
+    assert m["gravity_m_s2"] == 9.81  # a vertical hand, palm down
+
+
+def test_a_horizontal_hand_runs_from_the_scenario(cli, tmp_path):
+    """``gravity: 0``: the hand in a horizontal plane; the run says so, and the object's
+    impulse balance in its log has no weight in it (tests/test_gait_gravity.py)."""
+    out = tmp_path / "run"
+    proc = cli("run", "scenarios/ball_with_ridge.yaml", "--quick", "--out", str(out),
+               "--set", "gravity=0")  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    doc = json.loads((out / "result.json").read_text())
+    assert doc["status"] == "ok", doc["reason"]
+    assert doc["metrics"]["gravity_m_s2"] == 0.0
+    assert abs(doc["metrics"]["rotation_deg"]) > 1.0
 
 
 def test_a_round_left_tip_runs_from_the_scenario(cli, tmp_path):

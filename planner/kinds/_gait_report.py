@@ -33,6 +33,7 @@ def report(config, ctx, res, profile, duration: float, hand, noise_seed: int | N
         metrics["noise_seed"] = int(noise_seed)
     # the left fingertip that ran: null for the flat pad, else the round tip's radius [m]
     metrics["left_tip_radius_m"] = hand.params.left.round_radius or None
+    metrics["gravity_m_s2"] = float(config.gravity)  # towards the palm; 0: a horizontal hand
     if ridge is not None:
         metrics.update(_ridge_coverage(config, res, profile, hand))
     arrays = {f"log/{k}": v for k, v in res.log.arrays().items() if k != "pairs"}

@@ -162,10 +162,12 @@ class GaitSettings:
             in a horizontal plane, the object's weight borne out of the plane by a
             frictionless support (an air table). In the horizontal plane nothing but the
             holding finger keeps a tilted object on the palm, and nothing tips it back
-            onto a face: measured 2026-11-25 (rounded squares 6-14 cm, circle model,
-            seeds 0-1, 30 s) the 6 cm one turned 393-520 deg there (-75..-82 deg under
-            gravity) while the 8 and 12 cm ones, which keep turning under gravity, failed
-            on force closure and workspace limits.
+            onto a face. Measured 2026-11-25 (``benchmarks/bench_gait.py --gravity 0``,
+            ``bench_gait_g0``, circle model, 10 s, seeds 0-2, against the vertical hand):
+            rounded squares succeed on 3/5 objects, 7/15 runs (2/5, 8/15), full turns in
+            120 s on 3/15 runs (the 6 cm one twice, 372-520 deg, the 8 cm one once; 2/15);
+            sharp squares 0/18 either way; circles 21/21 runs (20/21); the 1.1:1 ellipse
+            0/3 (3/3): the weight is not what stops the squares.
     """
 
     mu: float = 1.0
