@@ -104,10 +104,9 @@ def phase1_squeeze(beta, settings, lift: float) -> float:
     """The phase-1 internal force [N]: the commanded ``settings.internal_force``, raised
     where the planned grasp (``beta`` (N+1, 2) world contact angles of the plan's knots
     [rad]) needs more to carry the object's weight (``settings.object_mass`` times
-    ``settings.gravity``) and its
-    lift (``lift`` [m] against the object impedance's vertical stiffness) inside the
-    controller's cones (``mu (1 - friction_margin)``), times ``1 + settings.carry_margin``;
-    capped at ``settings.max_squeeze``."""
+    ``settings.gravity``) and its lift (``lift`` [m] against the object impedance's
+    vertical stiffness) inside the controller's cones (``mu (1 - friction_margin)``), times
+    ``1 + settings.carry_margin``; capped at ``settings.max_squeeze``."""
     s = settings
     mu = s.planning_mu
     load = s.object_mass * s.gravity + s.object_kp[1] * lift
