@@ -90,29 +90,30 @@ def test_quick_run_writes_the_figures_and_a_gif(cli, tmp_path):
     assert m["gravity_m_s2"] == 9.81  # a vertical hand, palm down
 
 
-def test_a_horizontal_hand_runs_from_the_scenario(cli, tmp_path):
-    """``gravity: 0``: the hand in a horizontal plane; the run says so, and the object's
-    impulse balance in its log has no weight in it (tests/test_gait_gravity.py)."""
-    out = tmp_path / "run"
+def _quick_ball(cli, out, setting: str) -> dict:
+    """``result.json`` of a ``--quick`` ball_with_ridge run into ``out`` with ``--set
+    setting``, which must end ok."""
     proc = cli("run", "scenarios/ball_with_ridge.yaml", "--quick", "--out", str(out),
-               "--set", "gravity=0")  # fmt: skip
+               "--set", setting)  # fmt: skip
     assert proc.returncode == 0, proc.stderr
     doc = json.loads((out / "result.json").read_text())
     assert doc["status"] == "ok", doc["reason"]
-    assert doc["metrics"]["gravity_m_s2"] == 0.0
-    assert abs(doc["metrics"]["rotation_deg"]) > 1.0
+    return doc
+
+
+def test_a_horizontal_hand_runs_from_the_scenario(cli, tmp_path):
+    """``gravity: 0``: the hand in a horizontal plane; the run says so, and the object's
+    impulse balance in its log has no weight in it (tests/test_gait_gravity.py)."""
+    m = _quick_ball(cli, tmp_path / "run", "gravity=0")["metrics"]
+    assert m["gravity_m_s2"] == 0.0
+    assert abs(m["rotation_deg"]) > 1.0
 
 
 def test_a_round_left_tip_runs_from_the_scenario(cli, tmp_path):
     """``hand.left_tip_radius``: the gait runs with a round left tip (no tactile array, so no
     tactile images), the run says which tip it had, and the figures draw it."""
     out = tmp_path / "run"
-    proc = cli("run", "scenarios/ball_with_ridge.yaml", "--quick", "--out", str(out),
-               "--set", "hand.left_tip_radius=0.025")  # fmt: skip
-    assert proc.returncode == 0, proc.stderr
-    doc = json.loads((out / "result.json").read_text())
-    assert doc["status"] == "ok", doc["reason"]
-    m = doc["metrics"]
+    m = _quick_ball(cli, out, "hand.left_tip_radius=0.025")["metrics"]
     assert m["left_tip_radius_m"] == 0.025
     assert m["phases"] >= 1 and abs(m["rotation_deg"]) > 5.0
     with np.load(out / "trajectory.npz") as z:
