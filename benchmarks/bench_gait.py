@@ -83,8 +83,6 @@ from _common import arg_parser, load_average, write_report  # noqa: E402
 #: net clockwise rotation [deg] a run's two completed phase-1 rotations must have kept to
 #: count as "turning" below ``--min-rotation`` (twice the 5 deg each must turn)
 CYCLE_NET_DEG = 10.0
-#: the batch's gravity towards the palm [m/s^2] (``GaitSettings.gravity``'s default)
-STANDARD_GRAVITY = 9.81
 #: joint ranges of the batch hand (right finger; the left mirrors it) [deg]: the gait's
 #: hand, ``explore_object``'s default (``robots.planar_hand.GAIT_LOWER_DEG`` / ``_UPPER_DEG``)
 from robots.planar_hand import GAIT_LOWER_DEG as HAND_LOWER_DEG  # noqa: E402
@@ -190,7 +188,7 @@ def run_object(
     seed: int = 0,
     full_turn: float = 0.0,
     left_tip: float | None = None,
-    gravity: float = STANDARD_GRAVITY,
+    gravity: float | None = None,
 ) -> dict:
     """Execute one object (in a worker process); the batch row. ``nominal``: the planner's
     model, ``"circle"`` (a feature-less circle of the object's area) or ``"true"`` (the
@@ -204,9 +202,9 @@ def run_object(
     failure); the verdict columns stay those at ``duration`` (the run is deterministic, so
     they are what a run of ``duration`` gives) and :func:`long_columns` adds how the longer
     run ended. ``left_tip`` [m]: a round left tip of that radius (:func:`batch_hand`).
-    ``gravity`` [m/s^2]: towards the palm (``GaitSettings.gravity``; 0: a horizontal hand)."""
+    ``gravity`` [m/s^2]: towards the palm (``GaitSettings.gravity``; None: its default, a
+    vertical hand; 0: a horizontal one)."""
     from planner.exploration import explore_object
-    from planner.exploration.planar import GaitSettings
     from planner.exploration.planar.setup import check_fits
 
     hand = batch_hand(mu, left_tip)
@@ -224,7 +222,7 @@ def run_object(
     model = obj.profile if nominal == "true" else None
     run_for = max(duration, full_turn)
     res = explore_object(obj.profile, hand=hand, mu=mu, nominal=model, duration=run_for,
-                         seed=seed, settings=GaitSettings(mu=mu, gravity=gravity))  # fmt: skip
+                         seed=seed, settings=gait_settings(mu, gravity))  # fmt: skip
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     sim = float(res.log.t[-1]) if len(res.log.t) else 0.0
     turns = TurnSeries.of(res)
@@ -252,6 +250,14 @@ def run_object(
 
         row["phase_log"] = [r.line() for r in phase_rows(res)]
     return row
+
+
+def gait_settings(mu: float, gravity: float | None = None):
+    """The executor's ``GaitSettings`` of a batch run: friction ``mu`` [-] and ``gravity``
+    [m/s^2] towards the palm (None: the settings' default)."""
+    from planner.exploration.planar import GaitSettings
+
+    return GaitSettings(mu=mu) if gravity is None else GaitSettings(mu=mu, gravity=gravity)
 
 
 def run_verdict(status: str, turn: float, ones, min_rotation_deg: float) -> str:
@@ -694,13 +700,17 @@ def main() -> None:
     p.add_argument("--left-tip", type=float, default=0.0,
                    help="a round left tip of this radius [m] instead of the flat pad (0: the "
                    "pad); the report is then bench_gait_round_left")  # fmt: skip
-    p.add_argument("--gravity", type=float, default=STANDARD_GRAVITY,
-                   help="gravity towards the palm [m/s^2] (GaitSettings.gravity; 0: the "
-                   "hand in a horizontal plane); other than 9.81 the report's name ends "
-                   "_gG")  # fmt: skip
+    p.add_argument("--gravity", type=float, default=None,
+                   help="gravity towards the palm [m/s^2] (GaitSettings.gravity, default "
+                   "its 9.81; 0: the hand in a horizontal plane); other than the default "
+                   "the report's name ends _gG")  # fmt: skip
     args = p.parse_args()
-    if not 0 <= args.gravity <= 100:
-        p.error(f"--gravity: {args.gravity:g}: expected 0-100 [m/s^2]")
+    from planner.errors import InvalidParameter
+
+    try:  # the settings check it (and say its default)
+        args.gravity = gait_settings(1.0, args.gravity).gravity
+    except InvalidParameter as exc:
+        p.error(f"--{exc}")
     if args.left_tip < 0:
         p.error(f"--left-tip: {args.left_tip:g}: expected a radius >= 0 [m]")
     try:
@@ -766,7 +776,7 @@ def main() -> None:
             "ridge_error_deg", "agree", "plan_gait_reason", "rest_turn_deg",
             "rest_turn_reserve_deg", "rest_blocking"]  # fmt: skip
     name = "bench_gait_round_left" if args.left_tip else "bench_gait"
-    if args.gravity != STANDARD_GRAVITY:
+    if args.gravity != gait_settings(1.0).gravity:
         name += f"_g{args.gravity:g}"
     write_report(name, rows, title="hapex executed grasp gait (ch. 2, §2.3.1 batch)",
                  out=args.out, notes=notes, columns=cols)  # fmt: skip

@@ -61,6 +61,13 @@ def test_verdicts_of_a_run(bench):
     assert bench.CYCLE_NET_DEG == 10.0
 
 
+def test_the_runs_settings_keep_the_gait_defaults_but_for_what_is_given(bench):
+    from planner.exploration.planar import GaitSettings
+
+    assert bench.gait_settings(1.0) == GaitSettings(mu=1.0)
+    assert bench.gait_settings(0.8, 0.0) == GaitSettings(mu=0.8, gravity=0.0)
+
+
 def test_a_tie_is_not_a_success(bench):
     rows = [_row("a", "ellipses", "circle", 0, "turning"),
             _row("a", "ellipses", "circle", 1, "failed")]  # fmt: skip
@@ -132,6 +139,7 @@ def test_map_space_with_the_planning_friction_explains_a_disagreement(bench):
         (["--seeds", "0"], "--seeds: 0: expected at least 1"),
         (["--full-turn", "-1"], "--full-turn: -1: expected >= 0 simulated s"),
         (["--left-tip", "-0.02"], "--left-tip: -0.02: expected a radius >= 0 [m]"),
+        (["--gravity", "-1"], "--gravity: expected a number in [0, 100] [m/s^2], got -1.0"),
     ],
 )
 def test_bad_arguments_are_usage_errors(args, message):
