@@ -116,6 +116,20 @@ def test_an_array_outline_is_refused_in_one_short_line(name):
     msg = str(err.value)
     assert msg.startswith(f"{name}: expected a closed planar Profile")
     assert "an array of shape (200, 2)" in msg and "\n" not in msg
+    assert msg.endswith("(for (N, 2) vertices [m] use planner.geometry.polygon(points))")
+    # the hint's advice works: the same points as a polygon are accepted
+    from planner.geometry import polygon
+
+    args[name] = polygon(pts)
+    r = explore_object(args["profile"], nominal=args["nominal"], duration=0.01)
+    assert r.status == "ok"
+
+
+@pytest.mark.parametrize("value", ["circle", 3, None, [[0.0, 1.0], [2.0]]])
+def test_a_non_outline_profile_gets_no_vertex_hint(value):
+    with pytest.raises(InvalidParameter) as err:
+        explore_object(value)
+    assert "polygon(points)" not in str(err.value)
 
 
 def test_the_start_grasp_is_searched_with_the_planners_friction():

@@ -7,6 +7,8 @@ checked later, by :func:`.setup.build_world` (it needs the grasp search).
 
 from __future__ import annotations
 
+import numpy as np
+
 from planner import checks
 from planner.errors import InvalidParameter
 from planner.exploration.planar.settings import GaitSettings
@@ -21,9 +23,21 @@ EXECUTOR_TIPS = (("flat", "round"), ("round", "round"))
 
 def _closed_profile(name: str, value: object, what: str) -> None:
     if getattr(value, "closed", False) is not True:
+        hint = " (for (N, 2) vertices [m] use planner.geometry.polygon(points))"
         raise InvalidParameter(
             f"{name}: expected a closed planar Profile ({what}), got {checks.shown(value)}"
+            f"{hint if _vertex_array(value) else ''}"
         )
+
+
+def _vertex_array(value: object) -> bool:
+    """Whether ``value`` looks like an (N, 2) array of vertices (a likely mistake for a
+    Profile)."""
+    try:
+        shape = np.shape(value)
+    except ValueError:  # ragged nested sequences
+        return False
+    return len(shape) == 2 and shape[1] == 2 and not hasattr(value, "pieces")
 
 
 def check_tips(left: str, right: str, nominal) -> None:
