@@ -13,7 +13,12 @@ import pytest
 from conftest import ROOT, run_cli
 
 README = (ROOT / "README.md").read_text()
-PY_BLOCKS = re.findall(r"```python\n(.*?)```", README, flags=re.S)
+DOCS = {path.name: path.read_text() for path in sorted((ROOT / "docs").glob("*.md"))}
+PY_BLOCKS = [
+    code
+    for text in (README, *DOCS.values())
+    for code in re.findall(r"```python\n(.*?)```", text, flags=re.S)
+]
 
 
 def test_readme_has_two_setup_commands():
@@ -61,5 +66,19 @@ def test_readme_python_example(code, tmp_path):
 
 
 def test_shlex_of_commands_is_valid():
-    for block in re.findall(r"```bash\n(.*?)```", README, flags=re.S):
-        shlex.split(block)
+    for text in (README, *DOCS.values()):
+        for block in re.findall(r"```bash\n(.*?)```", text, flags=re.S):
+            shlex.split(block)
+
+
+@pytest.mark.parametrize("name", ["README.md", *(f"docs/{n}" for n in DOCS)])
+def test_relative_links_resolve(name):
+    """Every relative Markdown link of the README and of docs/ names a file of the repo."""
+    path = ROOT / name
+    links = re.findall(r"\]\(([^)#:\s]+)(?:#[^)]*)?\)", path.read_text())
+    missing = [link for link in links if not (path.parent / link).exists()]
+    assert not missing, missing
+
+
+def test_readme_links_the_gait_log():
+    assert "docs/gait.md" in README and "gait.md" in DOCS
