@@ -79,6 +79,7 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).parent))
 from _common import arg_parser, load_average, write_report  # noqa: E402
+from plot_gait_batch import plot, read_batch, stamp  # noqa: E402
 
 #: net clockwise rotation [deg] a run's two completed phase-1 rotations must have kept to
 #: count as "turning" below ``--min-rotation`` (twice the 5 deg each must turn)
@@ -778,8 +779,10 @@ def main() -> None:
     name = "bench_gait_round_left" if args.left_tip else "bench_gait"
     if args.gravity != gait_settings(1.0).gravity:
         name += f"_g{args.gravity:g}"
-    write_report(name, rows, title="hapex executed grasp gait (ch. 2, §2.3.1 batch)",
-                 out=args.out, notes=notes, columns=cols)  # fmt: skip
+    md = write_report(name, rows, title="hapex executed grasp gait (ch. 2, §2.3.1 batch)",
+                      out=args.out, notes=notes, columns=cols)  # fmt: skip
+    figure = plot(read_batch(md.with_suffix(".csv")), md.with_suffix(".png"), stamp(md))
+    print(f"figure: {figure}")
     for r in rows:
         if r.get("phase_log"):
             print(f"\n{r['object']} ({r.get('model', '')} model): phases (true vs sensed "

@@ -1,0 +1,96 @@
+"""benchmarks/plot_gait_batch.py: the §2.3.1 batch figure from bench_gait's CSV (its
+reading of the committed report, its families, its command line and its bad input)."""
+
+from __future__ import annotations
+
+import csv
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from conftest import benchmark_module
+
+BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
+REPORT = BENCH / "results" / "bench_gait.csv"
+
+
+@pytest.fixture(scope="module")
+def plot_mod():
+    return benchmark_module("plot_gait_batch")
+
+
+def _cli(*args: str) -> subprocess.CompletedProcess:
+    env = {**os.environ, "MPLBACKEND": "Agg"}
+    return subprocess.run(
+        [sys.executable, str(BENCH / "plot_gait_batch.py"), *args],
+        capture_output=True, text=True, timeout=120, env=env,
+    )  # fmt: skip
+
+
+def test_the_committed_report_reads_as_one_entry_per_object(plot_mod):
+    objects = plot_mod.read_batch(REPORT)
+    with open(REPORT, newline="") as fh:
+        rows = [r for r in csv.DictReader(fh) if r["benchmark"] == "batch"]
+    assert {o["name"] for o in objects} == {r["object"] for r in rows}
+    assert sum(len(o["runs"]) for o in objects) == len(rows)
+    full = sum(full for o in objects for _, _, full in o["runs"])
+    assert full == sum(r["run_end"] == "full turn" for r in rows)
+    # the figure's order: families as listed, sizes growing within each
+    order = [f for f, _ in plot_mod.FAMILIES]
+    ranks = [order.index(o["family"]) for o in objects]
+    assert ranks == sorted(ranks)
+    circles = [o["size"] for o in objects if o["family"] == "circle"]
+    assert circles == sorted(circles)
+
+
+def test_every_batch_object_has_its_family(plot_mod):
+    """The figure's families are bench_gait's, read back from the object names."""
+    bench = benchmark_module("bench_gait")
+    expect = {"circle": "circle", "polygon": "polygon", "square sharp": "sharp square",
+              "square rounded": "rounded square"}  # fmt: skip
+    for obj in bench.objects(quick=False):
+        want = "ellipse" if obj.family.startswith("ellipse") else expect[obj.family]
+        assert plot_mod.family(obj.name) == want, obj.name
+
+
+def test_the_command_draws_a_png(tmp_path):
+    out = tmp_path / "batch.png"
+    proc = _cli(str(REPORT), "--out", str(out))
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == str(out)
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and out.stat().st_size > 20_000
+    assert list(tmp_path.iterdir()) == [out]  # no part file left
+
+
+def test_the_report_stamp_titles_the_figure(plot_mod):
+    note = plot_mod.stamp(REPORT)
+    commit, date = note.split(", ")
+    assert len(commit) >= 12 and date.startswith("20")
+
+
+@pytest.mark.parametrize(
+    ("content", "message"),
+    [
+        ("benchmark,object\nnlp build,\n", "missing columns"),
+        (
+            "benchmark,object,model,size_cm,run_turn_deg,run_end\nnlp build,,,,,\n",
+            "no batch rows",
+        ),  # fmt: skip
+        ("", "no rows"),
+    ],
+)
+def test_a_csv_without_a_batch_is_one_usage_line(tmp_path, content, message):
+    bad = tmp_path / "bad.csv"
+    bad.write_text(content)
+    proc = _cli(str(bad))
+    assert proc.returncode == 2
+    assert message in proc.stderr and "Traceback" not in proc.stderr
+    assert proc.stderr.strip().splitlines()[-1].startswith("plot_gait_batch.py: error:")
+    assert not bad.with_suffix(".png").exists()
+
+
+def test_a_missing_csv_is_a_usage_error(tmp_path):
+    proc = _cli(str(tmp_path / "none.csv"))
+    assert proc.returncode == 2 and "no such file" in proc.stderr
