@@ -23,10 +23,11 @@ EXECUTOR_TIPS = (("flat", "round"), ("round", "round"))
 
 def _closed_profile(name: str, value: object, what: str) -> None:
     if getattr(value, "closed", False) is not True:
-        hint = " (for (N, 2) vertices [m] use planner.geometry.polygon(points))"
+        hint = ""
+        if _vertex_array(value):
+            hint = " (for (N, 2) vertices [m] use planner.geometry.polygon(points))"
         raise InvalidParameter(
-            f"{name}: expected a closed planar Profile ({what}), got {checks.shown(value)}"
-            f"{hint if _vertex_array(value) else ''}"
+            f"{name}: expected a closed planar Profile ({what}), got {checks.shown(value)}{hint}"
         )
 
 
