@@ -29,7 +29,7 @@ import sys
 from pathlib import Path
 
 RESULTS = Path(__file__).resolve().parent / "results"
-#: x range of the figure [deg] (turns beyond it are drawn at its edge)
+#: x range of the figure [deg] (a turn beyond it is an arrow at its edge, with its value)
 X_RANGE = (-80.0, 400.0)
 FULL_TURN = 360.0
 #: (family, colour) in the figure's order (top to bottom)
@@ -148,8 +148,14 @@ def plot(objects: list[dict], out: Path, title_note: str = "") -> Path:
             dy = 0.12 if model == "circle" else -0.12
             edge = "#2ca02c" if full else "black"
             face = edge if model == "circle" else "white"
-            ax.plot(x, y + dy, "o" if model == "circle" else "D", ms=4.5, mfc=face, mec=edge,
-                    mew=1.0, alpha=0.85, zorder=3)  # fmt: skip
+            marker = "o" if model == "circle" else "D"
+            if x != turn:  # beyond the axis: an arrow at its edge, the turn written beside
+                marker = "<" if turn < lo else ">"
+                ax.annotate(f"{turn:.0f}", (x, y + dy), xytext=(4 if turn < lo else -4, 0),
+                            textcoords="offset points", fontsize=6, va="center",
+                            ha="left" if turn < lo else "right")  # fmt: skip
+            ax.plot(x, y + dy, marker, ms=4.5, mfc=face, mec=edge, mew=1.0, alpha=0.85,
+                    zorder=3)  # fmt: skip
     ax.axvline(FULL_TURN, color="black", ls="--", lw=0.8)
     ax.axvline(0.0, color="black", lw=0.6)
     ax.set_yticks(range(n))

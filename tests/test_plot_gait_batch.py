@@ -94,3 +94,22 @@ def test_a_csv_without_a_batch_is_one_usage_line(tmp_path, content, message):
 def test_a_missing_csv_is_a_usage_error(tmp_path):
     proc = _cli(str(tmp_path / "none.csv"))
     assert proc.returncode == 2 and "no such file" in proc.stderr
+
+
+def test_turns_off_the_axis_and_short_runs_are_drawn(plot_mod, tmp_path):
+    """A turn beyond the axis (an arrow with its value) and a run without ``--full-turn``
+    (no ``run_turn_deg``: its ``rotation_deg`` at the end of the batch run) still plot."""
+    cols = ["benchmark", "object", "model", "size_cm", "rotation_deg", "run_turn_deg",
+            "run_end", "rest_turn_deg", "rest_turn_reserve_deg"]  # fmt: skip
+    rows = [
+        ["batch", "square 8cm sharp", "circle", "4", "-20", "-588", "failed: x", "35", "35"],
+        ["batch", "circle r=5cm", "true", "5", "104", "", "", "360", "360"],
+    ]
+    path = tmp_path / "b.csv"
+    path.write_text("\n".join(",".join(r) for r in [cols, *rows]) + "\n")
+    objects = plot_mod.read_batch(path)
+    assert [o["name"] for o in objects] == ["circle r=5cm", "square 8cm sharp"]
+    assert objects[0]["runs"] == [("true", 104.0, False)]
+    assert objects[1]["runs"] == [("circle", -588.0, False)]
+    out = plot_mod.plot(objects, tmp_path / "b.png")
+    assert out.stat().st_size > 10_000
