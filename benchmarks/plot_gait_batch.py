@@ -70,8 +70,11 @@ def read_batch(path: Path) -> list[dict]:
     """One dict per object (in the figure's order): name, family, size, the map-space
     turns and the runs (model, turn, full turn?)."""
     need = {"benchmark", "object", "model", "size_cm", "run_turn_deg", "run_end"}
-    with open(path, newline="") as fh:
-        rows = list(csv.DictReader(fh))
+    try:
+        with open(path, newline="") as fh:
+            rows = list(csv.DictReader(fh))
+    except (UnicodeDecodeError, csv.Error) as exc:
+        raise BatchCsvError(f"{path}: not a CSV report: {exc}") from None
     if not rows:
         raise BatchCsvError(f"{path}: no rows")
     missing = need - set(rows[0])
@@ -198,13 +201,16 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("csv", nargs="?", type=Path, default=RESULTS / "bench_gait.csv")
     p.add_argument("--out", type=Path, default=None, help="PNG (default: beside the CSV)")
     args = p.parse_args(argv)
-    if not args.csv.exists():
+    if not args.csv.is_file():
         p.error(f"{args.csv}: no such file")
     try:
         objects = read_batch(args.csv)
     except BatchCsvError as exc:
         p.error(str(exc))
-    out = plot(objects, args.out or args.csv.with_suffix(".png"), stamp(args.csv))
+    try:
+        out = plot(objects, args.out or args.csv.with_suffix(".png"), stamp(args.csv))
+    except OSError as exc:  # an --out that cannot be written
+        p.error(f"--out: {exc}")
     print(out)
     return 0
 

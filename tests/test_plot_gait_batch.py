@@ -113,3 +113,21 @@ def test_turns_off_the_axis_and_short_runs_are_drawn(plot_mod, tmp_path):
     assert objects[1]["runs"] == [("circle", -588.0, False)]
     out = plot_mod.plot(objects, tmp_path / "b.png")
     assert out.stat().st_size > 10_000
+
+
+def test_a_folder_a_binary_file_or_an_unwritable_out_is_one_usage_line(tmp_path):
+    """A folder or a binary file given as the CSV, or an ``--out`` under a plain file:
+    exit 2, one line, no traceback."""
+    binary = tmp_path / "b.csv"
+    binary.write_bytes(b"\xff\xfe\x00\x81" * 64)
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    cases = [
+        ((str(tmp_path),), "no such file"),
+        ((str(binary),), "not a CSV report"),
+        ((str(REPORT), "--out", str(blocker / "x.png")), "--out:"),
+    ]
+    for args, message in cases:
+        proc = _cli(*args)
+        assert proc.returncode == 2, args
+        assert message in proc.stderr and "Traceback" not in proc.stderr, proc.stderr

@@ -225,7 +225,7 @@ def blocking_phrase(why: str) -> str:
 def blocking(r, est, q, mu: float) -> str:
     """Which constraint blocks phase 1 at the sensed grasp (the issue's three): force
     closure (the contact line outside the friction cones), workspace (a joint at its limit)
-    or reach (no stable left grasp within the pad's reach)."""
+    or reach (no stable left grasp within the left finger's reach)."""
     stab = stable_pair(float(est.beta[0]), float(est.beta[1]), mu, 0.0)
     if stab < 0:
         return (f"{BLOCKING}force closure (contact line {math.degrees(-stab):.0f} deg "
@@ -241,7 +241,7 @@ def blocking(r, est, q, mu: float) -> str:
                 f"from its axis; phase 1 rolls it within {math.degrees(r.nlp.max_tip_angle):.0f}"
                 " deg)")  # fmt: skip
     if left_regrasp_angle(r, est, fallback=False) is None:
-        return BLOCKING + "reach (no stable left grasp within the pad's reach)"
+        return BLOCKING + "reach (no stable left grasp within the left finger's reach)"
     return NOT_BLOCKED
 
 
