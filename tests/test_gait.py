@@ -11,7 +11,7 @@ from hypothesis import assume, example, given
 from hypothesis import strategies as st
 
 from planner.errors import InvalidParameter
-from planner.exploration.planar import circle_with_ridge, explore_object
+from planner.exploration.planar import GaitSettings, circle_with_ridge, explore_object
 from planner.exploration.planar.objects import mean_radius, rest_height
 from planner.exploration.planar.outline_segments import PolylinePath
 from planner.geometry import shapes
@@ -57,6 +57,20 @@ def test_progress_is_reported_every_tenth_of_a_simulated_second(short_run):
     assert len(PROGRESS) >= 2
     assert np.all(np.diff(PROGRESS) >= PROGRESS_STEP - 1e-9)
     assert 0.0 < PROGRESS[-1] <= 0.3 + 1e-9
+
+
+def test_progress_gaps_are_bounded_by_the_compiled_chunk():
+    """The compiled loop reports after each chunk of up to ``CHUNK`` steps: calls are at
+    least ``PROGRESS_STEP`` and at most ``PROGRESS_STEP + CHUNK dt`` simulated s apart."""
+    from planner.exploration.planar.gait_loop import CHUNK
+    from planner.exploration.planar.machine import PROGRESS_STEP
+
+    ticks: list[float] = []
+    explore_object(shapes.circle(0.05), duration=2.0, seed=0, on_progress=ticks.append)
+    gaps = np.diff([0.0, *ticks])
+    assert len(ticks) >= 2.0 / (PROGRESS_STEP + CHUNK * GaitSettings().dt)
+    assert np.all(gaps[1:] >= PROGRESS_STEP - 1e-9)
+    assert np.all(gaps <= PROGRESS_STEP + CHUNK * GaitSettings().dt + 1e-9)
 
 
 def test_short_run_grasps_and_rotates_clockwise(short_run):

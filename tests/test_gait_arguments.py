@@ -169,3 +169,30 @@ def test_a_round_left_tip_with_a_posed_outline_is_named():
         explore_object(square, hand=hand, mu=1.0, nominal=square, **OK)
     check_arguments(square, hand, 1.0, shapes.circle(0.045), **OK)
     check_arguments(square, PlanarHand(p), 1.0, square, **OK)  # the pad poses it
+
+
+@pytest.mark.parametrize(
+    ("change", "name"),
+    [
+        ({"object_kp": (-80.0, 80.0, 0.8)}, "object_kp[0]"),
+        ({"object_kv": (3.0, 3.0, -0.02)}, "object_kv[2]"),
+        ({"object_kp": (80.0, 80.0)}, "object_kp"),
+        ({"hold_kp": -0.3}, "hold_kp"),
+        ({"hold_kv": -5.0}, "hold_kv"),
+        ({"rolling_gains": (1.0, -0.05, 0.04)}, "rolling_gains[1]"),
+        ({"rolling_gains": (1.0, 0.05, 0.0)}, "rolling_gains[2] (max_moment)"),
+    ],
+)
+def test_a_bad_gain_is_named_by_the_settings(change, name):
+    """Gains are checked where they are given (a negative one pushes away from its
+    reference; a zero saturation switches eq. 2.8 off), not deep in the controller."""
+    with pytest.raises(InvalidParameter) as err:
+        GaitSettings(**change)
+    assert str(err.value).startswith(f"{name}: ")
+    assert len(str(err.value).splitlines()) == 1
+
+
+def test_zero_gains_are_allowed():
+    """A gain of 0 switches its term off (the theta stiffness of a grasp that may turn)."""
+    s = GaitSettings(object_kp=(80.0, 80.0, 0.0), rolling_gains=(0.0, 0.0, 0.04), hold_kp=0.0)
+    assert s.object_kp[2] == 0.0 and s.rolling_gains[0] == 0.0 and s.hold_kp == 0.0

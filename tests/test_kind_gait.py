@@ -40,11 +40,12 @@ CIRCLE = "kind: gait\nobject:\n  shape: circle\n  radius: 0.05\n"  # fits the ha
          "  width: 0.08\n  height: 0.08\n  corner_radius: 0.01\n", "nominal",
          "round nominal model only"),
         (CIRCLE + "gravity: -9.81\n", "gravity", "greater than or equal to 0"),
+        (CIRCLE + "gains:\n  rolling: [1.0, 0.05, 0.0]\n", "gains.rolling", "must be > 0"),
     ],
     ids=["unknown-object", "unknown-nominal", "mu-zero", "mu-negative", "too-big",
          "too-small", "gain-negative", "gain-too-high", "damping-negative", "hold-force",
          "joint-range", "switch-not-bool", "left-tip-too-big", "round-left-outline-model",
-         "gravity-negative"],
+         "gravity-negative", "rolling-saturation-zero"],
 )  # fmt: skip
 def test_bad_input_exits_2_with_key_path_and_writes_nothing(cli, tmp_path, text, key, words):
     scenario = tmp_path / "bad.yaml"

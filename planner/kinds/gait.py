@@ -133,6 +133,11 @@ class GainsConfig(StrictModel):
             v = getattr(self, name)
             if any(not (0 <= x <= 1e4) for x in v):
                 raise ValueError(f"{name}: every gain must be in [0, 1e4], got {list(v)}")
+        if not self.rolling[2] > 0:
+            raise ValueError(
+                f"rolling: its third entry, the moment saturation [N m], must be > 0 "
+                f"(0 switches eq. 2.8 off), got {list(self.rolling)}"
+            )
         return self
 
 

@@ -90,8 +90,11 @@ def explore_object(
             the start grasp, and every phase planned from the estimate that parts from the
             prior's phase at the sensed rotation is a ``"prior"`` event
             (:mod:`.prior_track`).
-        on_progress: ``callable(t)`` called with the simulated time [s] every
-            :data:`PROGRESS_STEP` simulated seconds (e.g. to advance a progress bar).
+        on_progress: ``callable(t)`` called with the simulated time [s] (e.g. to advance
+            a progress bar): at most every :data:`PROGRESS_STEP` simulated seconds, and at
+            least every ``PROGRESS_STEP + CHUNK * settings.dt`` (0.61 s by default: the
+            compiled loop reports after each chunk of up to
+            :data:`.gait_loop.CHUNK` steps).
 
     Returns:
         the :class:`ExplorationResult`.

@@ -129,8 +129,10 @@ class GaitSettings:
             its relaxed plan and hit a joint stop 0.2 deg on. Not kept.
         explore_force: normal force of the exploring finger (0.3 N, §2.3.2) [N].
         object_mass: the planner's guess of the object mass [kg].
-        object_kp, object_kv: object impedance gains (eq. 2.7).
-        rolling_gains: (kp, kv, max_moment) of the rolling PD (eq. 2.8).
+        object_kp, object_kv: object impedance gains (eq. 2.7), each >= 0: stiffness
+            [N/m, N/m, N m/rad] and damping [N s/m, N s/m, N m s/rad] in (x, y, theta).
+        rolling_gains: (kp [N m/m], kv [N m s/m], max_moment [N m]) of the rolling PD
+            (eq. 2.8); the gains >= 0, the saturation > 0.
         hold_kp, hold_kv: orientation stiffness [N m/rad] and damping [N m s/rad] of the
             grasping/holding fingertips about their planned orientation.
         internal_gains: the internal-force PI gains.
@@ -234,11 +236,15 @@ class GaitSettings:
                      "control_rate", "lost_time", "torque_limit", "hold_stiffness"):  # fmt: skip
             checks.positive(name, getattr(self, name))
         for name in ("tip_kv", "phi_kv", "min_force", "joint_margin", "min_epsilon",
-                     "lost_force", "nlp_margin", "hold_damping", "carry_margin"):  # fmt: skip
+                     "lost_force", "nlp_margin", "hold_damping", "carry_margin", "hold_kp",
+                     "hold_kv"):  # fmt: skip
             checks.nonnegative(name, getattr(self, name))
-        checks.vector("object_kp", self.object_kp, 3)
-        checks.vector("object_kv", self.object_kv, 3)
-        checks.vector("rolling_gains", self.rolling_gains, 3)
+        for name in ("object_kp", "object_kv", "rolling_gains"):
+            gains = checks.vector(name, getattr(self, name), 3)
+            for i, g in enumerate(gains):  # a negative gain pushes away from the reference
+                checks.nonnegative(f"{name}[{i}]", float(g))
+        # eq. (2.8)'s moment saturates at rolling_gains[2]: 0 would switch the law off
+        checks.positive("rolling_gains[2] (max_moment)", float(self.rolling_gains[2]), "N m")
         checks.integer("nlp_knots", self.nlp_knots, 2)
         checks.integer("max_phases", self.max_phases, 1)
         checks.in_range("gravity", self.gravity, 0.0, 100.0, unit="m/s^2")
