@@ -129,7 +129,10 @@ class ExplorationResult:
     Attributes:
         status: ``"ok"`` or ``"failed"``; reason: why it ended (always set).
         phases: the executed :class:`PhaseRecord` in order.
-        rotation: total true object rotation [rad] (negative: clockwise).
+        rotation: total true object rotation [rad] (negative: clockwise), from the
+            simulator's log: on a failed run it includes what the object turned after
+            control was lost (a long ellipse flung in a simulator fault turned 28 deg in
+            48 ms), so read it with ``status``.
         coverage: fraction of the outline (1-degree cells of polar angle) touched by a
             fingertip in any phase (phase-1 rolling and the holder sense it too), 0-1;
             ``metrics.coverage_mask(log, "object", profile, phases=phases)`` counts the
