@@ -250,8 +250,7 @@ def sense_kernel(q, forces, image, has_image, source, geo, taxel_u, out):  # pra
     if source == 1 or (source == 0 and out[B_TOUCH] != 0.0):
         cx, cy = pLx - R * nLx, pLy - R * nLy
     else:  # resting on the palm, touching the right tip
-        dy = R - tRy
-        cx, cy = tRx - math.sqrt(max((R + r) ** 2 - dy * dy, 0.0)), R
+        cx, cy = _palm_centre(tRx, tRy, R + r, R, -1.0)
     _write_rest(forces, out, pLx, pLy, nLx, nLy, u, cx, cy, tLx, tLy, tRx, tRy, r)
 
 
