@@ -18,15 +18,47 @@ It inherits :meth:`run` (:func:`planner.sim.loop.run`), :meth:`record` (one log 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 import numpy as np
 
+from planner.errors import InvalidParameter
 from planner.sim.events import SimEvent
 from planner.sim.log import SimLog
 from planner.sim.loop import run as _run
 
-__all__ = ["WorldBase"]
+__all__ = ["WorldBase", "joint_torques"]
+
+
+def joint_torques(tau: object, n: int, what: str) -> np.ndarray:
+    """``tau`` as the (n,) float array of joint torques [N m] a world's ``step`` takes.
+
+    Raises:
+        InvalidParameter: ``tau`` is not ``n`` finite numbers (``what`` names them, e.g.
+            "3 motor torques of the 3GM"); a wrong length would otherwise be broadcast or
+            read past its end by the compiled step, and a NaN would become the state.
+    """
+    t = tau if isinstance(tau, np.ndarray) and tau.dtype == np.float64 else None
+    if t is None:
+        try:
+            t = np.asarray(tau, float)
+        except (TypeError, ValueError):
+            raise InvalidParameter(
+                f"tau: expected {n} {what} [N m], got {type(tau).__name__}"
+            ) from None
+    if t.shape != (n,):
+        raise InvalidParameter(f"tau: expected {n} {what} [N m], got shape {t.shape}")
+    # the sum of Python floats is the cheap test (0.2 us): NaN and inf propagate, and a
+    # sum that overflows without them is looked into, so huge finite torques pass
+    vals = t.tolist()
+    if not math.isfinite(sum(vals)):
+        bad = [(i, v) for i, v in enumerate(vals) if not math.isfinite(v)]
+        if bad:
+            raise InvalidParameter(
+                f"tau: joint torques must be finite, got {bad[0][1]} at index {bad[0][0]}"
+            )
+    return t
 
 
 class WorldBase:

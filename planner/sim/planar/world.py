@@ -30,7 +30,7 @@ from planner.sim.planar.records import contact_records
 from planner.sim.planar.sensing import observe as _observe
 from planner.sim.planar.stepper import StepResult, step, step_fast
 from planner.sim.records import Contact
-from planner.sim.world import WorldBase
+from planner.sim.world import WorldBase, joint_torques
 
 __all__ = ["PlanarWorld"]
 
@@ -308,9 +308,16 @@ class PlanarWorld(WorldBase):
 
     # ------------------------------------------------------------------ stepping
     def step(self, tau=None) -> None:
-        """Advance one step ``dt`` with joint torques ``tau`` (6,) [N m] (None: zeros)."""
+        """Advance one step ``dt`` with joint torques ``tau`` (6,) [N m] (None: zeros).
+
+        Raises:
+            InvalidParameter: ``tau`` is not 6 finite numbers, or torques were given to a
+                world without a hand.
+        """
         if self.hand is not None:
-            tau = np.zeros(6) if tau is None else np.asarray(tau, float)
+            tau = np.zeros(6) if tau is None else joint_torques(tau, 6, "joint torques of the hand")
+        elif tau is not None and np.size(tau):
+            raise InvalidParameter("tau: this world has no hand to apply joint torques to")
         self.jam = 0.0
         res = step_fast(self, tau) if self.compiled else step(self, tau)
         self._last, self._records = res, None

@@ -73,7 +73,7 @@ from planner.sim.spatial.sensing import (
 )
 from planner.sim.spatial.step_kernel import FALLBACK
 from planner.sim.spatial.stepping import step_body
-from planner.sim.world import WorldBase
+from planner.sim.world import WorldBase, joint_torques
 
 __all__ = ["SpatialWorld"]
 
@@ -319,16 +319,16 @@ class SpatialWorld(WorldBase):
         clipped at the torque limits (the run loop reports the saturation).
 
         Raises:
+            InvalidParameter: ``tau`` is not 3 finite numbers, or torques were given to a
+                world without a finger.
             SingularConfiguration: the 3GM reached a configuration where its loop cannot
                 close or its passive links align (the run loop makes it a "singular" event).
         """
         f = self.finger
+        if f is None and tau is not None and np.size(tau):
+            raise InvalidParameter("tau: this world has no finger to apply motor torques to")
         if f is not None:
-            t = self._zero3 if tau is None else tau
-            if not isinstance(t, np.ndarray) or t.dtype != np.float64:
-                t = np.asarray(t, float)
-            if t.shape != (3,):
-                raise InvalidParameter(f"tau: expected 3 motor torques [N m], got shape {t.shape}")
+            t = self._zero3 if tau is None else joint_torques(tau, 3, "motor torques")
             if self._fast is False:
                 self._fast = fast_plate(self) if self.use_kernels else None
             if self._fast is not None:
