@@ -305,8 +305,38 @@ def _error_loc(err: Mapping[str, Any], data: Any) -> tuple:
     return loc
 
 
+def _items_missing(errors: Sequence[Mapping[str, Any]]) -> list[Mapping[str, Any]]:
+    """``errors`` with pydantic's ``missing`` errors of a fixed-length tuple's items (one per
+    absent item, located at the item's index: ``pose[2]: Field required`` for a 2-item pose
+    of 3) merged into one ``too_few_items`` error at the tuple, with the counts: the tuple
+    was reported as a missing key."""
+    need: dict[tuple, int] = {}
+    for err in errors:
+        loc = tuple(err["loc"])
+        if err.get("type") == "missing" and loc and isinstance(loc[-1], int):
+            need[loc[:-1]] = max(need.get(loc[:-1], 0), loc[-1] + 1)
+    if not need:
+        return list(errors)
+    out: list[Mapping[str, Any]] = []
+    for err in errors:
+        loc = tuple(err["loc"])
+        if loc[:-1] in need and err.get("type") == "missing" and isinstance(loc[-1], int):
+            got = err.get("input")
+            ctx = {
+                "expected": need[loc[:-1]],
+                "actual": len(got) if isinstance(got, list) else None,
+            }
+            err = {"type": "too_few_items", "loc": loc[:-1], "msg": "", "ctx": ctx}
+        out.append(err)
+    return out
+
+
 def _message(err: Mapping[str, Any]) -> str:
     kind = err.get("type")
+    if kind == "too_few_items":
+        ctx = err["ctx"]
+        got = "" if ctx["actual"] is None else f", got {ctx['actual']}"
+        return f"expected {ctx['expected']} items{got}"
     if kind == "extra_forbidden":
         return "unknown key (check the spelling; see the README for the keys of this kind)"
     if kind == "missing":
@@ -332,7 +362,7 @@ def validation_issues(doc: SourceDoc, exc: ValidationError) -> list[InputIssue]:
     """
     issues = []
     seen = set()
-    for err in exc.errors():
+    for err in _items_missing(exc.errors()):
         src, line, path = _locate(doc, err["loc"])
         issue = InputIssue(src, line, path, _message(err))
         if str(issue) not in seen:
@@ -380,10 +410,11 @@ def validate(doc: SourceDoc) -> ScenarioBase:
     except ValidationError as exc:
         issues = []
         seen = set()
-        for err in exc.errors():
+        for err in _items_missing(exc.errors()):
             loc = _error_loc(err, doc.data)
             msg = _message(err)
-            if len(loc) > len(err["loc"]) and msg.startswith(f"{loc[-1]}: "):
+            head = ".".join(str(k) for k in loc[len(err["loc"]) :])
+            if head and msg.startswith(f"{head}: "):
                 msg = msg.split(": ", 1)[1]  # the key now leads the line; do not repeat it
             src, line, path = _locate(doc, loc)
             issue = InputIssue(src, line, path, msg)

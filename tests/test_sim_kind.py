@@ -93,3 +93,57 @@ def test_scene_params_are_checked(cli, tmp_path):
     f.write_text("name: s\nkind: contact_sim\nscene:\n  preset: pinch\n  params: {squeez: 1}\n")
     res = cli("validate", str(f))
     assert res.returncode == 2 and "squeez" in res.stderr
+
+
+def test_every_bad_scene_param_is_reported_at_its_key(cli, tmp_path):
+    f = tmp_path / "s.yaml"
+    f.write_text(
+        "name: s\nkind: contact_sim\nscene:\n  preset: pinch\n  params:\n"
+        "    squeeze: -1.0\n    mass: 0.1\n    radius: .nan\n    friction: 0\n"
+    )
+    res = cli("validate", str(f))
+    assert res.returncode == 2 and "Traceback" not in res.stderr
+    assert res.stderr.splitlines() == [
+        f"{f}:6: scene.params.squeeze: Input should be greater than or equal to 0",
+        f"{f}:8: scene.params.radius: Input should be a finite number",
+    ]
+    f.write_text("name: s\nkind: contact_sim\nscene:\n  preset: pinch\n  params: {mass: 0}\n")
+    res = cli("validate", str(f))
+    assert res.stderr.strip() == f"{f}:5: scene.params.mass: must be > 0, got 0"
+    res = cli("validate", str(f), "--set", "scene.params.mass=0.1", "--set", "scene.params.x=1")
+    assert res.returncode == 2
+    assert "scene.params: unknown parameter x of the pinch scene; valid: friction," in res.stderr
+
+
+def test_a_short_tuple_is_too_few_items_not_a_missing_key(cli, tmp_path):
+    f = tmp_path / "s.yaml"
+    f.write_text(OVERLAP.replace("pose: [0, 0.01, 0]", "pose: [0, 0.03]") + "gravity: [0.0]\n")
+    res = cli("validate", str(f))
+    assert res.returncode == 2
+    assert res.stderr.splitlines() == [
+        f"{f}:10: bodies[0].pose: expected 3 items, got 2",
+        f"{f}:12: gravity: expected 2 items, got 1",
+    ]
+    f.write_text(OVERLAP.replace("pose: [0, 0.01, 0]", "pose: [0, 0.03, 0]"))
+    res = cli("run", str(f), "--out", str(tmp_path / "o"), "--set", "bodies.0.velocity=[0.5]")
+    assert res.returncode == 2 and not (tmp_path / "o").exists()
+    assert res.stderr.strip().endswith("bodies[0].velocity: expected 3 items, got 1")
+
+
+def test_penetration_counts_pairs_and_scene_rules_name_the_scene(cli, tmp_path):
+    f = tmp_path / "s.yaml"
+    box = "  - name: b\n    profile: {type: rounded_rectangle, width: 0.02, height: 0.01}\n"
+    f.write_text(
+        OVERLAP.replace("  - name: b\n    profile: {type: circle, radius: 0.02}\n", box).replace(
+            "pose: [0, 0.01, 0]", "pose: [0, 0.004, 0]"
+        )
+    )
+    res = cli("validate", str(f))
+    # a box sunk flat into the floor touches it at two points: still one pair
+    assert res.returncode == 2 and "1 pair starts in penetration, 'floor' and 'b'" in res.stderr
+    f.write_text(OVERLAP.replace("pose: [0, 0.01, 0]", "pose: [0, 0.03, 0]") + SCENE)
+    res = cli("validate", str(f))
+    assert res.stderr.strip() == f"{f}:12: scene: give either a scene or fixed/bodies, not both"
+
+
+SCENE = "scene:\n  preset: pinch\n"

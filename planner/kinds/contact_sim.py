@@ -66,10 +66,16 @@ class BodySpec(StrictModel):
 
 
 class SceneSpec(StrictModel):
-    """A named verification scene of :mod:`planner.sim` with its controller preset."""
+    """A named verification scene of :mod:`planner.sim` with its controller preset.
+
+    ``params`` are keyword arguments of the preset's scene builder, in its units; each must
+    be finite and > 0 (``friction`` >= 0). A negative or non-finite value is reported at its
+    own key, all of them at once."""
 
     preset: Literal["pinch", "palm_roll", "hold_slide", "ridge_3gm"]
-    params: dict[str, float] = Field(default_factory=dict)
+    params: dict[str, Annotated[float, Field(ge=0, allow_inf_nan=False)]] = Field(
+        default_factory=dict
+    )
 
     @model_validator(mode="after")
     def _params(self):
@@ -79,10 +85,13 @@ class SceneSpec(StrictModel):
         names = set(inspect.signature(fn).parameters) - {"dt", "seed", "sensors"}
         bad = sorted(set(self.params) - names)
         if bad:
-            raise ValueError(f"unknown params {bad} for {self.preset}; valid: {sorted(names)}")
-        for k, v in self.params.items():
-            if not np.isfinite(v) or (v < 0 if k == "friction" else v <= 0):
-                raise ValueError(f"params.{k} must be {'>= 0' if k == 'friction' else '> 0'}")
+            raise ValueError(
+                f"params: unknown {'parameter' if len(bad) == 1 else 'parameters'} "
+                f"{', '.join(bad)} of the {self.preset} scene; valid: {', '.join(sorted(names))}"
+            )
+        zero = [k for k, v in self.params.items() if v == 0 and k != "friction"]
+        if zero:
+            raise ValueError(f"params.{zero[0]}: must be > 0, got 0")
         return self
 
 
@@ -127,15 +136,16 @@ class Config(ScenarioBase):
         if over:
             a, b, gap = over[0]
             raise ValueError(
-                f"{len(over)} pair(s) start in penetration, e.g. {a!r} and {b!r} overlap by "
-                f"{-gap:.3g} m; move the bodies apart"
+                f"{len(over)} {'pair starts' if len(over) == 1 else 'pairs start'} in "
+                f"penetration, {'' if len(over) == 1 else 'the deepest '}{a!r} and {b!r} "
+                f"overlapping by {-gap:.3g} m; move the bodies apart"
             )
         return bodies
 
     @model_validator(mode="after")
     def _one_world(self):
         if self.scene is not None and (self.fixed or self.bodies):
-            raise ValueError("give either scene or fixed/bodies, not both")
+            raise ValueError("scene: give either a scene or fixed/bodies, not both")
         if self.scene is None and not self.bodies:
             raise ValueError("give a scene, or at least one body")
         if self.scene is None and self.duration is None:

@@ -433,15 +433,18 @@ class PlanarWorld(WorldBase):
         return self._records
 
     def penetrations(self, tolerance: float = 1e-9) -> list[tuple[str, str, float]]:
-        """Pairs overlapping by more than ``tolerance`` [m] now: (a, b, gap)."""
+        """Body pairs overlapping by more than ``tolerance`` [m] now: ``(a, b, gap)`` once
+        per pair, ``gap`` < 0 its deepest contact point's [m] (a pair may touch at several
+        points: a box flat on a plane at two), deepest pair first."""
         from planner.sim.planar.stepper import find_contacts
 
-        found = find_contacts(self, 0.0)
-        return [
-            (self.bodies[c[0]].name, self.bodies[c[1]].name, c[2])
-            for c in found
-            if c[2] < -tolerance
-        ]
+        deepest: dict[tuple[int, int], float] = {}
+        for c in find_contacts(self, 0.0):
+            if c[2] < -tolerance:
+                key = (c[0], c[1])
+                deepest[key] = min(c[2], deepest.get(key, 0.0))
+        pairs = sorted(deepest.items(), key=lambda kv: kv[1])
+        return [(self.bodies[i].name, self.bodies[j].name, gap) for (i, j), gap in pairs]
 
     # ------------------------------------------------------------------ sensing
     def observe(self, oracle: bool = False) -> Observation:
