@@ -82,3 +82,22 @@ def test_mujoco_model_settings_are_checked_and_best_is_stiffer():
     assert set(MUJOCO_SETTINGS) == {"default", "best"}
     _, m, _ = mujoco_model(world, "best")
     assert m.opt.impratio == 100.0 and m.opt.noslip_iterations == 20
+
+
+@pytest.mark.parametrize(("mu_surface", "mu_ball"), [(0.2, 0.5), (0.5, 0.2)])
+def test_a_pair_takes_the_larger_friction_here_and_in_the_export(mu_surface, mu_ball):
+    # a ball launched without spin slides until it rolls (t = 2 v0 / (7 mu g) = 58 ms at
+    # mu 0.5): over the first 20 ms it decelerates at mu g with mu the larger coefficient,
+    # MuJoCo's rule; until 2026-11-25 the spatial world took the smaller one
+    w = SpatialWorld()
+    w.add_surface(Plane.tilted(0.0), friction=mu_surface, name="p")
+    b = w.add_sphere(0.01, 0.1, (0.0, 0.0, 0.01), velocity=(1.0, 0.0, 0.0), friction=mu_ball)
+    m, d = _load(w)
+    log = w.run(0.02)
+    ours = (1.0 - log.velocities[b][-1, 0]) / log.t[-1] / 9.81
+    assert ours == pytest.approx(0.5, rel=1e-9)
+    steps = round(0.02 / m.opt.timestep)
+    for _ in range(steps):
+        mujoco.mj_step(m, d)
+    theirs = (1.0 - d.qvel[0]) / (steps * m.opt.timestep) / 9.81
+    assert theirs == pytest.approx(0.5, rel=0.05)  # MuJoCo's soft contact: a few percent

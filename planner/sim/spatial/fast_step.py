@@ -92,7 +92,7 @@ def fast_plate(world) -> FingerKernel | None:
     ((name, (placed, mu)),) = world.surfaces.items()
     if not isinstance(placed.surface, Plate | Plane):
         return None
-    mu = mu if f.friction is None else min(mu, f.friction)
+    mu = mu if f.friction is None else max(mu, f.friction)
     f.x[sk.HINT_OK] = 0.0  # the warm start of the foot belongs to the previous surface
     return FingerKernel(name, placed, mu, f, world.dt)
 

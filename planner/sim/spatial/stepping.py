@@ -52,7 +52,7 @@ def _candidates(world, body, nu_free) -> list[_Candidate]:
         gap = foot.distance - body.radius
         if gap > reach:
             continue
-        mu = mu_s if body.friction is None else min(mu_s, body.friction)
+        mu = mu_s if body.friction is None else max(mu_s, body.friction)
         out.append(_Candidate(sname, placed, mu, foot, gap, _frame(foot.normal)))
     return out
 

@@ -42,8 +42,10 @@ give the same trajectories (tested on random states to ~1e-12).
 Contact records (``contacts()``): the contacts of the last step that carried force
 (``λ_n > 0``); forces are impulses / h; ``tangential_force`` and ``slip_velocity`` are
 (3,) WCS vectors in the tangent plane, the slip of the sphere's material point relative to
-the surface after the step. Friction of a contact: ``min`` of the coefficients given to the
-surface and to the body (a body's ``None`` leaves the surface's value).
+the surface after the step. Friction of a contact: the larger of the coefficients given to
+the surface and to the body (a body's ``None`` leaves the surface's value): MuJoCo's rule,
+as in the planar world, so that :func:`planner.sim.to_mjcf` builds the same scene (until
+2026-11-25 it was the smaller one here, and the export differed when a body's was smaller).
 
 Limits: one contact per sphere and surface (a sphere wider than a concave groove touches
 it at two points: only the nearest foot is modelled); spheres do not collide with each other
@@ -168,7 +170,8 @@ class SpatialWorld(WorldBase):
 
         Args:
             radius: [m]; mass: [kg]; velocity, angular_velocity: (3,) WCS [m/s, rad/s].
-            friction: μ of the ball (None: the surfaces' values).
+            friction: μ of the ball (None: the surfaces' values; a contact takes the larger
+                of the ball's and the surface's).
         """
         r = checks.positive("radius", radius, "m")
         m = checks.positive("mass", mass, "kg")
@@ -196,7 +199,9 @@ class SpatialWorld(WorldBase):
 
         The fingertip is a sphere of ``tip_radius`` [m] centred at the 3GM endpoint, rigid
         with the distal link. Inputs of ``step`` are the motor torques (3,) [N m] (limits:
-        ``three_gm.torque_limits``, App. C.2.1).
+        ``three_gm.torque_limits``, App. C.2.1). ``theta_dot``: (3,) motor speeds [rad/s];
+        ``friction``: μ of the fingertip (None: the surfaces' values; a contact takes the
+        larger of the tip's and the surface's).
 
         Raises:
             InvalidParameter: a second finger, or a start in penetration.
