@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import pytest
 
@@ -21,6 +22,7 @@ from planner.reproduce import (
     write_report,
 )
 from planner.reproduce.claim import verdict_from
+from planner.reproduce.report import PEER_REPORTS, peer_reports
 
 #: The thesis results the issue names; each must have a claim.
 REQUIRED = {
@@ -88,6 +90,37 @@ def test_broken_check_is_an_error_not_a_crash(tmp_path):
     assert exit_code([r]) == 1
     write_report([r], tmp_path / "report.md", quick=True)
     assert "boom" in (tmp_path / "report.md").read_text()
+
+
+def test_peer_reports_find_the_files_the_benchmarks_write(tmp_path):
+    results = tmp_path / "benchmarks" / "results"
+    results.mkdir(parents=True)
+    (results / "sim.md").write_text("# hapex vs MuJoCo\n")
+    (results / "sim_breakdown.md").write_text("# hapex alone\n")
+    (results / "bench_grasp.md").write_text("# grasp\n")
+    found = {stem: what for stem, what, _ in peer_reports(tmp_path)}
+    assert set(found) == {"sim", "bench_grasp"}
+    assert "MuJoCo" in found["sim"]
+
+
+def test_every_peer_report_is_committed():
+    """Each entry of PEER_REPORTS names a file some benchmark script writes (``bench_sim.py``
+    writes ``sim.md``, not ``bench_sim*.md``): none silently missing from the report."""
+    results = Path(__file__).resolve().parents[1] / "benchmarks" / "results"
+    if not results.is_dir():
+        pytest.skip("not a source tree")
+    for pattern in PEER_REPORTS:
+        assert list(results.glob(pattern)), f"no benchmarks/results/{pattern}"
+
+
+def test_report_carries_the_simulator_vs_mujoco_comparison(tmp_path):
+    if not peer_reports():
+        pytest.skip("not a source tree")
+    r = run_claim(_claim(lambda ctx: Evidence(Verdict.REPRODUCED, [], "")), ClaimContext())
+    write_report([r], tmp_path / "report.md", quick=True)
+    peers = (tmp_path / "report.md").read_text().split("## Peer comparisons")[1]
+    assert "### sim: simulator vs MuJoCo on the same scenes" in peers
+    assert "Contact simulator: hapex vs MuJoCo" in peers
 
 
 def test_missing_capability_is_not_implemented():

@@ -14,13 +14,15 @@ from planner.reproduce.execute import ClaimResult
 
 __all__ = ["exit_code", "peer_reports", "write_claims_json", "write_report"]
 
-#: Benchmark reports whose peer comparisons the report carries (file stem -> what it compares).
+#: Benchmark reports whose peer comparisons the report carries: a glob over the file names the
+#: ``benchmarks/bench_*.py`` scripts write into ``benchmarks/results/`` -> what they compare.
+#: ``bench_sim.py`` writes ``sim.md`` (and ``sim_breakdown.md``, hapex alone: not a peer).
 PEER_REPORTS = {
-    "bench_grasp": "grasp map vs per-cell LP; QP backends",
-    "bench_control": "control step: code-generated vs plain numpy/qpsolvers",
-    "bench_sim": "simulator vs MuJoCo on the same scenes",
-    "bench_explore": "3GM explorer: control step and accuracy",
-    "bench_gait": "gait NLP and the §2.3.1 batch",
+    "bench_grasp*.md": "grasp map vs per-cell LP; QP backends",
+    "bench_control*.md": "control step: code-generated vs plain numpy/qpsolvers",
+    "sim.md": "simulator vs MuJoCo on the same scenes",
+    "bench_explore*.md": "3GM explorer: control step and accuracy",
+    "bench_gait*.md": "gait NLP and the §2.3.1 batch",
 }
 
 
@@ -82,8 +84,8 @@ def peer_reports(root: Path | None = None) -> list[tuple[str, str, str]]:
         root = Path(__file__).resolve().parents[2]
     folder = root / "benchmarks" / "results"
     found = []
-    for stem, what in PEER_REPORTS.items():
-        for f in sorted(folder.glob(f"{stem}*.md")):
+    for pattern, what in PEER_REPORTS.items():
+        for f in sorted(folder.glob(pattern)):
             found.append((f.stem, what, f.read_text()))
     return found
 
