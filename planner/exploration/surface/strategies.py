@@ -26,18 +26,52 @@ def raster(region: np.ndarray, spacing: float, margin: float):
         yield (a, b) if i % 2 == 0 else (b, a)
 
 
+def _box_reach(p: np.ndarray, d: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> float:
+    """Distance [m] from ``p`` (2,) along the unit direction ``d`` (2,) to the box's edge."""
+    t = math.inf
+    for i in range(2):
+        if d[i] > 1e-12:
+            t = min(t, (hi[i] - p[i]) / d[i])
+        elif d[i] < -1e-12:
+            t = min(t, (lo[i] - p[i]) / d[i])
+    return max(t, 0.0)
+
+
+#: the random walk yields no leg shorter than this [m] (a sweep needs more than 0.2 mm to move)
+MIN_LEG = 1e-3
+
+
 def random_walk(region: np.ndarray, start, rng: np.random.Generator, step: float, margin: float):
-    """Straight legs of random heading and length U(1, 2) ``step`` [m], kept in the region."""
+    """Straight legs of random heading and length U(1, 2) ``step`` [m], kept in the region.
+
+    The usable box is ``region`` shrunk by ``margin`` [m] (collapsed to its mid-line along an
+    axis narrower than ``2 margin``). A leg is clipped where it meets the box's edge; a heading
+    whose clipped leg is shorter than ``min(step, box size) / 4`` is drawn again, and after 20
+    such draws the leg heads to the box corner farthest away (so every leg is at least
+    ``min(step, box size) / 4`` and at least :data:`MIN_LEG` long, and each takes simulated
+    time). A box smaller than :data:`MIN_LEG` along both axes has no room to walk: no leg.
+    """
     lo, hi = region[:, 0] + margin, region[:, 1] - margin
+    mid = region.mean(axis=1)
+    lo, hi = np.where(lo > hi, mid, lo), np.where(lo > hi, mid, hi)
+    room = float(np.max(hi - lo))
+    if room < MIN_LEG:
+        return
+    shortest = max(MIN_LEG, 0.25 * min(step, room))
+    corners = np.array([[lo[0], lo[1]], [hi[0], lo[1]], [lo[0], hi[1]], [hi[0], hi[1]]])
     p = np.clip(np.asarray(start, float), lo, hi)
     while True:
         for _ in range(20):
             phi = rng.uniform(0.0, 2 * math.pi)
-            q = p + rng.uniform(1.0, 2.0) * step * np.array([math.cos(phi), math.sin(phi)])
-            if np.all(q >= lo) and np.all(q <= hi):
+            d = np.array([math.cos(phi), math.sin(phi)])
+            leg = min(rng.uniform(1.0, 2.0) * step, _box_reach(p, d, lo, hi))
+            if leg >= shortest:
                 break
         else:
-            q = 0.5 * (lo + hi)
+            far = corners[int(np.argmax(np.linalg.norm(corners - p, axis=1)))]
+            gap = float(np.linalg.norm(far - p))  # >= room / 2 >= shortest
+            d, leg = (far - p) / gap, min(gap, max(shortest, rng.uniform(1.0, 2.0) * step))
+        q = np.clip(p + leg * d, lo, hi)
         yield p, q
         p = q
 
