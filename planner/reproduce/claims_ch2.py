@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from planner.reproduce._library_figures import save_run_figure
 from planner.reproduce._paths import scenario_path
 from planner.reproduce._plots import figure, save
 from planner.reproduce._require import require
@@ -71,14 +72,17 @@ def fig2_4(ctx: ClaimContext) -> Evidence:
     )
 
 
-def _run_scenario(name: str, ctx: ClaimContext):
+def _run_scenario(name: str, ctx: ClaimContext, plots: bool = False):
+    """Run the bundled scenario ``name``; ``plots``: let it draw its figures (only when the
+    report wants figures)."""
     from planner.runner import run_config
     from planner.scenario import kinds, load_scenario
 
     path = scenario_path(name)
     if "gait" not in kinds():
         require("planner.kinds.gait", "run")
-    result, _ = run_config(load_scenario(path), plots=False, quick=ctx.quick)
+    plots = plots and ctx.figures is not None
+    result, _ = run_config(load_scenario(path), plots=plots, quick=ctx.quick)
     return result
 
 
@@ -134,7 +138,8 @@ def sec2_3_1(ctx: ClaimContext) -> Evidence:
     "Commanded and actual contact locations against time under the rolling PD.",
 )
 def fig2_10(ctx: ClaimContext) -> Evidence:
-    result = _run_scenario("explicit_rolling", ctx)
+    result = _run_scenario("explicit_rolling", ctx, plots=True)
+    figure_name = save_run_figure(result, "contacts", ctx.figure_path("fig2.10"))
     slip = result.metrics.get("slip_distance_m")
     nums = [
         Number(
@@ -152,6 +157,7 @@ def fig2_10(ctx: ClaimContext) -> Evidence:
         nums,
         _scope(ctx) + "Rolling PD on sensed contacts; the "
         "commanded-vs-actual plot is the scenario's Fig. 2.10-like figure.",
+        figure_name,
     )
 
 
@@ -165,7 +171,8 @@ def fig2_10(ctx: ClaimContext) -> Evidence:
     "the end of each phase.",
 )
 def fig2_12(ctx: ClaimContext) -> Evidence:
-    result = _run_scenario("square_gait", ctx)
+    result = _run_scenario("square_gait", ctx, plots=True)
+    figure_name = save_run_figure(result, "snapshots", ctx.figure_path("fig2.12"))
     phases = result.metrics.get("phases")
     nums = [
         Number("phases executed", phases, 3, phases is not None and phases >= 3, ">= 3"),
@@ -178,6 +185,7 @@ def fig2_12(ctx: ClaimContext) -> Evidence:
         _scope(ctx) + "Executed gait. Known gap: the feature-less "
         "circle model misplaces a square's centre on its flat faces and the "
         "simulator's contact LCP can stop; see the scenario's reason.",
+        figure_name,
     )
 
 
@@ -190,7 +198,8 @@ def fig2_12(ctx: ClaimContext) -> Evidence:
     "Normal and tangential force of the left finger and tactile images over two phases.",
 )
 def fig2_14(ctx: ClaimContext) -> Evidence:
-    result = _run_scenario("ball_with_ridge", ctx)
+    result = _run_scenario("ball_with_ridge", ctx, plots=True)
+    figure_name = save_run_figure(result, "forces", ctx.figure_path("fig2.14"))
     m = result.metrics
     rot, err = m.get("rotation_deg"), m.get("ridge_error_deg")
     nums = [
@@ -213,4 +222,5 @@ def fig2_14(ctx: ClaimContext) -> Evidence:
         _scope(ctx) + "Known gap: the full run turns the ball "
         "clockwise but stops near -44 deg when the planar simulator's LCP fails "
         "with a joint limit and a chattering pad contact active together.",
+        figure_name,
     )

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from planner.reproduce._library_figures import save_figure, save_run_figure
 from planner.reproduce._plots import figure, save
 from planner.reproduce.claim import ClaimContext, Evidence, Number, verdict_from
 from planner.reproduce.registry import claim
@@ -202,7 +203,8 @@ def fig3_9(ctx: ClaimContext) -> Evidence:
     from planner.scenario import load_scenario
 
     cfg = load_scenario(scenario_path("step_trace"))
-    result, _ = run_config(cfg, plots=False, quick=ctx.quick)
+    result, _ = run_config(cfg, plots=ctx.figures is not None, quick=ctx.quick)
+    figure_name = save_run_figure(result, "trace", ctx.figure_path("fig3.9"))
     m = result.metrics
     rms = _metric(m, "rms_error_without_end_caps_m", "rms_error_m")
     r = float(cfg.tip_radius)
@@ -224,6 +226,7 @@ def fig3_9(ctx: ClaimContext) -> Evidence:
         nums,
         "The thesis shows the figure only; hapex's error is "
         "measured against the exact step outside the unobservable corner.",
+        figure_name,
     )
 
 
@@ -244,25 +247,42 @@ def _metric(metrics: dict, *names: str) -> float:
     "Traced and estimated surfaces with the detected features of the wire on the 45 deg plane.",
 )
 def sec3_4_2(ctx: ClaimContext) -> Evidence:
-    from planner.detection import detect_features
+    from planner.detection import curvature_signal
+    from planner.detection.algorithms import features_from_signal
+    from planner.detection.plots import trace_figure
     from planner.geometry import shapes
     from planner.geometry.measurement import simulate_trace
 
     r_f = 0.01
+    wire = shapes.wire_on_plane(0.00065, angle=np.deg2rad(45))
     tr = simulate_trace(
-        shapes.wire_on_plane(0.00065, angle=np.deg2rad(45)),
+        wire,
         r_f,
         spacing=4e-5 if ctx.quick else 2e-5,
         center_sigma=1e-4,
         contact_sigma=2.5e-4,
         rng=ctx.rng(),
     )
-    found = {}
+    found, surfaces, detected = {}, {}, {}
     for alg in (1, 2, 3, 4):
-        feats = detect_features(
+        # detect_features with the default settings: the signal, merged within its scale
+        sig = curvature_signal(
             tr.centers, r_f, algorithm=alg, contacts=tr.contacts, normals=tr.normals
         )
+        feats = features_from_signal(sig, sig.scale, r_f)
         found[alg] = sorted(int(f.sign) for f in feats)
+        surfaces[alg], detected[alg] = sig.surface, feats
+    figure_name = None
+    if ctx.figures is not None:
+        fig = trace_figure(
+            tr.centers,
+            surfaces,
+            detected,
+            r_f,
+            profile=wire.sample(wire.length / 4000).points,
+            title="0.65 mm wire on a 45 deg plane: features of algorithms 1-4",
+        )
+        figure_name = save_figure(fig, ctx.figure_path("sec3.4.2"))
     n = [
         Number("algorithm 3 signs", str(found[3]), "[-1, -1, 1]", found[3] == [-1, -1, 1]),
         Number("algorithm 1 finds no concave", str(found[1]), "no -1", -1 not in found[1]),
@@ -275,4 +295,5 @@ def sec3_4_2(ctx: ClaimContext) -> Evidence:
         nums,
         "Simulated trace at the thesis' noise (centre 0.1 mm, "
         "contact 0.25 mm); the thesis reports the same pattern qualitatively.",
+        figure_name,
     )

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial.distance import directed_hausdorff
 
+from planner.reproduce._library_figures import save_figure, save_panels
 from planner.reproduce._plots import figure, save
 from planner.reproduce._require import require
 from planner.reproduce.claim import ClaimContext, Evidence, Number, verdict_from
@@ -31,14 +32,42 @@ def _plate(kind: str):
     return Plate((PlateFeature(kind, 0.001, 0.003, (0.0, 0.0)),))
 
 
+_REGION = ((-0.012, 0.012), (-0.008, 0.008))
+
+
 def _explore(kind: str, ctx: ClaimContext):
     explore_surface = require("planner.exploration", "explore_surface")
     return explore_surface(
         _plate(kind),
-        region=((-0.012, 0.012), (-0.008, 0.008)),
+        region=_REGION,
         seed=ctx.seed,
         duration=0.5 if ctx.quick else None,
     )
+
+
+def _top_view(kind: str, res, ctx: ClaimContext):
+    """The exploration kind's top view of the run ``res`` on the plate with one ``kind``
+    feature; the true outline is drawn in full runs only (it costs ~0.5 s a plate)."""
+    from planner.exploration.surface.plates import truth_features
+    from planner.exploration.surface.plots import top_view
+
+    plate = _plate(kind)
+    truth = None
+    if not ctx.quick:
+        truth = truth_features(plate, _REGION, res.settings.tip_radius, res.settings.boundary_rise)
+    found = ", ".join(f.kind for f in res.features) or "none"
+    title = f"{kind} plate: {res.status}, identified: {found}"
+    return top_view(res, plate, _REGION, truth, title)
+
+
+def _dvma_figure(boundary: np.ndarray, sk, title: str, path) -> str | None:
+    """The skeleton package's DVMA figure (the Voronoi edges, the pruned skeleton) saved at
+    ``path`` (nothing without a path)."""
+    if path is None:
+        return None
+    from planner.skeleton.plots import dvma_figure
+
+    return save_figure(dvma_figure(boundary, sk, title), path)
 
 
 _QUICK = (
@@ -56,9 +85,11 @@ _QUICK = (
     "Flow chart: cross the feature, count curvature features and their signs, decide.",
 )
 def fig4_7(ctx: ClaimContext) -> Evidence:
-    nums = []
+    nums, views = [], []
     for kind in ("cusp", "step", "ridge"):
         res = _explore(kind, ctx)
+        if ctx.figures is not None:
+            views.append(_top_view(kind, res, ctx))
         kinds = [f.kind for f in res.features]
         nums.append(
             Number(
@@ -75,6 +106,7 @@ def fig4_7(ctx: ClaimContext) -> Evidence:
         nums,
         (_QUICK if ctx.quick else "") + "3GM with OWTS under "
         "hybrid force/velocity control in the spatial simulator.",
+        save_panels(views, ["cusp", "step", "ridge"], ctx.figure_path("fig4.7")),
     )
 
 
@@ -88,6 +120,9 @@ def fig4_7(ctx: ClaimContext) -> Evidence:
 )
 def fig4_8(ctx: ClaimContext) -> Evidence:
     res = _explore("bump", ctx)
+    figure_name = None
+    if ctx.figures is not None:
+        figure_name = save_figure(_top_view("bump", res, ctx), ctx.figure_path("fig4.8"))
     closed = bool(res.features and res.features[0].closed)
     nums = [
         Number("boundary closed", closed, True, closed, f"status {res.status}"),
@@ -98,6 +133,7 @@ def fig4_8(ctx: ClaimContext) -> Evidence:
         verdict,
         nums,
         (_QUICK if ctx.quick else "") + "Boundary of a 2 mm bump traced in the spatial simulator.",
+        figure_name,
     )
 
 
@@ -157,13 +193,19 @@ def fig4_11(ctx: ClaimContext) -> Evidence:
     "Fig. 4.12, §4.4.3",
     "For non-branching features the unwanted skeleton arcs are pruned, leaving one path.",
     ["planner.skeleton.feature_skeleton"],
+    "Examples of branching and non-branching features with their skeletons; when only "
+    "non-branching features are considered, the unwanted skeleton arcs are pruned away.",
 )
 def fig4_12(ctx: ClaimContext) -> Evidence:
     from planner.skeleton import feature_skeleton
     from planner.skeleton.shapes import rectangle_outline
 
     w, h, sp = 0.05, 0.008, 0.0005
-    sk = feature_skeleton(rectangle_outline(w, h, sp), spacing=sp, branching=False)
+    boundary = rectangle_outline(w, h, sp)
+    sk = feature_skeleton(boundary, spacing=sp, branching=False)
+    figure_name = _dvma_figure(
+        boundary, sk, "50 x 8 mm ridge, non-branching: one path", ctx.figure_path("fig4.12")
+    )
     ends, branches = len(sk.end_points), len(sk.branch_points)
     ratio = sk.length / (w - h + h * np.sqrt(2))
     verdict, nums = verdict_from(
@@ -185,6 +227,7 @@ def fig4_12(ctx: ClaimContext) -> Evidence:
         "50 x 8 mm ridge, non-branching: the side branches are pruned and one path remains, "
         "the longest path of the rectangle's medial axis (corner, central segment w - h, "
         "opposite corner: w - h + h sqrt 2).",
+        figure_name,
     )
 
 
@@ -194,6 +237,9 @@ def fig4_12(ctx: ClaimContext) -> Evidence:
     "When a feature turns sharply, extra disconnected skeletons appear and the largest "
     "connected skeleton is the feature's skeleton.",
     ["planner.skeleton.feature_skeleton", "scenarios/curved_ridge_skeleton.yaml"],
+    "A sharply turning feature in three steps: the Voronoi diagram of its boundary "
+    "samples, the skeletons extracted with an edge length threshold (extra ones outside "
+    "the turn), and the final skeleton, the one with the most edges.",
 )
 def fig4_13(ctx: ClaimContext) -> Evidence:
     from planner.skeleton import feature_skeleton
@@ -207,6 +253,9 @@ def fig4_13(ctx: ClaimContext) -> Evidence:
     sp = 0.0004
     pts = sample_outline(ridge_polygon(center, 0.006), sp, noise=3e-5, rng=ctx.rng())
     sk = feature_skeleton(pts, spacing=sp)
+    figure_name = _dvma_figure(
+        pts, sk, "ridge turning by 155 deg: the largest skeleton kept", ctx.figure_path("fig4.13")
+    )
     from shapely import LineString, Point
 
     line = LineString(center)
@@ -225,7 +274,9 @@ def fig4_13(ctx: ClaimContext) -> Evidence:
             Number("end points", len(sk.end_points), 2, len(sk.end_points) == 2, "== 2"),
         ]
     )
-    return Evidence(verdict, nums, "Two 30 mm arms meeting at a 155 deg turn, 6 mm wide.")
+    return Evidence(
+        verdict, nums, "Two 30 mm arms meeting at a 155 deg turn, 6 mm wide.", figure_name
+    )
 
 
 @claim(
