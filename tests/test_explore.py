@@ -34,6 +34,13 @@ def _bump_plate(h=2e-3, w=3e-3, pos=(0.0, 0.0)):
         ({"region": ((0.01, -0.01), (0.0, 0.01))}, "region"),
         ({"strategy": "random_walk", "identify": "raster"}, "identify"),
         ({"identify": "template"}, "identify"),
+        ({"seed": -3}, "^seed: expected an integer >= 0"),
+        ({"seed": 2.5}, "^seed: expected an integer >= 0"),
+        ({"seed": float("nan")}, "^seed: expected an integer >= 0"),
+        ({"line_spacin": 0.01}, "^line_spacin: not an option of explore_surface.*line_spacing"),
+        ({"sensors": "noisy"}, "^sensors: expected None or a planner.sim.SensorSettings"),
+        ({"sensors": 3}, "^sensors: expected None or a planner.sim.SensorSettings"),
+        ({"region": ((-0.3, 0.3), (-0.01, 0.01))}, "^region: the point .* outside"),
     ],
 )
 def test_bad_input_is_invalid_parameter(kwargs, match):

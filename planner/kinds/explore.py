@@ -141,14 +141,14 @@ class Config(ScenarioBase):
         if not (u0 < u1 and v0 < v1):
             raise ValueError("expected [[u0, u1], [v0, v1]] with u0 < u1 and v0 < v1 [m]")
         if "plate" in info.data and "tip_radius" in info.data:
-            _reach(info.data["plate"], info.data["tip_radius"], v, None, 0.3)
+            _reach(info.data["plate"], info.data["tip_radius"], v, None, 0.3, key="region")
         return v
 
     @field_validator("goal")
     @classmethod
     def _goal(cls, v, info: ValidationInfo):
         if v is not None and {"plate", "tip_radius", "region"} <= set(info.data):
-            _reach(info.data["plate"], info.data["tip_radius"], info.data["region"], v, 0.3)
+            _reach(info.data["plate"], info.data["tip_radius"], info.data["region"], v, 0.3, "goal")
         return v
 
     @model_validator(mode="after")
@@ -164,13 +164,19 @@ class Config(ScenarioBase):
         return self
 
 
-def _reach(plate, tip_radius, region, goal, normal_force) -> None:
+def _reach(plate, tip_radius, region, goal, normal_force, key: str = "") -> None:
+    """Reach and force checks as a ValueError. In the field validator of ``key`` the
+    message's leading ``key: `` is dropped (the error is reported at ``key`` already); a
+    model-level message keeps its key path, which locates it."""
     from planner.errors import InvalidParameter
 
     try:
         _check(plate, tip_radius, region, goal, normal_force)
     except InvalidParameter as exc:
-        raise ValueError(str(exc)) from None
+        msg = str(exc)
+        if key and msg.startswith(f"{key}: "):
+            msg = msg[len(key) + 2 :]
+        raise ValueError(msg) from None
 
 
 def run(config: Config, ctx):

@@ -11,6 +11,7 @@ features their global skeleton and region report (§4.4.3, §4.5.3).
 from __future__ import annotations
 
 import time
+from dataclasses import fields
 
 import numpy as np
 
@@ -112,7 +113,7 @@ def explore_surface(
         tip_radius: fingertip radius r_f [m].
         normal_force: desired normal force [N] (eq. 4.12).
         speed: search speed [m/s].
-        seed: seed of the simulator's sensor noise and of the random walk.
+        seed: seed of the simulator's sensor noise and of the random walk (an integer >= 0).
         duration: longest simulated time [s] (default 120 s).
         tilt: tilt of the plate about the WCS y axis [rad].
         goal: (2,) bug-2 goal in the plate frame [m].
@@ -127,9 +128,13 @@ def explore_surface(
         :class:`ExplorationResult` (status "failed" with a reason when the run could not go on).
 
     Raises:
-        InvalidParameter: bad arguments, a region or goal out of reach, a force beyond the
-            torque limits.
+        InvalidParameter: bad arguments (an unknown option, a ``seed`` that is not an integer
+            >= 0, ``sensors`` that are not a SensorSettings, ...), a region or goal out of
+            reach, a force beyond the torque limits.
     """
+    seed = checks.integer("seed", seed, 0)
+    _check_options(options)
+    _check_sensors(sensors)
     cfg = ExplorationSettings(
         strategy=strategy,
         tip_radius=tip_radius,
@@ -161,6 +166,29 @@ def explore_surface(
     log = world.run(dur, controller=ex, stop=ex.stop)
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     return _result(ex, state, log, cfg, T, wall, cpu)
+
+
+def _check_options(options: dict) -> None:
+    """Raise InvalidParameter naming any ``**options`` key that is not an
+    :class:`ExplorationSettings` field (or is one of ``explore_surface``'s own arguments)."""
+    own = {"strategy", "tip_radius", "normal_force", "speed", "goal"}
+    valid = sorted(f.name for f in fields(ExplorationSettings) if f.name not in own)
+    for name in options:
+        if name not in valid:
+            raise InvalidParameter(
+                f"{name}: not an option of explore_surface; expected one of {valid}"
+            )
+
+
+def _check_sensors(sensors) -> None:
+    """Raise InvalidParameter unless ``sensors`` is None or a SensorSettings."""
+    from planner.sim import SensorSettings
+
+    if sensors is not None and not isinstance(sensors, SensorSettings):
+        raise InvalidParameter(
+            f"sensors: expected None or a planner.sim.SensorSettings, got "
+            f"{type(sensors).__name__} {sensors!r}"
+        )
 
 
 def _warm_up(ex, scratch_world) -> None:
