@@ -154,11 +154,12 @@ class Config(ScenarioBase):
     @model_validator(mode="after")
     def _force_and_goal(self):
         if self.strategy == "bug2" and self.goal is None:
-            raise ValueError("strategy bug2 needs a goal [u, v] [m]")
+            # a rule across keys: its message starts with a key of the file, which locates it
+            raise ValueError("strategy: bug2 needs a goal [u, v] [m] (add the key goal)")
         if self.identify == "raster" and self.strategy != "raster":
             raise ValueError(
-                f"identify raster pattern-matches the raster's lines: needs strategy raster, "
-                f"got {self.strategy}"
+                f"identify: raster pattern-matches the raster's lines and needs strategy "
+                f"raster, got strategy {self.strategy}"
             )
         _reach(self.plate, self.tip_radius, self.region, None, self.normal_force)
         return self

@@ -1,0 +1,38 @@
+"""Scenario kind ``explore``: bad input is reported at the key it concerns, once (exit 2)."""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+from conftest import run_cli
+
+HEAD = "name: x\nkind: explore\nplate:\n  features: []\n"
+LINE = re.compile(r"^(?P<file>[^:]+):(?P<line>\d+): (?P<key>[A-Za-z0-9_.\[\]()]+): (?P<msg>.+)$")
+
+
+@pytest.mark.parametrize(
+    ("extra", "key", "start"),
+    [
+        # cross-key rules (model validator) are located at a key present in the file
+        ("strategy: bug2\n", "strategy", "bug2 needs a goal"),
+        ("strategy: random_walk\nidentify: raster\n", "identify", "raster pattern-matches"),
+        # field rules do not repeat their key
+        ("region: [[-0.25, 0.25], [-0.02, 0.02]]\n", "region", "the point (-250.0, -20.0) mm"),
+        ("strategy: bug2\ngoal: [0.45, 0.0]\n", "goal", "the point (450.0, 0.0) mm"),
+    ],
+)
+def test_error_is_one_line_at_its_key(tmp_path, extra, key, start):
+    f = tmp_path / "x.yaml"
+    f.write_text(HEAD + extra)
+    proc = run_cli("validate", str(f))
+    assert proc.returncode == 2, proc.stderr
+    lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
+    assert len(lines) == 1, proc.stderr
+    m = LINE.match(lines[0])
+    assert m, lines[0]
+    assert m["file"].endswith("x.yaml") and m["key"] == key, lines[0]
+    assert m["msg"].startswith(start), lines[0]
+    assert not m["msg"].startswith(f"{key}:"), lines[0]
+    line = int(m["line"])
+    assert f.read_text().splitlines()[line - 1].startswith(f"{key}:")
