@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from planner.errors import InvalidParameter
 from planner.geometry.surfaces import HeightField, ridge, sphere, step, wire_on_plane
 from planner.sim.spatial import Plane, Plate, PlateFeature, solve_contact
-from planner.sim.spatial.closest import PlacedSurface
+from planner.sim.spatial.closest import PlacedSurface, _newton_graph
 from planner.sim.spatial.friction_cone import residual, solve_contacts
 
 
@@ -237,6 +237,55 @@ def test_foot_near_a_sharp_crest_is_the_nearest_point(warm):
     dist = sk._foot(F, P, plate.base, prm, x, *c, out)
     assert dist == pytest.approx(foot.distance, abs=1e-12)
     np.testing.assert_allclose(out[:3], foot.point, atol=1e-12)
+
+
+def test_a_foot_left_on_a_wire_is_given_up_for_the_plate_below():
+    """A warm start on a wire's flank converges to a local foot there, although the ball
+    has moved over the flat plate: that foot is farther than the plate straight below, so
+    it cannot be the nearest. Both the reference and the kernel now restart from the grid
+    and find the plate (a 3GM sliding off a wire kept its foot on the flank and sank 7 mm
+    into the plate, found by a blind acceptance test)."""
+    from planner.sim.spatial import step_kernel as sk
+    from planner.sim.spatial.kernel import pack_plate
+
+    plate = Plate((PlateFeature("wire", 0.0016, 0.002, (0.0, 0.0), 0.0),))
+    r = 0.008
+    c = np.array([-0.0075, 0.0, r - 0.002])  # 2 mm into the plate, beside the wire
+    hint = (-0.0006, 0.0)  # on the wire's flank facing the ball
+    placed = PlacedSurface(plate)
+    p, _, _, converged = _newton_graph(placed.query.hd, c, *hint)
+    assert converged and p[2] > 1e-3  # warm Newton alone stays on the flank, 1.3 mm up
+    foot = placed.foot(c, hint)
+    assert foot.distance == pytest.approx(c[2], abs=1e-12)  # the plate straight below
+    np.testing.assert_allclose(foot.point, [c[0], 0.0, 0.0], atol=1e-12)
+    F, P = pack_plate(plate)
+    prm = np.zeros(sk.PARAM_SIZE)
+    prm[sk.P_ROT : sk.P_ROT + 9] = np.eye(3).ravel()
+    x = np.zeros(sk.STATE_SIZE)
+    x[sk.HINT], x[sk.HINT + 1], x[sk.HINT_OK] = *hint, 1.0
+    out = np.zeros(6)
+    assert sk._foot(F, P, plate.base, prm, x, *c, out) == pytest.approx(c[2], abs=1e-12)
+    np.testing.assert_allclose(out[:3], foot.point, atol=1e-12)
+
+
+def test_3gm_sliding_off_a_wire_stays_on_the_plate():
+    """The blind acceptance test's run: a raster over a 1.6 mm wire; the true fingertip
+    centre (forward kinematics of the logged joints) never goes below the plate under it
+    by more than the projection tolerance, and the contact is never lost."""
+    from planner.exploration.surface import explore_surface
+    from planner.exploration.surface.plates import plate_height
+    from robots.three_gm import ThreeGM
+
+    plate = Plate((PlateFeature("wire", 0.0016, 0.002, (0.002, 0.0), math.radians(10)),))
+    box = ((-0.018, 0.018), (-0.018, 0.018))
+    res = explore_surface(plate, region=box, line_spacing=0.05, seed=5, duration=4.0)
+    gm, T = ThreeGM(), np.asarray(res.pose)
+    X = np.array([gm.forward_kinematics(q) for q in res.log.q])
+    P = (X - T[:3, 3]) @ T[:3, :3]
+    inside = (np.abs(P[:, 0]) < 0.018) & (np.abs(P[:, 1]) < 0.018)
+    clearance = P[:, 2] - plate_height(plate)(P[:, 0], P[:, 1]) - 0.008
+    assert clearance[inside].min() > -1e-6  # was -7.1 mm
+    assert not any(e.kind == "contact_lost" for e in res.events)
 
 
 def _coupled_residuals(W, u, lam, mu):

@@ -10,9 +10,10 @@ penetration). ``c`` lies on the offset surface ``S + r n`` exactly when ``g = 0`
   Newton on ``D(x, y) = ½|(x, y, h) - c|²`` with exact derivatives (closed-form profiles;
   the spline's derivatives), warm-started from the previous foot point and converged to
   a last step ``|Δ| <= 1e-13 m`` (quadratic convergence: the error after it is ~1e-26 m;
-  2-3 iterations per step when sliding). A cold start, or a warm one that does not converge
-  (a sharp crest crossed), starts from the nearest sample of a grid under the sphere
-  (:func:`graph_seed`).
+  2-3 iterations per step when sliding). A cold start, a warm one that does not converge
+  (a sharp crest crossed), or one that ends on a local foot farther than the surface
+  straight below the centre (a sphere sliding off a wire onto the plate) starts from the
+  nearest sample of a grid under the sphere (:func:`graph_seed`).
 * :class:`~planner.geometry.surfaces.ParametricSurface` (any catalogue surface): Newton on
   ``(u, v)`` with CasADi's exact gradient and Hessian of ``D``.
 
@@ -38,6 +39,7 @@ __all__ = ["Foot", "PlacedSurface", "placed"]
 
 _TOL = 1e-13  # [m] last Newton step (the error after it is ~1e-26 m)
 _MAX_IT = 50
+FOOT_SLACK = 1e-9  # [m] a warm foot this much farther than the surface below still counts
 
 
 @dataclass(frozen=True)
@@ -110,12 +112,17 @@ def graph_seed(height, c: np.ndarray, radius: float, k: int = 33) -> tuple[float
 
 
 def _graph_foot(hd, height, c: np.ndarray, hint):
-    """Warm Newton from ``hint``; from :func:`graph_seed` on a cold start or when the warm
-    one does not converge."""
+    """Warm Newton from ``hint``; from :func:`graph_seed` on a cold start, when the warm one
+    does not converge, or when it converges to a local foot farther from ``c`` than the
+    surface straight below ``c`` (by more than :data:`FOOT_SLACK`), which cannot be the
+    nearest: a fingertip sliding off a wire onto the plate kept its foot on the wire's
+    flank and sank 7 mm into the plate (found 2026-11-25)."""
     if hint is not None:
         p, n, h, ok = _newton_graph(hd, c, *hint)
         if ok:
-            return p, n, h
+            below = float(c[2]) - hd(float(c[0]), float(c[1]))[0]
+            if below >= 0.0 and float(np.sum((c - p) ** 2)) <= (below + FOOT_SLACK) ** 2:
+                return p, n, h
     radius = max(abs(float(c[2]) - hd(float(c[0]), float(c[1]))[0]), 1e-6)
     x, y = graph_seed(height, c, radius)
     p, n, h, _ = _newton_graph(hd, c, x, y)

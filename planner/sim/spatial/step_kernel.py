@@ -38,8 +38,9 @@ from llvmlite import ir
 from numba import njit, types
 from numba.extending import intrinsic
 
+from planner.sim.spatial.closest import FOOT_SLACK
 from planner.sim.spatial.cone_kernel import cone_impulse
-from planner.sim.spatial.kernel import plate_foot, plate_seed
+from planner.sim.spatial.kernel import plate_eval, plate_foot, plate_seed
 
 __all__ = ["FALLBACK", "SINGULAR_END", "SINGULAR_START", "STATE_SIZE", "finger_step"]
 
@@ -95,7 +96,11 @@ def _foot(F, P, base, prm, x, cx, cy, cz, out):
         x[HINT], x[HINT + 1] = plate_seed(F, P, base, px, py, pz)
         x[HINT_OK] = 1.0
     fx, fy, fz, nx, ny, nz, dist, done = plate_foot(F, P, base, px, py, pz, x[HINT], x[HINT + 1])
-    if not done:  # a sharp crest crossed: restart from the nearest sample
+    if done:  # a local foot farther than the surface straight below is not the nearest
+        e2 = (px - fx) ** 2 + (py - fy) ** 2 + (pz - fz) ** 2
+        below = pz - plate_eval(F, P, base, px, py)[0]
+        done = below >= 0.0 and e2 <= (below + FOOT_SLACK) ** 2
+    if not done:  # a sharp crest crossed, or a foot left behind: the nearest sample
         sx, sy = plate_seed(F, P, base, px, py, pz)
         fx, fy, fz, nx, ny, nz, dist, done = plate_foot(F, P, base, px, py, pz, sx, sy)
     x[HINT], x[HINT + 1] = fx, fy
