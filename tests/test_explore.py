@@ -151,3 +151,17 @@ def test_explore_kind_quick_run_writes_metrics(tmp_path):
     assert doc["metrics"]["features_present"] == 1
     assert doc["metrics"]["normal_force_rms_error_N"] < 0.05
     assert (out / "plots" / "top_view.png").is_file()
+
+
+def test_open_ridge_traced_on_both_sides_reaches_at_most_its_two_ends():
+    """Both sides of an open ridge are traced and each side's outline leaves the region at the
+    ridge's two ends: ``ends_reached`` counts the feature's ends (the most one side reached),
+    not the sum over the sides (which was 3 here)."""
+    plate = Plate((PlateFeature("ridge", 0.003, 0.0033, (0.001, 0.0015), np.radians(40)),))
+    reg = ((-0.018, 0.018), (-0.018, 0.018))
+    res = explore_surface(plate, region=reg, line_spacing=0.05, seed=5, duration=40, speed=0.03)
+    (f,) = res.features
+    assert f.kind == "ridge" and not f.closed
+    ends_events = [e for e in res.events if e.kind == "end_reached"]
+    assert len(ends_events) > 2  # the sides together left the region more than twice
+    assert f.ends_reached == 2

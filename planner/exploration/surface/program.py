@@ -39,7 +39,7 @@ class FeatureRecord:
     across: np.ndarray
     sides: list = field(default_factory=list)  # recorder index arrays, one per traced side
     closed: bool = False
-    ends: int = 0
+    ends: int = 0  # ends of the feature reached along its length (0-2)
     detected_at: float = 0.0
     latency: float = float("nan")
     rise: float = 2.5e-4
@@ -159,7 +159,9 @@ def trace_feature(ex, cfg, rec_f: FeatureRecord, region, half: float):
         res = yield from trace_boundary(ex, cfg, region, outline)
         rec_f.sides.append(res.samples)
         rec_f.closed = rec_f.closed or res.closed
-        rec_f.ends += res.ends
+        # both sides' outlines run between the same two ends of the feature: the feature's
+        # ends reached are the most one side reached (0-2), not their sum
+        rec_f.ends = max(rec_f.ends, res.ends)
         rec_f.reasons.append(res.reason)
         if res.closed:
             break

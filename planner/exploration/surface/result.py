@@ -105,7 +105,10 @@ class ExploredFeature:
         boundary: (N, 2) traced boundary samples in the plate frame [m]: fingertip centres on
             the outline level (re-approach samples dropped).
         closed: whether the trace closed its loop.
-        ends_reached: ends of an open feature reached (0, 1 or 2).
+        ends_reached: ends of an open feature reached along its length, where its traced
+            outline leaves the region (0, 1 or 2). A ridge or ravine is traced on both sides,
+            and both sides' outlines run between the same two ends: this is the most ends
+            one side reached, not the sum over sides.
         skeleton: the feature skeleton (:class:`planner.skeleton.Skeleton`) or None.
         centre: (2,) where it was met [m]; detected_at: time of the detection [s].
         latency: online detection latency (peak crossed -> detection) [s].
