@@ -129,11 +129,16 @@ def _print_issues(exc) -> None:
 
 
 def _cmd_run(args) -> int:
+    from planner.results import run_directory_problem
     from planner.runner import execute
     from planner.scenario import load_scenario
 
     if args.seed is not None and args.seed < 0:
         print(f"--seed: {args.seed}: must be >= 0", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    problem = run_directory_problem(args.out) if args.out is not None else None
+    if problem:  # checked before the run, not when its directory is written
+        print(f"--out: {args.out}: {problem}", file=sys.stderr)
         return EXIT_BAD_INPUT
     config = load_scenario(args.scenario, args.overrides, seed=args.seed)
     outcome = execute(

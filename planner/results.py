@@ -171,16 +171,41 @@ def to_jsonable(value: Any) -> Any:
     return value
 
 
-def _prepare_target(out_dir: Path) -> None:
-    """Refuse to replace a directory that is neither empty nor a previous hapex run."""
-    if out_dir.exists():
-        if not out_dir.is_dir():
-            raise HapexError(f"--out {out_dir}: exists and is not a directory")
-        if any(out_dir.iterdir()) and not (out_dir / "result.json").is_file():
-            raise HapexError(
-                f"--out {out_dir}: directory is not empty and is not a hapex run directory; "
+def out_path_problem(out: Path) -> str | None:
+    """Why no folder can be created at ``out``: it, or its nearest existing parent, is not a
+    directory (``"afile is a file, not a directory"``); ``None`` when one can (or is there).
+    Checked by the commands before any work, so a bad ``--out`` is bad input, not a crash."""
+    out = Path(out)
+    for path in (out, *out.parents):  # nearest first; the first that exists decides
+        if path.exists():
+            if path.is_dir():
+                return None
+            if path == out:
+                return "exists and is not a directory"
+            return f"{path} is a file, not a directory"
+        if path.is_symlink():
+            return f"{path} is a broken symbolic link"
+    return None
+
+
+def run_directory_problem(out_dir: Path) -> str | None:
+    """Why a run directory cannot be written at ``out_dir`` (``None`` when it can): a file is
+    in the way (:func:`out_path_problem`), or it is a non-empty folder but not a previous run."""
+    problem = out_path_problem(out_dir)
+    if problem is None and out_dir.is_dir() and any(out_dir.iterdir()):
+        if not (out_dir / "result.json").is_file():
+            problem = (
+                "directory is not empty and is not a hapex run directory; "
                 "choose another --out or remove it"
             )
+    return problem
+
+
+def _prepare_target(out_dir: Path) -> None:
+    """Refuse to replace a directory that is neither empty nor a previous hapex run."""
+    problem = run_directory_problem(out_dir)
+    if problem:
+        raise HapexError(f"--out {out_dir}: {problem}")
 
 
 def _save_figures(
@@ -325,8 +350,10 @@ __all__ = [
     "RunResult",
     "numpy_dispatch_targets",
     "numpy_simd",
+    "out_path_problem",
     "package_versions",
     "replace_directory",
+    "run_directory_problem",
     "to_jsonable",
     "write_run_directory",
 ]

@@ -168,6 +168,29 @@ def test_refuses_foreign_out_directory(tmp_path):
     assert (out / "thesis.tex").read_text() == "keep me"
 
 
+@pytest.mark.parametrize("below", ["sub", "sub/deeper"])
+def test_out_below_a_regular_file_exits_2_before_running(tmp_path, below):
+    (tmp_path / "afile").write_text("keep me")
+    s = write(tmp_path, GOOD)
+    out = tmp_path / "afile" / below
+    proc = run_cli("run", str(s), "--out", str(out))
+    (line,) = assert_bad_input(proc)
+    assert line == f"--out: {out}: {tmp_path / 'afile'} is a file, not a directory"
+    assert proc.stdout == ""  # refused before the scenario ran
+    assert (tmp_path / "afile").read_text() == "keep me"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["afile", s.name]
+
+
+def test_foreign_out_directory_is_refused_before_running(tmp_path):
+    out = tmp_path / "precious"
+    out.mkdir()
+    (out / "thesis.tex").write_text("keep me")
+    proc = run_cli("run", str(write(tmp_path, GOOD)), "--out", str(out))
+    (line,) = assert_bad_input(proc)
+    assert line.startswith(f"--out: {out}: directory is not empty and is not a hapex run")
+    assert proc.stdout == ""
+
+
 def test_rerun_replaces_previous_run(tmp_path):
     s = write(tmp_path, GOOD)
     out = tmp_path / "run"

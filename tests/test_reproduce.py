@@ -173,3 +173,15 @@ def test_reproduce_bad_options(cli, tmp_path):
     proc = cli("reproduce", "--quick", "--only", "fig3.7", "--out", str(foreign))
     assert proc.returncode == 2 and "not a hapex reproduce folder" in proc.stderr
     assert (foreign / "keep.txt").read_text() == "mine"
+
+
+@pytest.mark.parametrize("below", ["r", "r/deeper"])
+def test_reproduce_out_below_a_regular_file_exits_2_before_running(cli, tmp_path, below):
+    (tmp_path / "afile").write_text("keep me")
+    out = tmp_path / "afile" / below
+    proc = cli("reproduce", "--quick", "--only", "fig3.7", "--out", str(out))
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr, proc.stderr
+    (line,) = proc.stderr.strip().splitlines()
+    assert line == f"--out: {out}: {tmp_path / 'afile'} is a file, not a directory"
+    assert proc.stdout == ""  # no claim ran
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["afile"]

@@ -36,15 +36,16 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("-v", "--verbose", action="store_true", help="tracebacks of broken checks")
 
 
-def _refuse_foreign(out: Path) -> None:
-    from planner.errors import HapexError
+def _out_problem(out: Path) -> str | None:
+    """Why ``out`` cannot take the report (a file is in the way, or a folder that is not an
+    earlier report); ``None`` when it can. Reads only."""
+    from planner.results import out_path_problem
 
-    if out.exists() and (
-        not out.is_dir() or (any(out.iterdir()) and not (out / "claims.json").is_file())
-    ):
-        raise HapexError(
-            f"--out {out}: exists and is not a hapex reproduce folder; choose another --out"
-        )
+    problem = out_path_problem(out)
+    if problem is None and out.is_dir() and any(out.iterdir()):
+        if not (out / "claims.json").is_file():
+            problem = "exists and is not a hapex reproduce folder; choose another --out"
+    return problem
 
 
 def run(args: argparse.Namespace) -> int:
@@ -68,7 +69,10 @@ def run(args: argparse.Namespace) -> int:
             print(f"{c.id:14s} {c.reference:32s} {c.statement}")
         return 0
     out = args.out or Path("runs") / f"reproduce-{datetime.now():%Y%m%d-%H%M%S}"
-    _refuse_foreign(out)
+    problem = _out_problem(out)
+    if problem:
+        print(f"--out: {out}: {problem}", file=sys.stderr)
+        return 2
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.tmp-", dir=out.parent))
     try:
