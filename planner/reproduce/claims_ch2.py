@@ -182,9 +182,13 @@ def fig2_12(ctx: ClaimContext) -> Evidence:
     return Evidence(
         verdict,
         nums,
-        _scope(ctx) + "Executed gait. Known gap: the feature-less "
-        "circle model misplaces a square's centre on its flat faces and the "
-        "simulator's contact LCP can stop; see the scenario's reason.",
+        _scope(ctx) + "Executed gait on the posed outline. Known gap (docs/gait.md): the "
+        "hand's pivot of a sharp square about its palm corner reaches at most about 31 deg, "
+        "short of the 45 deg at which it tips onto its next face; this 11 cm square turns 0-5 "
+        "deg and the run fails naming the pivot's reach. Rounded squares turn fully in 2 of "
+        "15 runs of 120 s. The thesis' quasi-static "
+        "simulation at mu 1 could use the friction cones to their edges, where a dynamic run "
+        "on sensed contacts slips.",
         figure_name,
     )
 
