@@ -86,6 +86,48 @@ def test_out_folder_of_something_else_exits_2(cli, tmp_path):
     assert [p.name for p in (tmp_path / "o").iterdir()] == ["thesis.tex"]
 
 
+def test_malformed_scheduler_address_exits_2_naming_it_and_writes_nothing(cli, tmp_path):
+    pytest.importorskip("distributed")
+    path = ROOT / "scenarios" / "sweeps" / "detection_noise.yaml"
+    out = tmp_path / "o"
+    proc = cli("sweep", str(path), "--quick", "--out", str(out), "--scheduler", "notanaddress")
+    assert proc.returncode == 2, proc.stderr
+    (line,) = proc.stderr.strip().splitlines()
+    assert line.startswith("hapex sweep: error: --scheduler: notanaddress: not a Dask scheduler")
+    assert not out.exists()
+
+
+def test_unreachable_scheduler_exits_2_before_writing_anything(tmp_path, monkeypatch, capsys):
+    pytest.importorskip("distributed")
+    from planner import cli
+    from planner.sweep import backends
+
+    monkeypatch.setattr(backends, "SCHEDULER_TIMEOUT", "0.5s")  # nothing listens on port 9
+    path = ROOT / "scenarios" / "sweeps" / "detection_noise.yaml"
+    out = tmp_path / "o"
+    code = cli.main(
+        ["sweep", str(path), "--quick", "--out", str(out), "--scheduler", "tcp://127.0.0.1:9"]
+    )
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and line.startswith("hapex sweep: error: --scheduler: tcp://127.0.0.1:9: ")
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("below", ["sub", "sub/deeper"])
+def test_out_below_a_regular_file_exits_2_and_writes_nothing(cli, tmp_path, below):
+    (tmp_path / "afile").write_text("keep")
+    path = ROOT / "scenarios" / "sweeps" / "detection_noise.yaml"
+    out = tmp_path / "afile" / below
+    proc = cli("sweep", str(path), "--quick", "--jobs", "1", "--out", str(out))
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr, proc.stderr
+    (line,) = proc.stderr.strip().splitlines()
+    assert (
+        line == f"hapex sweep: error: --out: {out}: {tmp_path / 'afile'} is a file, not a directory"
+    )
+    assert (tmp_path / "afile").read_text() == "keep"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["afile"]
+
+
 @pytest.mark.parametrize("path", SWEEPS, ids=[p.stem for p in SWEEPS])
 def test_bundled_sweeps_run_quick_and_resume(cli, tmp_path, path):
     out = tmp_path / "out"
@@ -161,3 +203,4 @@ def test_ctrl_c_stops_cleanly_and_says_how_to_resume(cli, tmp_path):
     assert f"40 runs, {len(done)} complete, {40 - len(done)} to run" in again.stdout
     table = pd.read_parquet(out / "results.parquet")
     assert len(table) == 40 and table["run_id"].is_unique
+

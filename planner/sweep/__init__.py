@@ -30,6 +30,7 @@ _HOMES = {
     "sweep_from_dict": "spec",
     "results_table": "table",
     "SweepBackendError": "backends",
+    "SchedulerUnreachable": "backends",
 }
 
 
@@ -42,6 +43,7 @@ def __getattr__(name: str):
 
 __all__ = [
     "PlannedRun",
+    "SchedulerUnreachable",
     "Sweep",
     "SweepBackendError",
     "SweepInterrupted",

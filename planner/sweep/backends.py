@@ -20,10 +20,26 @@ from planner.sweep.worker import Finished, Task, lost_run, run_task
 
 BACKENDS = ("joblib", "dask")
 
+#: How long :func:`dask_client` tries to reach a scheduler given by address (a Dask duration).
+SCHEDULER_TIMEOUT = "20s"
+
 
 class SweepBackendError(HapexError):
     """The backend could not finish (a worker process died, the cluster failed); the runs
     complete so far are kept and the sweep resumes when started again."""
+
+
+class SchedulerUnreachable(HapexError):
+    """The Dask scheduler address is malformed, or nothing answers there in time.
+
+    Attributes:
+        address: the address as given.
+        reason: what went wrong, one line.
+    """
+
+    def __init__(self, address: str, reason: str):
+        super().__init__(f"scheduler {address!r}: {reason}")
+        self.address, self.reason = address, reason
 
 
 def default_jobs() -> int:
@@ -65,13 +81,24 @@ def dask_client(
     scheduler: str | None = None, workers: int | None = None, processes: bool = True
 ) -> Iterator[Any]:
     """A ``distributed.Client``: connected to ``scheduler`` (``tcp://host:8786``), or to a
-    new ``LocalCluster`` of ``workers`` single-threaded workers, closed on exit."""
+    new ``LocalCluster`` of ``workers`` single-threaded workers, closed on exit.
+
+    Raises:
+        SchedulerUnreachable: ``scheduler`` is not an address, or no scheduler answers there
+            within :data:`SCHEDULER_TIMEOUT`.
+    """
     distributed = _import_distributed()
     if scheduler is not None:
         try:
-            client = distributed.Client(scheduler, timeout="20s")
+            client = distributed.Client(scheduler, timeout=SCHEDULER_TIMEOUT)
+        except ValueError as exc:  # distributed's address parser: "missing port number" ...
+            first = str(exc).splitlines()[0]
+            reason = f"not a Dask scheduler address ({first}); expected tcp://host:8786"
+            raise SchedulerUnreachable(scheduler, reason) from None
         except (OSError, TimeoutError) as exc:
-            raise HapexError(f"cannot reach the Dask scheduler at {scheduler}: {exc}") from None
+            first = str(exc).splitlines()[0]
+            reason = f"no scheduler answers within {SCHEDULER_TIMEOUT} ({first})"
+            raise SchedulerUnreachable(scheduler, reason) from None
         try:
             yield client
         finally:
@@ -130,6 +157,8 @@ def dask_results(tasks: Iterable[Task], client: Any) -> Iterator[Finished]:
 
 __all__ = [
     "BACKENDS",
+    "SCHEDULER_TIMEOUT",
+    "SchedulerUnreachable",
     "SweepBackendError",
     "dask_client",
     "dask_results",

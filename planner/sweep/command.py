@@ -50,6 +50,7 @@ def _bad(message: str) -> int:
 def run_command(args: argparse.Namespace) -> int:
     """Run ``hapex sweep`` with parsed arguments; returns the exit code."""
     from planner.sweep import (
+        SchedulerUnreachable,
         SweepBackendError,
         SweepInterrupted,
         load_sweep,
@@ -57,6 +58,7 @@ def run_command(args: argparse.Namespace) -> int:
         plan,
         run_sweep,
     )
+    from planner.sweep.run import out_problem
 
     if args.jobs is not None and args.jobs < 1:
         return _bad(f"--jobs: {args.jobs}: must be >= 1")
@@ -73,6 +75,9 @@ def run_command(args: argparse.Namespace) -> int:
         print(f"{sweep.name}: {len(runs)} runs, all valid")
         return 0
     out = args.out or Path("sweeps") / (sweep.name + ("-quick" if args.quick else ""))
+    problem = out_problem(out, sweep)
+    if problem:
+        return _bad(f"--out: {out}: {problem}")
     todo, _ = pending(runs, out, args.retry_failed) if out.is_dir() else (runs, None)
     where = (
         f"Dask scheduler {args.scheduler}"
@@ -94,6 +99,8 @@ def run_command(args: argparse.Namespace) -> int:
             retry_failed=args.retry_failed,
             report=not args.no_report,
         )
+    except SchedulerUnreachable as exc:  # raised before anything is written
+        return _bad(f"--scheduler: {exc.address}: {exc.reason}")
     except SweepInterrupted as exc:
         again = ["hapex", "sweep", str(args.sweep), "--out", str(out)]
         again += ["--quick"] if args.quick else []

@@ -26,6 +26,7 @@ from typing import Any
 
 from planner.checks import choice, integer
 from planner.errors import HapexError, InvalidParameter
+from planner.results import out_path_problem
 from planner.sweep.expansion import PlannedRun, as_sweep, plan
 from planner.sweep.spec import Sweep
 from planner.sweep.worker import Finished, Task, install, read_run
@@ -47,24 +48,27 @@ class SweepInterrupted(KeyboardInterrupt):
         self.done, self.total, self.out = done, total, out
 
 
-def _prepare_out(out: Path, sweep: Sweep, n_runs: int) -> None:
-    """Create ``out`` (or reuse it for the same study); refuse any other non-empty folder."""
+def out_problem(out: Path, sweep: Sweep) -> str | None:
+    """Why ``out`` cannot hold this sweep (``None`` when it can): it or a parent is a file,
+    it holds another sweep, or it is a non-empty folder that is not a sweep. Reads only."""
+    problem = out_path_problem(out)
+    if problem or not out.exists():
+        return problem
     study = out / STUDY_FILE
-    if out.exists():
-        if not out.is_dir():
-            raise HapexError(f"--out {out}: exists and is not a directory")
-        if study.is_file():
+    if study.is_file():
+        try:
             name = json.loads(study.read_text()).get("name")
-            if name != sweep.name:
-                raise HapexError(
-                    f"--out {out}: holds the sweep {name!r}, not {sweep.name!r}; "
-                    "choose another --out"
-                )
-        elif any(out.iterdir()):
-            raise HapexError(
-                f"--out {out}: directory is not empty and is not a hapex sweep; "
-                "choose another --out or remove it"
-            )
+        except (OSError, ValueError, AttributeError):
+            name = None
+        if name != sweep.name:
+            return f"holds the sweep {name!r}, not {sweep.name!r}; choose another --out"
+    elif any(out.iterdir()):
+        return "directory is not empty and is not a hapex sweep; choose another --out or remove it"
+    return None
+
+
+def _write_study(out: Path, sweep: Sweep, n_runs: int) -> None:
+    """Create ``out`` (checked by :func:`out_problem`) and write its ``sweep.json``."""
     (out / "runs").mkdir(parents=True, exist_ok=True)
     doc = {
         "name": sweep.name,
@@ -76,7 +80,7 @@ def _prepare_out(out: Path, sweep: Sweep, n_runs: int) -> None:
     }
     tmp = out / f".{STUDY_FILE}.tmp-{os.getpid()}"
     tmp.write_text(json.dumps(doc, indent=2))
-    os.replace(tmp, study)
+    os.replace(tmp, out / STUDY_FILE)
 
 
 def pending(
@@ -96,21 +100,6 @@ def pending(
 
 def _task(r: PlannedRun, sweep: str) -> Task:
     return Task(r.run_id, sweep, dict(r.params), dict(r.data), str(r.base_dir), r.quick, r.plots)
-
-
-def _results(tasks: list[Task], backend: str, opts: Mapping[str, Any], stack) -> Any:
-    from planner.sweep import backends
-
-    if backend == "joblib":
-        return backends.joblib_results(tasks, opts.get("jobs"))
-    client = opts.get("client")
-    if client is None:
-        client = stack.enter_context(
-            backends.dask_client(
-                opts.get("scheduler"), opts.get("dask_workers"), opts.get("processes", True)
-            )
-        )
-    return backends.dask_results(tasks, client)
 
 
 @contextmanager
@@ -197,12 +186,16 @@ def run_sweep(
     Raises:
         ScenarioError: the sweep or one of its combinations is invalid (nothing has run).
         SweepInterrupted: Ctrl-C; complete runs are kept and the tables written.
-        HapexError: the output folder belongs to something else, or the backend failed.
+        SchedulerUnreachable: ``scheduler`` is malformed or does not answer (nothing
+            written).
+        HapexError: the output folder cannot be used (nothing written), or the backend
+            failed.
     """
     from contextlib import ExitStack
 
     from tqdm.auto import tqdm
 
+    from planner.sweep import backends
     from planner.sweep.report import write_report
     from planner.sweep.table import results_table, write_tables
 
@@ -216,38 +209,48 @@ def run_sweep(
     sweep = as_sweep(sweep, quick)
     runs = plan(sweep)
     out = Path(out)
-    _prepare_out(out, sweep, len(runs))
+    problem = out_problem(out, sweep)
+    if problem:
+        raise HapexError(f"--out {out}: {problem}")
     todo, counts = pending(runs, out, retry_failed)
-    opts = {"jobs": jobs, "scheduler": scheduler, "dask_workers": dask_workers}
-    opts.update(client=client, processes=processes)
-    bar = tqdm(
-        total=len(runs),
-        initial=len(runs) - len(todo),
-        desc=sweep.name,
-        unit="run",
-        disable=None if progress is None else not progress,
-    )
-    bar.set_postfix(ok=counts["ok"], failed=counts["failed"], left=len(todo))
-    interrupted = False
-    try:
-        with ExitStack() as stack:
+    with ExitStack() as stack:
+        if backend == "dask" and todo and client is None:
+            # reach the cluster (or start the LocalCluster) before writing anything: a bad or
+            # unreachable scheduler then leaves no folder behind
+            client = stack.enter_context(
+                backends.dask_client(scheduler, dask_workers, processes=processes)
+            )
+        _write_study(out, sweep, len(runs))
+        bar = tqdm(
+            total=len(runs),
+            initial=len(runs) - len(todo),
+            desc=sweep.name,
+            unit="run",
+            disable=None if progress is None else not progress,
+        )
+        bar.set_postfix(ok=counts["ok"], failed=counts["failed"], left=len(todo))
+        interrupted = False
+        try:
             if todo:
                 tasks = [_task(r, sweep.name) for r in todo]
                 in_process = backend == "joblib" and jobs == 1
-                stop = stack.enter_context(_sigint_between_runs(in_process))
-                results = _results(tasks, backend, opts, stack)
-                _install_all(results, out, counts, bar, on_result, stop)
-    except KeyboardInterrupt:
-        interrupted = True
-    finally:
-        bar.close()
-        table = results_table(out, runs)
-        write_tables(table, out)
-        if report:
-            write_report(table, out, sweep)
+                with _sigint_between_runs(in_process) as stop:
+                    if backend == "joblib":
+                        results = backends.joblib_results(tasks, jobs)
+                    else:
+                        results = backends.dask_results(tasks, client)
+                    _install_all(results, out, counts, bar, on_result, stop)
+        except KeyboardInterrupt:
+            interrupted = True
+        finally:
+            bar.close()
+            table = results_table(out, runs)
+            write_tables(table, out)
+            if report:
+                write_report(table, out, sweep)
     if interrupted:
         raise SweepInterrupted(len(table), len(runs), out)
     return table
 
 
-__all__ = ["STUDY_FILE", "SweepInterrupted", "pending", "run_sweep"]
+__all__ = ["STUDY_FILE", "SweepInterrupted", "out_problem", "pending", "run_sweep"]
