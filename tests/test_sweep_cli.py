@@ -204,3 +204,26 @@ def test_ctrl_c_stops_cleanly_and_says_how_to_resume(cli, tmp_path):
     table = pd.read_parquet(out / "results.parquet")
     assert len(table) == 40 and table["run_id"].is_unique
 
+
+@pytest.mark.parametrize(
+    "options",
+    [
+        [],
+        ["--quick", "--jobs", "2", "--retry-failed", "--no-report"],
+        ["--scheduler", "tcp://h:8786", "--retry-failed"],
+        ["--dask-local", "3", "--no-report", "--quick"],
+    ],
+)
+def test_resume_command_keeps_every_option_that_changes_what_runs(tmp_path, options):
+    from planner.cli import _parser
+    from planner.sweep.command import resume_command
+
+    out = tmp_path / "o"
+    args = _parser().parse_args(["sweep", "s.yaml", "--out", str(out), *options, "-v"])
+    again = resume_command(args, out)
+    assert again[:5] == ["hapex", "sweep", "s.yaml", "--out", str(out)]
+    # the same options (in any order), the verbosity aside: the command runs the same study
+    resumed = _parser().parse_args(again[1:])
+    for key in ("sweep", "out", "quick", "jobs", "scheduler", "dask_local", "retry_failed"):
+        assert getattr(resumed, key) == getattr(args, key), key
+    assert resumed.no_report == args.no_report and not resumed.dry_run

@@ -47,6 +47,19 @@ def _bad(message: str) -> int:
     return 2
 
 
+def resume_command(args: argparse.Namespace, out: Path) -> list[str]:
+    """The ``hapex sweep`` command that resumes an interrupted one: the same sweep file, output
+    folder, variant, backend and every option that changes what is run or written."""
+    again = ["hapex", "sweep", str(args.sweep), "--out", str(out)]
+    again += ["--quick"] if args.quick else []
+    again += ["--scheduler", args.scheduler] if args.scheduler else []
+    again += ["--dask-local", str(args.dask_local)] if args.dask_local else []
+    again += ["--jobs", str(args.jobs)] if args.jobs else []
+    again += ["--retry-failed"] if args.retry_failed else []
+    again += ["--no-report"] if args.no_report else []
+    return again
+
+
 def run_command(args: argparse.Namespace) -> int:
     """Run ``hapex sweep`` with parsed arguments; returns the exit code."""
     from planner.sweep import (
@@ -102,12 +115,8 @@ def run_command(args: argparse.Namespace) -> int:
     except SchedulerUnreachable as exc:  # raised before anything is written
         return _bad(f"--scheduler: {exc.address}: {exc.reason}")
     except SweepInterrupted as exc:
-        again = ["hapex", "sweep", str(args.sweep), "--out", str(out)]
-        again += ["--quick"] if args.quick else []
-        again += ["--scheduler", args.scheduler] if args.scheduler else []
-        again += ["--dask-local", str(args.dask_local)] if args.dask_local else []
-        again += ["--jobs", str(args.jobs)] if args.jobs else []
-        print(f"{exc}; complete runs are kept. Resume with: {shlex.join(again)}", file=sys.stderr)
+        again = shlex.join(resume_command(args, out))
+        print(f"{exc}; complete runs are kept. Resume with: {again}", file=sys.stderr)
         return 130
     except SweepBackendError as exc:
         print(f"hapex sweep: {exc}. Run the same command again to resume.", file=sys.stderr)
@@ -121,4 +130,4 @@ def run_command(args: argparse.Namespace) -> int:
     return 0 if len(table) == len(runs) else 1
 
 
-__all__ = ["add_arguments", "run_command"]
+__all__ = ["add_arguments", "resume_command", "run_command"]
