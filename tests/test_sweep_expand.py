@@ -242,6 +242,43 @@ def test_bad_sweep_files_are_located(tmp_path, text, where, message):
     )
 
 
+def test_schema_and_key_path_problems_are_reported_together(tmp_path):
+    # an unknown key and a bad seed count (the schema's) with reserved keys (checked on the
+    # raw file): every one at once, in line order
+    path = write(
+        tmp_path,
+        """\
+        base: {kind: detect}
+        gird: {}
+        grid:
+          seed: [1, 2]
+        seeds: 0
+        quick:
+          grid: {name: [a]}
+          seeds: -1
+        """,
+    )
+    with pytest.raises(ScenarioError) as exc:
+        load_sweep(path)
+    found = [line.removeprefix(f"{path}:") for line in issues(exc)]
+    assert [f.split(": ")[0:2] for f in found] == [
+        ["2", "gird"],
+        ["4", "grid.seed"],
+        ["5", "seeds"],
+        ["7", "quick.grid.name"],
+        ["8", "quick.seeds"],
+    ], found
+
+
+def test_an_unknown_sweep_key_is_not_called_a_key_of_a_kind(tmp_path):
+    path = write(tmp_path, "base: {kind: detect}\ngird: {}\n")
+    with pytest.raises(ScenarioError) as exc:
+        load_sweep(path)
+    (line,) = issues(exc)
+    assert line.startswith(f"{path}:2: gird: unknown key")
+    assert "kind" not in line and "sweep file" in line
+
+
 def test_inline_base_errors_point_into_the_sweep_file(tmp_path):
     path = write(tmp_path, "base:\n  kind: detect\n  tip_radius: 0.01\n  simulaton: {}\n")
     with pytest.raises(ScenarioError) as exc:

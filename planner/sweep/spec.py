@@ -30,7 +30,7 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -195,8 +195,29 @@ class Sweep:
         return 0
 
 
-def _semantic_issues(model: SweepModel, doc: SourceDoc) -> list[InputIssue]:
-    """Key-path syntax, reserved keys, keys varied twice, zip groups of unequal length."""
+def _blocks(variant: Mapping[str, Any]) -> list[tuple[tuple, Mapping[str, Any]]]:
+    """``(where, {key.path: ...})`` of every block of a (sweep or quick:) mapping that varies
+    or sets key paths, read from the raw file: blocks of the wrong type are skipped (their
+    own errors are pydantic's), so these checks run whether or not the file validates."""
+    out = []
+    for key in ("set", "grid"):
+        if isinstance(variant.get(key), Mapping):
+            out.append(((key,), variant[key]))
+    groups = _zip_groups(variant.get("zip"))
+    for i, g in enumerate(groups if isinstance(groups, list) else []):
+        if isinstance(g, Mapping):
+            out.append((("zip", i), g))
+    random = variant.get("random")
+    if isinstance(random, Mapping) and isinstance(random.get("params"), Mapping):
+        out.append((("random", "params"), random["params"]))
+    return out
+
+
+def _semantic_issues(data: Mapping[str, Any], doc: SourceDoc) -> list[InputIssue]:
+    """Key-path syntax, reserved keys, keys varied twice, zip groups of unequal length.
+
+    Works on the raw document, so the command reports these together with the schema's
+    errors (an unknown key and a reserved one in the same file: both, at once)."""
     issues = []
 
     def bad(path: tuple, message: str) -> None:
@@ -205,18 +226,15 @@ def _semantic_issues(model: SweepModel, doc: SourceDoc) -> list[InputIssue]:
         )
         issues.append(InputIssue(doc.source, line, dotted(path), message))
 
-    for prefix, variant in (((), model), (("quick",), model.quick)):
-        if variant is None:
+    for prefix, variant in (((), data), (("quick",), data.get("quick"))):
+        if not isinstance(variant, Mapping):
             continue
         owners: dict[str, tuple] = {}
-        blocks = [(("set",), variant.set or {}), (("grid",), variant.grid or {})]
-        blocks += [(("zip", i), g) for i, g in enumerate(variant.zip or [])]
-        if variant.random is not None:
-            blocks.append((("random", "params"), variant.random.params))
+        blocks = _blocks(variant)
         for where, block in blocks:
             for key in block:
                 path = prefix + where + (key,)
-                if not KEY_PATH.match(key):
+                if not isinstance(key, str) or not KEY_PATH.match(key):
                     bad(path, f"{key!r} is not a key path like 'object.radius' or 'features.0.x'")
                 elif key.split(".")[0] in RESERVED:
                     bad(
@@ -227,16 +245,32 @@ def _semantic_issues(model: SweepModel, doc: SourceDoc) -> list[InputIssue]:
                     bad(path, f"already set by {dotted(prefix + owners[key])}")
                 else:
                     owners[key] = where
-        for i, group in enumerate(variant.zip or []):
-            sizes = {k: len(v) for k, v in group.items()}
+        for where, group in blocks:
+            if where[0] != "zip":
+                continue
+            sizes = {k: len(v) for k, v in group.items() if isinstance(v, list)}
             if len(set(sizes.values())) > 1:
                 bad(
-                    prefix + ("zip", i),
-                    f"the lists of a zip group must have equal lengths, got {sizes}",
+                    prefix + where, f"the lists of a zip group must have equal lengths, got {sizes}"
                 )
             if not group or 0 in sizes.values():
-                bad(prefix + ("zip", i), "a zip group needs at least one key with values")
+                bad(prefix + where, "a zip group needs at least one key with values")
     return issues
+
+
+#: what a sweep file's unknown key is told (the scenario loader's text speaks of kinds)
+UNKNOWN_KEY = (
+    "unknown key (check the spelling; the keys of a sweep file are in the README section "
+    "'Parameter studies')"
+)
+
+
+def _schema_issues(doc: SourceDoc, exc: ValidationError) -> list[InputIssue]:
+    """pydantic's errors located in the sweep file, unknown keys told as a sweep file's."""
+    return [
+        replace(i, message=UNKNOWN_KEY) if i.message.startswith("unknown key") else i
+        for i in validation_issues(doc, exc)
+    ]
 
 
 def _base_doc(model: SweepModel, doc: SourceDoc, here: Path) -> tuple[SourceDoc, Path]:
@@ -262,13 +296,14 @@ def sweep_from_doc(doc: SourceDoc, *, quick: bool = False, base_dir: Path | None
     if "name" not in data and doc.source not in ("", "(dict)", "(input)"):
         data["name"] = Path(doc.source).stem
     doc = SourceDoc(data, doc.source, doc.lines, doc.origins)
+    issues = _semantic_issues(data, doc)
     try:
         model = SweepModel.model_validate(data)
     except ValidationError as exc:
-        raise ScenarioError(validation_issues(doc, exc)) from None
-    issues = _semantic_issues(model, doc)
+        issues = _schema_issues(doc, exc) + issues  # every problem of the file, at once
     if issues:
-        raise ScenarioError(issues)
+        unique = list({str(i): i for i in issues}.values())
+        raise ScenarioError(sorted(unique, key=lambda i: (i.source != doc.source, i.line)))
     if quick and model.quick is not None:
         replace = {k: getattr(model.quick, k) for k in model.quick.model_fields_set}
         model = model.model_copy(update=replace)
