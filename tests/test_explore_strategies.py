@@ -77,3 +77,50 @@ def test_random_walk_run_terminates(region, reason):
     assert proc is not None, "explore_surface(strategy='random_walk') hung"
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip().splitlines()[-1] == f"ok|{reason}"
+
+
+def test_bug2_reaches_a_goal_inside_the_traced_features_known_area():
+    """The goal lies 15 mm past a bump, inside its known area (the traced hull grown by
+    1.5 r_f): Bug-2 leaves just past the traced outline and ends at the goal (it used to stop
+    next to the bump and report 'exploration complete')."""
+    from planner.exploration import explore_surface
+    from planner.exploration.surface.program import GOAL_TOLERANCE
+    from planner.sim.spatial.plate import Plate, PlateFeature
+
+    plate = Plate((PlateFeature("bump", 0.002, 0.003, (0.0, 0.0015)),))
+    goal = (0.015, -0.002)
+    reg = ((-0.02, 0.02), (-0.012, 0.012))
+    res = explore_surface(plate, region=reg, strategy="bug2", goal=goal, duration=40, speed=0.03)
+    assert (res.status, res.reason) == ("ok", "exploration complete")
+    assert [(f.kind, f.closed) for f in res.features] == [("bump", True)]
+    assert np.linalg.norm(res.path[-1, :2] - goal) < GOAL_TOLERANCE
+    assert not [e for e in res.events if e.kind == "goal_not_reached"]
+
+
+class _Stopped:
+    """The parts of ExplorerController that the goal check reads and writes."""
+
+    def __init__(self, uv):
+        self.est = type("Est", (), {"uv": np.asarray(uv, float)})()
+        self.events, self.failed = [], None
+
+    def event(self, kind, message, **data):
+        self.events.append((kind, message, data))
+
+
+@pytest.mark.parametrize(("uv", "failed"), [((0.0105, 0.0), True), ((0.0095, 0.0), False)])
+def test_bug2_goal_check_fails_a_run_that_stops_short(uv, failed):
+    from planner.exploration.surface.program import GOAL_TOLERANCE, _check_goal
+
+    assert GOAL_TOLERANCE == 1e-3
+    ex = _Stopped(uv)
+    _check_goal(ex, (0.009, 0.0))
+    if failed:  # 1.5 mm from the goal
+        assert ex.failed == (
+            "goal not reached: the fingertip stopped 1.5 mm from the goal [9.0, 0.0] mm "
+            "(tolerance 1 mm)"
+        )
+        assert [e[0] for e in ex.events] == ["goal_not_reached"]
+        assert ex.events[0][2]["gap"] == pytest.approx(1.5e-3)
+    else:  # 0.5 mm from the goal
+        assert ex.failed is None and ex.events == []

@@ -5,6 +5,11 @@ the feature's type with the crossings of the extended Fig. 4.7 (§4.4.1), trace 
 (§4.4.2, both sides of an open ridge or ravine), remember its area and resume the search
 past it. With ``identify="raster"`` the whole raster is scanned first and the curvature
 regions are pattern-matched (§4.4.1's alternative), then each feature is traced.
+
+Bug-2 leaves a traced feature on the m-line past its known area; when the goal lies inside
+that area it leaves just past the feature's traced outline instead, and a bug-2 run whose
+fingertip does not end within :data:`GOAL_TOLERANCE` of the goal ends with status "failed",
+a ``goal_not_reached`` event and the distance in the reason.
 """
 
 from __future__ import annotations
@@ -215,13 +220,54 @@ def exploration_program(ex, cfg, region: np.ndarray, rng, state: ProgramState):
             resume = a + max(float((ex.rec.centre[k1 - 1, :2] - a) @ d), 0.0) * d
             a = _past_known(state, resume, d, b)
             if float((b - a) @ d) <= 0:
-                break
+                if cfg.strategy != "bug2":
+                    break
+                # the goal lies in the area the search skips (the feature grown by 1.5 r_f):
+                # leave the feature just past its own traced outline, towards the goal
+                a = _past_known([_traced_area(ex, rec_f, r)], resume, d, b)
     ex.phase = PHASE["idle"]
+    if cfg.strategy == "bug2":
+        _check_goal(ex, cfg.goal)
 
 
-def _past_known(state: ProgramState, p, d, b, step: float = 5e-4):
-    """First point from ``p`` along ``d`` outside every known area (not beyond ``b``)."""
+#: the bug-2 goal counts as reached when the fingertip centre ends this close to it [m]
+GOAL_TOLERANCE = 1e-3
+
+
+def _check_goal(ex, goal) -> None:
+    """End a bug-2 run that did not reach its ``goal`` (2,) [m] with status "failed": an event
+    ``goal_not_reached`` and the reason (how far from the goal the finger stopped)."""
+    gap = float(np.hypot(*(ex.est.uv - np.asarray(goal, float))))
+    if gap > GOAL_TOLERANCE:
+        msg = (
+            f"goal not reached: the fingertip stopped {gap * 1e3:.1f} mm from the goal "
+            f"{np.round(np.asarray(goal) * 1e3, 1).tolist()} mm (tolerance "
+            f"{GOAL_TOLERANCE * 1e3:g} mm)"
+        )
+        ex.event("goal_not_reached", msg, gap=gap)
+        ex.failed = msg
+
+
+def _traced_area(ex, rec_f: FeatureRecord, r: float):
+    """The hull of the traced centres of ``rec_f`` grown by ``r / 4`` [m] (its centre alone
+    when nothing was traced)."""
+    import shapely
+
+    pts = [ex.rec.centre[s, :2] for s in rec_f.sides if len(s)]
+    geo = shapely.MultiPoint(np.vstack(pts)) if pts else shapely.Point(*rec_f.centre)
+    return geo.convex_hull.buffer(0.25 * r)
+
+
+def _past_known(areas, p, d, b, step: float = 5e-4):
+    """First point from ``p`` along ``d`` outside every area of ``areas`` (a ProgramState:
+    its known areas, or a list of shapely geometries), not beyond ``b``."""
+    import shapely
+
+    if isinstance(areas, ProgramState):
+        areas = areas.known
     q = np.asarray(p, float).copy()
-    while state.is_known(q) and float((b - q) @ d) > 0:
+    while float((b - q) @ d) > 0 and any(
+        g.contains(shapely.Point(float(q[0]), float(q[1]))) for g in areas
+    ):
         q = q + step * d
-    return q
+    return np.asarray(b, float).copy() if float((b - q) @ d) < 0 else q
