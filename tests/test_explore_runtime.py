@@ -113,3 +113,47 @@ def test_the_finger_starts_clear_of_the_plate(d):
     assert 0.5 * GAP - 1e-5 < clearance < GAP + 1e-5
     flat = plate_height(Plate(()))
     assert _start_height(flat, np.array([0.003, -0.002]), r) == r
+
+
+def _watched(phase: str):
+    """An ExplorerController whose program holds still, in ``phase``, out of contact."""
+    from planner.exploration.surface.runtime import PHASE
+
+    cfg = ExplorationSettings()
+    _, gm, T = build_world(Plate(()), cfg, region_box(REGION), 0.0, 0)
+    ex = ExplorerController(gm, HybridSettings(), T, 4)
+    ex.program = iter(lambda: (0.0, 0.0), None)
+    ex.phase = PHASE[phase]
+    ex.est.centre = np.array([0.002, -0.001, 0.01])
+    return ex
+
+
+def _steps(ex, k0: int, k1: int, in_contact: bool) -> None:
+    for k in range(k0, k1):
+        ex.est.t, ex.est.in_contact = k * 1e-3, in_contact
+        ex._advance()
+
+
+def test_contact_lost_longer_than_the_limit_fails_the_run():
+    from planner.exploration.surface.runtime import CONTACT_LOST_TIME
+
+    assert CONTACT_LOST_TIME == 0.5
+    ex = _watched("search")
+    _steps(ex, 0, 400, False)  # 0.4 s off the plate ...
+    _steps(ex, 400, 401, True)  # ... back on: the clock restarts
+    _steps(ex, 401, 902, False)  # off from t = 0.401 s; 0.500 s later still running
+    assert ex.failed is None and ex.finished is None
+    _steps(ex, 902, 903, False)  # 0.501 s
+    assert ex.failed == (
+        "ContactLost: no contact for more than 0.5 s while in phase search: the fingertip "
+        "left the plate at t = 0.401 s, (2.0, -1.0) mm, and did not come back"
+    )
+    assert ex.finished == ex.failed
+    assert [e.kind for e in ex.events] == ["failed"]
+
+
+@pytest.mark.parametrize("phase", ["approach", "idle"])
+def test_no_contact_is_expected_while_approaching_or_idle(phase):
+    ex = _watched(phase)
+    _steps(ex, 0, 2000, False)
+    assert ex.failed is None and ex.finished is None

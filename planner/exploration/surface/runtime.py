@@ -11,6 +11,12 @@ The per-step work after the program - averaging the 5 kHz OWTS samples, the hybr
 plate-frame estimates and the recorder row - is one compiled call (:func:`explorer_step`);
 ``kernel=False`` runs the same step through :class:`~planner.control.hybrid_law.
 HybridController` and numpy (the reference the tests compare it with).
+
+Lost contact: every phase but ``approach`` and ``idle`` slides on the plate under the normal
+force. When the OWTS reports no contact for longer than :data:`CONTACT_LOST_TIME` in such a
+phase, the finger has left the plate and not come back: the program is stopped and the run
+ends "failed" (a :class:`~planner.errors.ContactLost` reason and a ``failed`` event). Brief
+losses - the ball stepping off a wire on a 45 deg plate loses contact for about 0.12 s - go on.
 """
 
 from __future__ import annotations
@@ -27,7 +33,7 @@ from planner.control.hybrid_law import (
     owts_voltages,
     tip_force,
 )
-from planner.errors import HapexError
+from planner.errors import ContactLost, HapexError
 from planner.sim import SimEvent
 
 __all__ = ["PHASES", "Estimate", "ExplorerController", "Recorder", "explorer_step"]
@@ -36,6 +42,9 @@ __all__ = ["PHASES", "Estimate", "ExplorerController", "Recorder", "explorer_ste
 PHASES = ("approach", "search", "move", "across", "along", "trace", "reapproach", "idle")
 PHASE = {name: i for i, name in enumerate(PHASES)}
 OWTS_ON = 1e-3  # [V] total light of a 5 kHz sample counted as in contact (owts_voltages)
+#: longest time without contact [s] in a phase that slides on the plate before the run fails
+CONTACT_LOST_TIME = 0.5
+_FREE = (PHASE["approach"], PHASE["idle"])  # phases that do not expect contact
 
 
 @dataclass
@@ -202,6 +211,7 @@ class ExplorerController:
         self.program = None
         self.finished: str | None = None
         self.failed: str | None = None
+        self._lost: tuple[float, np.ndarray] | None = None  # (time [s], (2,) uv [m]) off since
         self.kernel = bool(kernel)
         self._v = np.zeros(3)
         self._sat = False
@@ -244,6 +254,7 @@ class ExplorerController:
             self._v[:2] = 0.0
             return
         try:
+            self._watch_contact()
             self._v[:2] = next(self.program)
         except StopIteration:
             self._v[:2] = 0.0
@@ -253,6 +264,22 @@ class ExplorerController:
             self.failed = f"{type(exc).__name__}: {exc}"
             self.finished = self.failed
             self.event("failed", self.failed)
+
+    def _watch_contact(self) -> None:
+        """Raise ContactLost when the last :data:`CONTACT_LOST_TIME` [s] of a phase that
+        slides on the plate had no contact (see the module doc)."""
+        e = self.est
+        if e.in_contact or self.phase in _FREE:
+            self._lost = None
+        elif self._lost is None:
+            self._lost = (e.t, e.uv.copy())
+        elif e.t - self._lost[0] > CONTACT_LOST_TIME:
+            t0, (u, v) = self._lost
+            raise ContactLost(
+                f"no contact for more than {CONTACT_LOST_TIME:g} s while in phase "
+                f"{PHASES[self.phase]}: the fingertip left the plate at t = {t0:.3f} s, "
+                f"({u * 1e3:.1f}, {v * 1e3:.1f}) mm, and did not come back"
+            )
 
     def __call__(self, t: float, obs) -> np.ndarray:
         self._advance()
