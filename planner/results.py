@@ -188,17 +188,20 @@ def out_path_problem(out: Path) -> str | None:
     return None
 
 
-def run_directory_problem(out_dir: Path) -> str | None:
-    """Why a run directory cannot be written at ``out_dir`` (``None`` when it can): a file is
-    in the way (:func:`out_path_problem`), or it is a non-empty folder but not a previous run."""
-    problem = out_path_problem(out_dir)
-    if problem is None and out_dir.is_dir() and any(out_dir.iterdir()):
-        if not (out_dir / "result.json").is_file():
-            problem = (
-                "directory is not empty and is not a hapex run directory; "
-                "choose another --out or remove it"
-            )
+def out_folder_problem(out: Path, marker: str, what: str) -> str | None:
+    """Why a command cannot write its folder at ``out`` (``None`` when it can): a file is in
+    the way (:func:`out_path_problem`), or ``out`` is a non-empty folder without ``marker``
+    (the file an earlier result of the same command holds), i.e. not ``what``."""
+    out = Path(out)
+    problem = out_path_problem(out)
+    if problem is None and out.is_dir() and any(out.iterdir()) and not (out / marker).is_file():
+        problem = f"directory is not empty and is not {what}; choose another --out or remove it"
     return problem
+
+
+def run_directory_problem(out_dir: Path) -> str | None:
+    """Why a run directory cannot be written at ``out_dir`` (``None`` when it can)."""
+    return out_folder_problem(out_dir, "result.json", "a hapex run directory")
 
 
 def _prepare_target(out_dir: Path) -> None:
@@ -350,6 +353,7 @@ __all__ = [
     "RunResult",
     "numpy_dispatch_targets",
     "numpy_simd",
+    "out_folder_problem",
     "out_path_problem",
     "package_versions",
     "replace_directory",

@@ -354,17 +354,21 @@ def _message(err: Mapping[str, Any]) -> str:
     return msg
 
 
-def validation_issues(doc: SourceDoc, exc: ValidationError) -> list[InputIssue]:
+def validation_issues(
+    doc: SourceDoc, exc: ValidationError, unknown_key: str | None = None
+) -> list[InputIssue]:
     """The problems of a pydantic ``ValidationError`` raised on ``doc.data``, each located at
     its file, line and key path (file errors in line order, then override errors).
 
-    For any model validated from a :class:`SourceDoc` (scenario kinds, sweep files).
+    For any model validated from a :class:`SourceDoc` (scenario kinds, sweep files);
+    ``unknown_key``: the message of an unknown key (default: the scenario kinds' hint).
     """
     issues = []
     seen = set()
     for err in _items_missing(exc.errors()):
         src, line, path = _locate(doc, err["loc"])
-        issue = InputIssue(src, line, path, _message(err))
+        unknown = unknown_key is not None and err.get("type") == "extra_forbidden"
+        issue = InputIssue(src, line, path, unknown_key if unknown else _message(err))
         if str(issue) not in seen:
             seen.add(str(issue))
             issues.append(issue)
@@ -413,9 +417,11 @@ def validate(doc: SourceDoc) -> ScenarioBase:
         for err in _items_missing(exc.errors()):
             loc = _error_loc(err, doc.data)
             msg = _message(err)
-            head = ".".join(str(k) for k in loc[len(err["loc"]) :])
+            # the key the line is reported at: the path a rule's message named, or the
+            # validated field itself; a message that starts with it does not repeat it
+            head = ".".join(str(k) for k in loc[len(err["loc"]) :]) or (str(loc[-1]) if loc else "")
             if head and msg.startswith(f"{head}: "):
-                msg = msg.split(": ", 1)[1]  # the key now leads the line; do not repeat it
+                msg = msg.split(": ", 1)[1]
             src, line, path = _locate(doc, loc)
             issue = InputIssue(src, line, path, msg)
             if str(issue) not in seen:

@@ -141,14 +141,14 @@ class Config(ScenarioBase):
         if not (u0 < u1 and v0 < v1):
             raise ValueError("expected [[u0, u1], [v0, v1]] with u0 < u1 and v0 < v1 [m]")
         if "plate" in info.data and "tip_radius" in info.data:
-            _reach(info.data["plate"], info.data["tip_radius"], v, None, 0.3, key="region")
+            _reach(info.data["plate"], info.data["tip_radius"], v, None, 0.3)
         return v
 
     @field_validator("goal")
     @classmethod
     def _goal(cls, v, info: ValidationInfo):
         if v is not None and {"plate", "tip_radius", "region"} <= set(info.data):
-            _reach(info.data["plate"], info.data["tip_radius"], info.data["region"], v, 0.3, "goal")
+            _reach(info.data["plate"], info.data["tip_radius"], info.data["region"], v, 0.3)
         return v
 
     @model_validator(mode="after")
@@ -165,19 +165,16 @@ class Config(ScenarioBase):
         return self
 
 
-def _reach(plate, tip_radius, region, goal, normal_force, key: str = "") -> None:
-    """Reach and force checks as a ValueError. In the field validator of ``key`` the
-    message's leading ``key: `` is dropped (the error is reported at ``key`` already); a
-    model-level message keeps its key path, which locates it."""
+def _reach(plate, tip_radius, region, goal, normal_force) -> None:
+    """Reach and force checks as a ValueError. Its message starts with the key it is about
+    (``region: ...``): in a model-level rule that locates it; in that key's own field
+    validator the framework drops the repeated key (:func:`planner.scenario.validate`)."""
     from planner.errors import InvalidParameter
 
     try:
         _check(plate, tip_radius, region, goal, normal_force)
     except InvalidParameter as exc:
-        msg = str(exc)
-        if key and msg.startswith(f"{key}: "):
-            msg = msg[len(key) + 2 :]
-        raise ValueError(msg) from None
+        raise ValueError(str(exc)) from None
 
 
 def run(config: Config, ctx):

@@ -39,13 +39,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def _out_problem(out: Path) -> str | None:
     """Why ``out`` cannot take the report (a file is in the way, or a folder that is not an
     earlier report); ``None`` when it can. Reads only."""
-    from planner.results import out_path_problem
+    from planner.results import out_folder_problem
 
-    problem = out_path_problem(out)
-    if problem is None and out.is_dir() and any(out.iterdir()):
-        if not (out / "claims.json").is_file():
-            problem = "exists and is not a hapex reproduce folder; choose another --out"
-    return problem
+    return out_folder_problem(out, "claims.json", "a hapex reproduce folder")
 
 
 def run(args: argparse.Namespace) -> int:

@@ -26,7 +26,7 @@ from typing import Any
 
 from planner.checks import choice, integer
 from planner.errors import HapexError, InvalidParameter
-from planner.results import out_path_problem
+from planner.results import out_folder_problem
 from planner.sweep.expansion import PlannedRun, as_sweep, plan
 from planner.sweep.spec import Sweep
 from planner.sweep.worker import Finished, Task, install, read_run
@@ -51,19 +51,16 @@ class SweepInterrupted(KeyboardInterrupt):
 def out_problem(out: Path, sweep: Sweep) -> str | None:
     """Why ``out`` cannot hold this sweep (``None`` when it can): it or a parent is a file,
     it holds another sweep, or it is a non-empty folder that is not a sweep. Reads only."""
-    problem = out_path_problem(out)
-    if problem or not out.exists():
-        return problem
+    problem = out_folder_problem(out, STUDY_FILE, "a hapex sweep")
     study = out / STUDY_FILE
-    if study.is_file():
-        try:
-            name = json.loads(study.read_text()).get("name")
-        except (OSError, ValueError, AttributeError):
-            name = None
-        if name != sweep.name:
-            return f"holds the sweep {name!r}, not {sweep.name!r}; choose another --out"
-    elif any(out.iterdir()):
-        return "directory is not empty and is not a hapex sweep; choose another --out or remove it"
+    if problem or not study.is_file():
+        return problem
+    try:
+        name = json.loads(study.read_text()).get("name")
+    except (OSError, ValueError, AttributeError):
+        name = None
+    if name != sweep.name:
+        return f"holds the sweep {name!r}, not {sweep.name!r}; choose another --out"
     return None
 
 

@@ -30,7 +30,7 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Mapping
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -265,14 +265,6 @@ UNKNOWN_KEY = (
 )
 
 
-def _schema_issues(doc: SourceDoc, exc: ValidationError) -> list[InputIssue]:
-    """pydantic's errors located in the sweep file, unknown keys told as a sweep file's."""
-    return [
-        replace(i, message=UNKNOWN_KEY) if i.message.startswith("unknown key") else i
-        for i in validation_issues(doc, exc)
-    ]
-
-
 def _base_doc(model: SweepModel, doc: SourceDoc, here: Path) -> tuple[SourceDoc, Path]:
     """The base scenario document and the folder its relative paths resolve against."""
     if isinstance(model.base, dict):
@@ -300,7 +292,8 @@ def sweep_from_doc(doc: SourceDoc, *, quick: bool = False, base_dir: Path | None
     try:
         model = SweepModel.model_validate(data)
     except ValidationError as exc:
-        issues = _schema_issues(doc, exc) + issues  # every problem of the file, at once
+        # every problem of the file, at once
+        issues = validation_issues(doc, exc, UNKNOWN_KEY) + issues
     if issues:
         unique = list({str(i): i for i in issues}.values())
         raise ScenarioError(sorted(unique, key=lambda i: (i.source != doc.source, i.line)))

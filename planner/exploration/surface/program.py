@@ -60,9 +60,14 @@ class ProgramState:
     detector: object = None
 
     def is_known(self, p) -> bool:
-        import shapely
+        return _in_any(self.known, p)
 
-        return any(g.contains(shapely.Point(float(p[0]), float(p[1]))) for g in self.known)
+
+def _in_any(areas, p) -> bool:
+    """Whether the point ``p`` (2,) [m] lies in one of the shapely geometries ``areas``."""
+    import shapely
+
+    return any(g.contains(shapely.Point(float(p[0]), float(p[1]))) for g in areas)
 
 
 def _axis_from_search(ex, det, r: float) -> np.ndarray:
@@ -218,7 +223,7 @@ def exploration_program(ex, cfg, region: np.ndarray, rng, state: ProgramState):
             ex.feature = -1
             d = (b - a) / max(float(np.linalg.norm(b - a)), 1e-12)
             resume = a + max(float((ex.rec.centre[k1 - 1, :2] - a) @ d), 0.0) * d
-            a = _past_known(state, resume, d, b)
+            a = _past_known(state.known, resume, d, b)
             if float((b - a) @ d) <= 0:
                 if cfg.strategy != "bug2":
                     break
@@ -259,15 +264,9 @@ def _traced_area(ex, rec_f: FeatureRecord, r: float):
 
 
 def _past_known(areas, p, d, b, step: float = 5e-4):
-    """First point from ``p`` along ``d`` outside every area of ``areas`` (a ProgramState:
-    its known areas, or a list of shapely geometries), not beyond ``b``."""
-    import shapely
-
-    if isinstance(areas, ProgramState):
-        areas = areas.known
+    """First point from ``p`` along ``d`` outside every shapely geometry of ``areas`` (the
+    search's known areas, or one feature's traced area), not beyond ``b``."""
     q = np.asarray(p, float).copy()
-    while float((b - q) @ d) > 0 and any(
-        g.contains(shapely.Point(float(q[0]), float(q[1]))) for g in areas
-    ):
+    while float((b - q) @ d) > 0 and _in_any(areas, q):
         q = q + step * d
     return np.asarray(b, float).copy() if float((b - q) @ d) < 0 else q
