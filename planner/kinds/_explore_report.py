@@ -6,33 +6,9 @@ import math
 
 import numpy as np
 
+from planner.exploration.surface.spacing import spacing_warnings  # re-export: outside code
+
 __all__ = ["report", "spacing_warnings"]
-
-
-def spacing_warnings(plate, region, tip_radius: float) -> list[str]:
-    """Messages for pairs of features closer than a fingertip diameter (§4.2.1): distance
-    between their footprints (where each rises a quarter of its height above the plate)."""
-    import shapely
-
-    from planner.exploration.surface.plates import truth_features
-
-    rise = [0.25 * f.height for f in plate.features]
-    truth = truth_features(plate, region, 3.1e-4, rise)
-    geoms = []
-    for t in truth:
-        lines = [ln for ln in t.outline if len(ln) >= 2]
-        geoms.append(shapely.MultiLineString(lines) if lines else shapely.Point(*t.centre))
-    out = []
-    for i in range(len(geoms)):
-        for j in range(i + 1, len(geoms)):
-            d = float(geoms[i].distance(geoms[j]))
-            if d < 2 * tip_radius:
-                out.append(
-                    f"features {i} ({truth[i].kind}) and {j} ({truth[j].kind}) are "
-                    f"{d * 1e3:.1f} mm apart, closer than a fingertip diameter "
-                    f"({2e3 * tip_radius:.0f} mm): the finger may not tell them apart"
-                )
-    return out
 
 
 def report(config, ctx):
@@ -44,12 +20,6 @@ def report(config, ctx):
     plate = config.plate.build(config.name)
     region = np.array(config.region, float)
     duration = min(config.duration, config.quick_duration) if ctx.quick else config.duration
-    events = [
-        Event("features_too_close", m, t=0.0)
-        for m in spacing_warnings(plate, region, config.tip_radius)
-    ]
-    for e in events:
-        ctx.log(f"warning: {e.message}")
     with ctx.timer("explore"):
         res = explore_surface(
             plate,
@@ -75,7 +45,11 @@ def report(config, ctx):
         metrics[f"feature{f_i}_kind"] = f.kind
         metrics[f"feature{f_i}_confidence"] = round(float(f.confidence), 4)
         metrics[f"feature{f_i}_closed"] = bool(f.closed)
-    events += [Event(e.kind, e.message, t=float(e.t), data=_plain(e.data)) for e in res.events]
+    # features_too_close comes with the library's events (spacing_warnings, t = 0)
+    events = [Event(e.kind, e.message, t=float(e.t), data=_plain(e.data)) for e in res.events]
+    for e in events:
+        if e.kind == "features_too_close":
+            ctx.log(f"warning: {e.message}")
     figures = _figures(res, plate, region, config, ctx) if ctx.plots else {}
     return RunResult(
         status=res.status,

@@ -34,7 +34,9 @@ from planner.exploration.surface.result import (
     ExploredFeature,
 )
 from planner.exploration.surface.runtime import PHASES, ExplorerController
+from planner.exploration.surface.spacing import spacing_warnings
 from planner.exploration.surface.strategies import segments
+from planner.sim import SimEvent
 
 __all__ = ["explore_surface"]
 
@@ -126,6 +128,9 @@ def explore_surface(
 
     Returns:
         :class:`ExplorationResult` (status "failed" with a reason when the run could not go on).
+        Features closer than a fingertip diameter (the §4.2.1 assumption) are explored
+        anyway; each such pair adds a ``features_too_close`` event at t = 0 s
+        (:func:`~planner.exploration.surface.spacing.spacing_warnings`).
 
     Raises:
         InvalidParameter: bad arguments (an unknown option, a ``seed`` that is not an integer
@@ -157,6 +162,10 @@ def explore_surface(
             f"surface: expected a planner.sim.spatial.Plate, got {type(surface).__name__}"
         )
     world, gm, T = build_world(surface, cfg, reg, tilt, seed, sensors)
+    close = [
+        SimEvent(0.0, "features_too_close", m)
+        for m in spacing_warnings(surface, reg, cfg.tip_radius)
+    ]
     ex = ExplorerController(gm, hs, T, int(dur * 1000) + 2)
     state = ProgramState()
     program = raster_program if cfg.identify == "raster" else exploration_program
@@ -165,7 +174,7 @@ def explore_surface(
     t0, c0 = time.perf_counter(), time.process_time()
     log = world.run(dur, controller=ex, stop=ex.stop)
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
-    return _result(ex, state, log, cfg, T, wall, cpu)
+    return _result(ex, state, log, cfg, T, wall, cpu, close)
 
 
 def _check_options(options: dict) -> None:
@@ -213,7 +222,7 @@ def _refine(dec, boundary: np.ndarray, closed: bool):
     return refine_with_outline(dec, boundary, closed)
 
 
-def _result(ex, state, log, cfg, T, wall, cpu=float("nan")) -> ExplorationResult:
+def _result(ex, state, log, cfg, T, wall, cpu=float("nan"), warnings=()) -> ExplorationResult:
     rec = ex.rec
     n = rec.n
     feats = []
@@ -240,7 +249,7 @@ def _result(ex, state, log, cfg, T, wall, cpu=float("nan")) -> ExplorationResult
     gs, regions = global_model([f.boundary for f in feats], cfg.tip_radius)
     status = "failed" if ex.failed else log.status
     reason = ex.failed or log.reason or ex.finished or "duration reached"
-    events = tuple(sorted([*log.events, *ex.events], key=lambda e: e.t))
+    events = tuple(sorted([*warnings, *log.events, *ex.events], key=lambda e: e.t))
     return ExplorationResult(
         status=status,
         reason=reason,
