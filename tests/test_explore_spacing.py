@@ -76,3 +76,19 @@ def test_cli_run_reports_features_too_close_exactly_once(tmp_path):
     close = [e for e in doc["events"] if e["kind"] == "features_too_close"]
     assert len(close) == 1 and close[0]["t"] == 0.0
     assert proc.stderr.count("warning: features 0 (bump) and 1 (bump)") == 1, proc.stderr
+
+
+def test_gap_is_measured_between_footprints():
+    """Bumps 12 mm apart (centres) leave a small gap between their quarter-height footprints;
+    7 mm apart their footprints meet, which the message calls an overlap (not "0.0 mm")."""
+    near = Plate(
+        (
+            PlateFeature("bump", 0.002, 0.003, (-0.006, 0.0)),
+            PlateFeature("bump", 0.002, 0.003, (0.006, 0.0)),
+        )
+    )
+    (gap,) = spacing_warnings(near, REGION, 0.0075)
+    mm = float(gap.split(" are ")[1].split(" mm")[0])
+    assert 0.0 < mm < 12.0
+    (touch,) = spacing_warnings(CLOSE, REGION, 0.0075)
+    assert "overlap" in touch and "mm apart" not in touch

@@ -20,7 +20,8 @@ def spacing_warnings(plate, region, tip_radius: float) -> list[str]:
         tip_radius: fingertip radius r_f [m]; pairs closer than 2 r_f are reported.
 
     Returns:
-        One human-readable line per pair (distance in [mm]), empty when all are far enough.
+        One human-readable line per pair (distance in [mm]; "overlap" when the footprints
+        meet), empty when all are far enough.
     """
     import shapely
 
@@ -37,9 +38,10 @@ def spacing_warnings(plate, region, tip_radius: float) -> list[str]:
         for j in range(i + 1, len(geoms)):
             d = float(geoms[i].distance(geoms[j]))
             if d < 2 * tip_radius:
+                gap = "overlap" if d == 0.0 else f"are {d * 1e3:.1f} mm apart"
                 out.append(
-                    f"features {i} ({truth[i].kind}) and {j} ({truth[j].kind}) are "
-                    f"{d * 1e3:.1f} mm apart, closer than a fingertip diameter "
-                    f"({2e3 * tip_radius:.0f} mm): the finger may not tell them apart"
+                    f"features {i} ({truth[i].kind}) and {j} ({truth[j].kind}) {gap}, "
+                    f"closer than a fingertip diameter ({2e3 * tip_radius:.0f} mm): the "
+                    "finger may not tell them apart"
                 )
     return out
