@@ -93,7 +93,7 @@ def test_malformed_scheduler_address_exits_2_naming_it_and_writes_nothing(cli, t
     proc = cli("sweep", str(path), "--quick", "--out", str(out), "--scheduler", "notanaddress")
     assert proc.returncode == 2, proc.stderr
     (line,) = proc.stderr.strip().splitlines()
-    assert line.startswith("hapex sweep: error: --scheduler: notanaddress: not a Dask scheduler")
+    assert line.startswith("--scheduler: notanaddress: not a Dask scheduler")
     assert not out.exists()
 
 
@@ -109,7 +109,7 @@ def test_unreachable_scheduler_exits_2_before_writing_anything(tmp_path, monkeyp
         ["sweep", str(path), "--quick", "--out", str(out), "--scheduler", "tcp://127.0.0.1:9"]
     )
     (line,) = capsys.readouterr().err.strip().splitlines()
-    assert code == 2 and line.startswith("hapex sweep: error: --scheduler: tcp://127.0.0.1:9: ")
+    assert code == 2 and line.startswith("--scheduler: tcp://127.0.0.1:9: ")
     assert not out.exists()
 
 
@@ -122,7 +122,7 @@ def test_out_below_a_regular_file_exits_2_and_writes_nothing(cli, tmp_path, belo
     assert proc.returncode == 2 and "Traceback" not in proc.stderr, proc.stderr
     (line,) = proc.stderr.strip().splitlines()
     assert (
-        line == f"hapex sweep: error: --out: {out}: {tmp_path / 'afile'} is a file, not a directory"
+        line == f"--out: {out}: {tmp_path / 'afile'} is a file, not a directory"
     )
     assert (tmp_path / "afile").read_text() == "keep"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["afile"]

@@ -43,7 +43,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def _bad(message: str) -> int:
-    print(f"hapex sweep: error: {message}", file=sys.stderr)
+    """Print ``OPTION: VALUE: problem`` (the form ``hapex run`` and ``reproduce`` use for
+    their options) to stderr; the exit code 2."""
+    print(message, file=sys.stderr)
     return 2
 
 
