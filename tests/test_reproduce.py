@@ -156,6 +156,9 @@ def test_reproduce_command_quick(cli, tmp_path):
     # the static half of the thesis is reproduced, each claim with its numbers
     for cid in ("fig3.7", "table3.1", "appA.sphere", "fig2.4", "fig4.14-4.15"):
         assert verdicts[cid] == "reproduced", cid
+    # the thesis figure's description travels with the evidence, as in report.md
+    by_id = {c["id"]: c for c in doc["claims"]}
+    assert by_id["fig4.12"]["thesis_figure"] and by_id["fig3.7"]["figure"]
     report = (out / "report.md").read_text()
     assert "| claim | thesis reference | verdict |" in report
     assert (out / "figures" / "fig3.7.png").is_file()

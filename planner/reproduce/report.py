@@ -68,6 +68,7 @@ def write_claims_json(results: list[ClaimResult], path: Path, *, quick: bool) ->
                 "explanation": r.evidence.explanation,
                 "numbers": [n.as_dict() for n in r.evidence.numbers],
                 "figure": r.evidence.figure,
+                "thesis_figure": r.claim.thesis_figure,
                 "seconds": round(r.seconds, 3),
                 "error": r.error,
             }
