@@ -221,7 +221,7 @@ def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float 
     su, sv = float(ex.est.centre[0]), float(ex.est.centre[1])  # where tracing began
     first_uv = None  # where the first settled sample was taken
     near = None  # closest approach to it once back within 0.1 r
-    back = False  # the finger has come back to where tracing began
+    returned = False  # the finger has come back to where tracing began
     steady, w, held = 0, float(ex.est.centre[2]), 0.0  # held: the integral term [-]
     samples: list[int] = []
     loose: list[int] = []  # on the outline within SETTLED_LATERAL, not kept (holes' filling)
@@ -276,17 +276,23 @@ def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float 
                 reason = "both ends reached"
                 break
             # back past the first kept sample by the settling distance, then the other way:
-            # the samples of both ways meet without a gap
-            back = samples[min(len(samples) - 1, SETTLE)] if samples else k_start
-            yield from move_to(ex, ex.rec.centre[back, :2], cfg.speed)
+            # the samples of both ways meet without a gap; with no sample kept yet, back to
+            # where tracing began (not ``ex.rec.centre[k_start]``: that row is written only
+            # after the first servo step, and before it holds zeros, the plate's origin)
+            if samples:
+                k_back = samples[min(len(samples) - 1, SETTLE)]
+                goal = (float(ex.rec.centre[k_back, 0]), float(ex.rec.centre[k_back, 1]))
+            else:
+                goal = (su, sv)
+            yield from move_to(ex, goal, cfg.speed)
             orient, turned, steady = -orient, False, 0
             continue
         if farthest > 0.2 * r and travelled > max(2.5 * farthest, 0.5 * r):
             # back past where tracing began (the unsettled stretch before the first kept
             # sample is traced again, settled), then closed at the first kept sample
-            back = back or math.hypot(cu - su, cv - sv) < 0.25 * r
+            returned = returned or math.hypot(cu - su, cv - sv) < 0.25 * r
             home = (su, sv) if first_uv is None else first_uv
-            near = _closing(cu, cv, home, 0.1 * r, near) if back else None
+            near = _closing(cu, cv, home, 0.1 * r, near) if returned else None
             if near is not None and near < 0:
                 if _covered(ex, samples, k_start):
                     reason = "loop closed"
