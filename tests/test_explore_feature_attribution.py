@@ -1,10 +1,10 @@
 """Boundary samples belong to the feature they were traced for (tracing.trace_boundary).
 
-A ridge found next to the region's edge starts its trace outside the region: the first end is
-reached before any sample is kept and the finger goes back to where tracing began. It used
-to go back to the recorder row of the first trace step, not yet written (zeros: the plate's
-origin), trace from there, wander 20 mm to an already traced bump and file the bump's
-outline under the ridge.
+A ridge found next to the region's edge begins its trace outside the region's end margin.
+The first end was then reached before any sample was kept, and the finger went back to the
+recorder row of the first trace step - not yet written, zeros: the plate's origin - traced
+from there, wandered 20 mm to an already traced bump and filed the bump's outline under the
+ridge. Now it goes back to where tracing began, and an end counts only farther out than that.
 """
 
 from __future__ import annotations
@@ -58,3 +58,14 @@ def test_no_trace_sample_near_the_plate_origin(run):
     """Nothing lies at the origin here: a trace there is one started from an unwritten row."""
     trace = run.phase == run.phases.index("trace")
     assert np.hypot(*run.path[trace, :2].T).min() > 5e-3
+
+
+def test_a_ridge_whose_outline_begins_outside_the_region_is_still_traced(run):
+    """The trace begins beyond the region's end margin (the ridge's far flank lies past the
+    region's edge): an end counts only farther out than that, so the ridge is traced - it
+    used to reach both ends at once with no sample and stay a 'bump' at its end cap."""
+    assert sorted(f.kind for f in run.features) == ["bump", "ridge"]
+    (ridge,) = [f for f in run.features if f.kind == "ridge"]
+    crest = np.linspace(RIDGE.path[0], RIDGE.path[1], 50)
+    d, _ = cKDTree(ridge.boundary).query(crest)
+    assert len(ridge.boundary) > 100 and d.max() < 8e-3

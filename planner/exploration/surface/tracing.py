@@ -233,6 +233,10 @@ def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float 
     m = 0.25 * r  # the region, shrunk by the margin at which an end is reached [m]
     u0, u1 = float(region[0, 0]) + m, float(region[0, 1]) - m
     v0, v1 = float(region[1, 0]) + m, float(region[1, 1]) - m
+    # an end is reached where the outline *leaves* the shrunk region: when tracing begins
+    # outside it (a feature next to the region's edge), only farther out than that by r / 10
+    beyond0 = max(u0 - su, su - u1, v0 - sv, sv - v1, 0.0)
+    out_limit = beyond0 + 0.1 * r if beyond0 > 0.0 else 0.0
     ends, travelled, farthest = 0, 0.0, 0.0
     pu, pv = su, sv
     reason = "trace budget spent"
@@ -269,7 +273,7 @@ def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float 
         lateral = min(max(LATERAL_GAIN * dist / speed + held, -0.7), 0.7)
         along = 0.3 if lost else 1.0
         farthest = max(farthest, math.hypot(cu - su, cv - sv))
-        if not (u0 <= cu <= u1 and v0 <= cv <= v1):
+        if max(u0 - cu, cu - u1, v0 - cv, cv - v1) > out_limit:
             ends += 1
             ex.event("end_reached", "the outline leaves the region", point=[cu, cv])
             if ends == 2:
