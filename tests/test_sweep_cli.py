@@ -121,9 +121,7 @@ def test_out_below_a_regular_file_exits_2_and_writes_nothing(cli, tmp_path, belo
     proc = cli("sweep", str(path), "--quick", "--jobs", "1", "--out", str(out))
     assert proc.returncode == 2 and "Traceback" not in proc.stderr, proc.stderr
     (line,) = proc.stderr.strip().splitlines()
-    assert (
-        line == f"--out: {out}: {tmp_path / 'afile'} is a file, not a directory"
-    )
+    assert line == f"--out: {out}: {tmp_path / 'afile'} is a file, not a directory"
     assert (tmp_path / "afile").read_text() == "keep"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["afile"]
 
