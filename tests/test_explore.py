@@ -97,6 +97,20 @@ def test_end_to_end_bump_identified_traced_closed():
     assert truth[0].closed
 
 
+def test_sharply_bent_ridge_is_a_ridge_not_a_step():
+    """scenarios/curved_ridge.yaml (Fig. 4.13): the across crossing runs over both arms of the
+    V and reads a level change (a step); the traced outline closes around the V, which no
+    step does, and is thin: a ridge."""
+    path = ((-0.012, -0.010), (0.006, -0.004), (-0.008, 0.010))
+    plate = Plate((PlateFeature("ridge", 0.002, 0.0018, path=path),))
+    region = np.array([[-0.02, 0.02], [-0.02, 0.02]])
+    res = explore_surface(plate, region=region, duration=80.0, speed=0.03, seed=0)
+    assert res.status == "ok", res.reason
+    (f,) = res.features
+    assert f.closed and f.kind == "ridge", f.evidence
+    assert any("not a step" in e for e in f.evidence), f.evidence
+
+
 def test_raster_identification_in_closed_loop():
     """identify="raster": the whole raster first, the curvature regions pattern-matched,
     then the matched feature traced like the flow chart's."""

@@ -190,6 +190,54 @@ def test_refine_with_outline_by_the_skeleton_of_the_traced_outline(kind, elongat
     assert refine_with_outline(step, stadium, closed=True) == step
 
 
+def _v_ridge_outline(width: float = 3.5e-3) -> np.ndarray:
+    """The outline of scenarios/curved_ridge.yaml's V-shaped crest seen through the ball: the
+    crest polyline dilated by ``width`` [m], sampled every 0.1 mm."""
+    import shapely
+
+    crest = shapely.LineString(((-0.012, -0.010), (0.006, -0.004), (-0.008, 0.010)))
+    ring = shapely.segmentize(crest.buffer(width, quad_segs=32).exterior, 1e-4)
+    return np.asarray(ring.coords)[:-1]
+
+
+def test_outline_thinness_closed_forms():
+    """Area over the largest inscribed disc's: 1 for a disc, 1 + 2 L / (pi w) for a stadium
+    of half-width w and straight length L; a bent ridge stays thin where its area moments
+    are nearly round."""
+    from planner.exploration.surface.identify import outline_elongation, outline_thinness
+
+    t = np.linspace(0, 2 * np.pi, 2000, endpoint=False)
+    disc = np.column_stack([4e-3 * np.cos(t), 4e-3 * np.sin(t)])
+    assert outline_thinness(disc, 4e-3) == pytest.approx(1.0, rel=1e-5)
+    half, rho = 6e-3, 2e-3
+    expected = 1 + 2 * (2 * half) / (np.pi * rho)
+    assert outline_thinness(_stadium_outline(half, rho, 4000), rho) == pytest.approx(
+        expected, rel=1e-3
+    )
+    v = _v_ridge_outline()
+    assert outline_elongation(v) < 1.4 < 2.0 < outline_thinness(v, 3.5e-3)
+    assert np.isnan(outline_thinness(disc[:3], 4e-3)) and np.isnan(outline_thinness(disc, 0.0))
+
+
+def test_a_closed_outline_rules_out_a_step():
+    """A sharply bent ridge's across crossing ran over both arms and read a level change
+    (step); its outline closed around it: the posterior without the step, then the outline's
+    shape (thin: ridge; round: bump). An open outline keeps the step."""
+    from planner.exploration.surface.identify import TypeDecision, refine_with_outline
+
+    dec = TypeDecision("step", 0.8, {"step": 0.8, "bump": 0.12, "ridge": 0.05, "pit": 0.03}, ())
+    out = refine_with_outline(dec, _v_ridge_outline(), closed=True)
+    assert out.kind == "ridge" and out.scores["step"] == 0.0
+    assert out.confidence == pytest.approx(0.12 / 0.2) and sum(out.scores.values()) == (
+        pytest.approx(1.0)
+    )
+    assert "not a step" in out.path[0] and "thinness" in out.path[1]
+    t = np.linspace(0, 2 * np.pi, 600, endpoint=False)
+    circle = np.column_stack([5e-3 * np.cos(t), 5e-3 * np.sin(t)])
+    assert refine_with_outline(dec, circle, closed=True).kind == "bump"
+    assert refine_with_outline(dec, _v_ridge_outline(), closed=False) == dec
+
+
 def test_lone_foot_detection_spans_the_feature():
     """Through the 8 mm ball a wide ridge's crest reads flatter than 1/r_f: the detector may
     see only its concave foot; the detection then reaches to the crest of the crossing."""

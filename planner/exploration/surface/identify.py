@@ -46,6 +46,7 @@ prior the posterior over the six kinds is the confidence reported per kind.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -62,6 +63,7 @@ __all__ = [
     "identify",
     "level_change",
     "outline_elongation",
+    "outline_thinness",
     "refine_with_outline",
     "relief",
 ]
@@ -317,6 +319,37 @@ def evidence(centers_uvw, normals_uvw, tip_radius: float, role: str = "across"):
     return c, a, crossing_axis(normals_uvw, d if np.linalg.norm(d) > 0 else (1.0, 0.0))
 
 
+def _enclosed(boundary: np.ndarray, hull: bool):
+    """The area a traced closed outline ((N, 2) samples in trace order [m]) encloses, a
+    shapely geometry (empty for fewer than 4 samples). Samples stitched from several passes
+    make the ring cross itself; its valid parts are united, and with ``hull`` replaced by
+    their convex hull (a bow-tie's parts can miss the interior between them)."""
+    import shapely
+
+    P = np.asarray(boundary, float)
+    if len(P) < 4:
+        return shapely.Polygon()
+    poly = shapely.Polygon(P)
+    if not poly.is_valid:
+        poly = shapely.make_valid(poly)
+        parts = [g for g in shapely.get_parts(poly) if g.geom_type.endswith("Polygon")]
+        poly = shapely.union_all(parts) if parts else shapely.Polygon()
+        poly = poly.convex_hull if hull and not poly.is_empty else poly
+    return poly
+
+
+def outline_thinness(boundary: np.ndarray, inscribed_radius: float) -> float:
+    """Area over that of the largest inscribed disc [-] of a traced closed outline ((N, 2)
+    samples in trace order [m]; ``inscribed_radius`` [m], the largest medial radius): 1 for
+    a disc, ``1 + 2 L / (pi w)`` for a stadium of half-width ``w`` and straight length
+    ``L``, whether straight or bent (a V-shaped ridge's area moments are nearly round); nan
+    when the samples enclose no area or the radius is not positive."""
+    poly = _enclosed(boundary, hull=False)
+    if poly.is_empty or poly.area <= 0 or not inscribed_radius > 0:
+        return float("nan")
+    return float(poly.area / (math.pi * inscribed_radius**2))
+
+
 def outline_elongation(boundary: np.ndarray) -> float:
     """Length over width [-] of a traced closed outline ((N, 2) samples in trace order [m]):
     the square root of the ratio of the principal second moments of the *area* it encloses.
@@ -325,14 +358,7 @@ def outline_elongation(boundary: np.ndarray) -> float:
     moments); nan when the samples enclose no area."""
     import shapely
 
-    P = np.asarray(boundary, float)
-    if len(P) < 4:
-        return float("nan")
-    poly = shapely.Polygon(P)
-    if not poly.is_valid:
-        poly = shapely.make_valid(poly)
-        parts = [g for g in shapely.get_parts(poly) if g.geom_type.endswith("Polygon")]
-        poly = shapely.union_all(parts).convex_hull if parts else shapely.Polygon()
+    poly = _enclosed(boundary, hull=True)
     if poly.is_empty or poly.area <= 0:
         return float("nan")
     tri = shapely.get_parts(shapely.delaunay_triangles(poly))
@@ -350,25 +376,55 @@ def outline_elongation(boundary: np.ndarray) -> float:
     return float(np.sqrt(ev[-1] / max(ev[0], 1e-30)))
 
 
+#: kinds whose outline cannot close inside the explored region: a step's edge divides two
+#: plate levels and runs out of the region (its traced outline reaches both ends)
+OPEN_KINDS = ("step",)
+
+
+def _closed_kind(decision: TypeDecision) -> TypeDecision:
+    """The decision given that its traced outline closed: the posterior conditioned on a
+    closed outline (the :data:`OPEN_KINDS` dropped, the other kinds' scores renormalised),
+    its most probable kind and confidence. A sharply bent ridge's across crossing can run
+    over both arms of the bend and read a level change ("step"), while its outline closes
+    around it (``scenarios/curved_ridge.yaml``)."""
+    from dataclasses import replace
+
+    rest = {k: v for k, v in decision.scores.items() if k not in OPEN_KINDS}
+    total = sum(rest.values())
+    if not rest or total <= 0.0:
+        return decision
+    scores = {k: (v / total if k in rest else 0.0) for k, v in decision.scores.items()}
+    kind = max(rest, key=rest.get)
+    note = f"traced outline closed: not a {decision.kind} -> {kind}"
+    return replace(decision, kind=kind, confidence=scores[kind], scores=scores,
+                   path=(*decision.path, note))  # fmt: skip
+
+
 def refine_with_outline(
     decision: TypeDecision,
     boundary: np.ndarray,
     closed: bool,
     elongation: float = 1.0,
     min_area_elongation: float = 1.4,
+    min_thinness: float = 2.0,
 ) -> TypeDecision:
     """After tracing, compare the outline's shape with the kind (§4.4.1: the pattern of the
-    traced curvature region). A bump's or a pit's medial axis is a point (rotational
-    symmetry); a ridge's or a ravine's is its crest line. A closed outline whose pruned
-    skeleton (:func:`~planner.exploration.surface.modelling.feature_model`) is longer than
-    ``elongation`` times its largest inscribed radius is a ridge or a ravine (the along
+    traced curvature region). A closed outline rules out the open kinds (a step:
+    :func:`_closed_kind`, the posterior without them). A bump's or a pit's medial axis is a
+    point (rotational symmetry); a ridge's or a ravine's is its crest line. A closed outline
+    whose pruned skeleton (:func:`~planner.exploration.surface.modelling.feature_model`) is
+    longer than ``elongation`` times its largest inscribed radius is a ridge or a ravine (the along
     crossing can run past a short ridge's end caps, and an 8 mm ball makes a 12 mm ridge's
     outline only twice as long as wide) *and* the area it encloses is elongated
-    (:func:`outline_elongation` above ``min_area_elongation``): the medial axis of a small
-    round outline grows with the boundary's noise (a 1 mm pit's outline of radius 2 mm,
-    traced with 0.15 mm lateral scatter, gave a 6 mm skeleton), its area moments do not
-    (1.02). A bump's or pit's outline reads 1.0-1.1, a 12 mm ridge's 1.9 (5 mm high, its
-    outline 12 mm wide) to 2.7 (1 mm high); the threshold lies in between.
+    (:func:`outline_elongation` above ``min_area_elongation``, or, for a bent one whose area
+    moments are nearly round, :func:`outline_thinness` above ``min_thinness``): the medial
+    axis of a small round outline grows with the boundary's noise (a 1 mm pit's outline of
+    radius 2 mm, traced with 0.15 mm lateral scatter, gave a 6 mm skeleton), its area
+    moments do not (1.02). A bump's or pit's outline reads 1.0-1.1, a 12 mm ridge's 1.9 (5
+    mm high, its outline 12 mm wide) to 2.7 (1 mm high); the threshold lies in between. The
+    V-shaped ridge of ``scenarios/curved_ridge.yaml`` reads 1.07, its thinness 6; a round
+    outline's thinness is 1 plus what the boundary's scatter takes off the inscribed radius
+    (0.15 mm on 2 mm: 1.17).
 
     Args:
         decision: the flow chart's (or the raster match's) decision.
@@ -376,24 +432,29 @@ def refine_with_outline(
         elongation: skeleton length over largest medial radius beyond which the feature is
             elongated [-].
         min_area_elongation: least length over width of the enclosed area for elongated [-].
+        min_thinness: least area over that of the largest inscribed disc for elongated [-].
     """
     from dataclasses import replace
 
     from planner.exploration.surface.modelling import feature_model
 
+    if closed and len(boundary) >= 10 and decision.kind in OPEN_KINDS:
+        decision = _closed_kind(decision)
     if not closed or len(boundary) < 10 or decision.kind not in ("bump", "pit"):
         return decision
     sk = feature_model(decision.kind, [np.asarray(boundary, float)], True)
     if sk is None or len(sk.radii) == 0 or not sk.length > elongation * float(sk.radii.max()):
         return decision
     area = outline_elongation(boundary)
-    if not area > min_area_elongation:
+    thin = outline_thinness(boundary, float(sk.radii.max()))
+    if not (area > min_area_elongation or thin > min_thinness):
         return decision
     kind = "ridge" if decision.kind == "bump" else "ravine"
     scores = dict(decision.scores)
     scores[kind], scores[decision.kind] = scores[decision.kind], scores[kind]
     note = (
         f"traced outline's skeleton {sk.length * 1e3:.1f} mm long, inscribed radius "
-        f"{sk.radii.max() * 1e3:.1f} mm, area elongation {area:.2f}: {decision.kind} -> {kind}"
+        f"{sk.radii.max() * 1e3:.1f} mm, area elongation {area:.2f}, thinness {thin:.2f}: "
+        f"{decision.kind} -> {kind}"
     )
     return replace(decision, kind=kind, scores=scores, path=(*decision.path, note))
