@@ -28,7 +28,6 @@ def report(config, ctx, res, profile, duration: float, hand, noise_seed: int | N
              if config.object.shape == "circle_with_ridge" else None)  # fmt: skip
     theta = _rotation(config, res, profile)
     metrics = _metrics(config, res, profile, ridge, duration, theta)
-    metrics["coverage_explorer_only"] = _explorer_coverage(res, profile)
     if noise_seed is not None:
         metrics["noise_seed"] = int(noise_seed)
     # the left fingertip that ran: null for the flat pad, else the round tip's radius [m]
@@ -52,17 +51,6 @@ def report(config, ctx, res, profile, duration: float, hand, noise_seed: int | N
         reason = f"{res.reason} (last phase {metrics['last_phase']})"
     return RunResult(status=res.status, reason=reason, metrics=metrics, arrays=arrays,
                      events=events, figures=figures, files=files)  # fmt: skip
-
-
-def _explorer_coverage(res, profile) -> float:
-    """Coverage counting only the exploring finger (the right one in phases 2, the left one
-    in phases 3): the strict reading of the issue's "touched by an exploring fingertip";
-    ``coverage`` also counts the contacts of phase-1 rolling and of the holder."""
-    from planner.exploration.planar.metrics import coverage_mask
-
-    if res.log is None or not len(res.log.t):
-        return 0.0
-    return float(coverage_mask(res.log, "object", profile, phases=res.phases).mean())
 
 
 def _ridge_coverage(config, res, profile, hand) -> dict:

@@ -137,7 +137,11 @@ def explore_object(
     runner.execute()
     log = concat_logs(runner.logs)
     rotation = runner.rotation()
-    from planner.exploration.planar.metrics import coverage_of, detect_pad_features
+    from planner.exploration.planar.metrics import (
+        coverage_mask,
+        coverage_of,
+        detect_pad_features,
+    )
 
     trace = trace_arrays(ctrl)
     # phases whose pad trace is not a tangent contact on a held object: the held object
@@ -163,7 +167,8 @@ def explore_object(
         reason=runner.reason,
         phases=tuple(runner.records),
         rotation=rotation,
-        coverage=coverage_of(log, "object", profile),
+        coverage=float(coverage_mask(log, "object", profile, phases=runner.records).mean()),
+        contact_coverage=coverage_of(log, "object", profile),
         min_epsilon=float(min(eps)) if eps else float("nan"),
         features=tuple(features),
         log=log,

@@ -559,6 +559,7 @@ def summary_metrics(res, ridge_angle, explore_force: float, internal_force: floa
         "transitions_4": res.transitions4,
         "rotation_deg": math.degrees(res.rotation),
         "coverage": res.coverage,
+        "coverage_any_contact": res.contact_coverage,
         "min_epsilon": res.min_epsilon,
         "slip_distance_m": slip_distance(res.log),
         "explore_force_rms_error_N": _rms(exp[sel] - explore_force),

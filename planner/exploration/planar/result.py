@@ -133,10 +133,12 @@ class ExplorationResult:
             simulator's log: on a failed run it includes what the object turned after
             control was lost (a long ellipse flung in a simulator fault turned 28 deg in
             48 ms), so read it with ``status``.
-        coverage: fraction of the outline (1-degree cells of polar angle) touched by a
-            fingertip in any phase (phase-1 rolling and the holder sense it too), 0-1;
-            ``metrics.coverage_mask(log, "object", profile, phases=phases)`` counts the
-            exploring finger of phases 2/3 only (``coverage_explorer_only`` in a run).
+        coverage: fraction of the outline (1-degree cells of polar angle) touched by an
+            exploring fingertip, 0-1 (issue 11's definition): the right finger's contacts
+            in phases 2, the left finger's in phases 3
+            (``metrics.coverage_mask(log, "object", profile, phases=phases)``).
+        contact_coverage: the same fraction touched by any fingertip in any phase (phase-1
+            rolling and the holder sense the outline too), 0-1; at least ``coverage``.
         min_epsilon: smallest sensed epsilon of any phase-1 grasp.
         features: :class:`DetectedFeature` found by the exploring pad.
         log: the :class:`planner.sim.SimLog` of the whole run.
@@ -154,6 +156,7 @@ class ExplorationResult:
     phases: tuple[PhaseRecord, ...]
     rotation: float
     coverage: float
+    contact_coverage: float
     min_epsilon: float
     features: tuple[DetectedFeature, ...]
     log: object

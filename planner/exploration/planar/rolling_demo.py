@@ -99,6 +99,7 @@ def explicit_rolling(
         phases=(rec,),
         rotation=float(a[-1] - a[0]),
         coverage=float("nan"),
+        contact_coverage=float("nan"),
         min_epsilon=float("nan"),
         features=(),
         log=log,
