@@ -236,7 +236,7 @@ def fig2_14(ctx: ClaimContext) -> Evidence:
         ),
         Number(
             "left tangential force at / off the ridge [N]",
-            None if t_on is None else f"{t_on:.2f} / {t_off:.2f}",
+            f"{t_on:.2f} / {t_off:.2f}" if t_on is not None and t_off is not None else None,
             "rises over the ridge",
             t_on is not None and t_off is not None and t_on > t_off,
             "",

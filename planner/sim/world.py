@@ -35,9 +35,10 @@ def joint_torques(tau: object, n: int, what: str) -> np.ndarray:
     """``tau`` as the (n,) float array of joint torques [N m] a world's ``step`` takes.
 
     Raises:
-        InvalidParameter: ``tau`` is not ``n`` finite numbers (``what`` names them, e.g.
-            "3 motor torques of the 3GM"); a wrong length would otherwise be broadcast or
-            read past its end by the compiled step, and a NaN would become the state.
+        InvalidParameter: ``tau`` is not ``n`` finite numbers (``what`` names them after
+            the count, e.g. "motor torques": "expected 3 motor torques [N m]"); a wrong
+            length would otherwise be broadcast or read past its end by the compiled step,
+            and a NaN would become the state.
     """
     t = tau if isinstance(tau, np.ndarray) and tau.dtype == np.float64 else None
     if t is None:

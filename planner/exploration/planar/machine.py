@@ -137,11 +137,7 @@ def explore_object(
     runner.execute()
     log = concat_logs(runner.logs)
     rotation = runner.rotation()
-    from planner.exploration.planar.metrics import (
-        coverage_mask,
-        coverage_of,
-        detect_pad_features,
-    )
+    from planner.exploration.planar.metrics import coverage_of, detect_pad_features
 
     trace = trace_arrays(ctrl)
     # phases whose pad trace is not a tangent contact on a held object: the held object
@@ -167,7 +163,7 @@ def explore_object(
         reason=runner.reason,
         phases=tuple(runner.records),
         rotation=rotation,
-        coverage=float(coverage_mask(log, "object", profile, phases=runner.records).mean()),
+        coverage=coverage_of(log, "object", profile, phases=runner.records),
         contact_coverage=coverage_of(log, "object", profile),
         min_epsilon=float(min(eps)) if eps else float("nan"),
         features=tuple(features),

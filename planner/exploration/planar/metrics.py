@@ -11,10 +11,11 @@ from planner.exploration.planar.result import DetectedFeature
 from robots.sensors import TactileArray
 
 
-def coverage_of(log, body: str, profile, cells: int = 360) -> float:
-    """Fraction of the outline's polar-angle cells touched by a fingertip (true contacts):
-    the mean of :func:`coverage_mask`."""
-    return float(coverage_mask(log, body, profile, cells).mean())
+def coverage_of(log, body: str, profile, cells: int = 360, phases=None) -> float:
+    """Fraction of the outline's polar-angle cells touched by a fingertip (true contacts;
+    with ``phases``, by the exploring fingertip of each phase only): the mean of
+    :func:`coverage_mask`."""
+    return float(coverage_mask(log, body, profile, cells, phases).mean())
 
 
 def coverage_mask(log, body: str, profile, cells: int = 360, phases=None) -> np.ndarray:

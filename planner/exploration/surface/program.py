@@ -32,6 +32,7 @@ __all__ = [
     "outline_rise",
     "remember",
     "trace_feature",
+    "traced_area",
 ]
 
 
@@ -178,14 +179,19 @@ def trace_feature(ex, cfg, rec_f: FeatureRecord, region, half: float):
 
 
 def remember(ex, state: ProgramState, rec_f: FeatureRecord, r: float) -> None:
-    """Add the area of the traced feature ``rec_f`` (the hull of its traced centres, grown
-    by ``1.5 r`` [m]) to the areas the search skips (``state.known``)."""
+    """Add the area of the traced feature ``rec_f`` (:func:`traced_area` grown by ``1.5 r``
+    [m]) to the areas the search skips (``state.known``)."""
+    state.known.append(traced_area(ex, rec_f, 1.5 * r))
+
+
+def traced_area(ex, rec_f: FeatureRecord, grow: float):
+    """The hull of the traced centres of ``rec_f`` (its centre alone when nothing was
+    traced) grown by ``grow`` [m], a shapely geometry in the plate frame."""
     import shapely
 
     pts = [ex.rec.centre[s, :2] for s in rec_f.sides if len(s)]
     geo = shapely.MultiPoint(np.vstack(pts)) if pts else shapely.Point(*rec_f.centre)
-    area = geo.convex_hull.buffer(1.5 * r)
-    state.known.append(area)
+    return geo.convex_hull.buffer(grow)
 
 
 def exploration_program(ex, cfg, region: np.ndarray, rng, state: ProgramState):
@@ -229,7 +235,7 @@ def exploration_program(ex, cfg, region: np.ndarray, rng, state: ProgramState):
                     break
                 # the goal lies in the area the search skips (the feature grown by 1.5 r_f):
                 # leave the feature just past its own traced outline, towards the goal
-                a = _past_known([_traced_area(ex, rec_f, r)], resume, d, b)
+                a = _past_known([traced_area(ex, rec_f, 0.25 * r)], resume, d, b)
     ex.phase = PHASE["idle"]
     if cfg.strategy == "bug2":
         _check_goal(ex, cfg.goal)
@@ -251,16 +257,6 @@ def _check_goal(ex, goal) -> None:
         )
         ex.event("goal_not_reached", msg, gap=gap)
         ex.failed = msg
-
-
-def _traced_area(ex, rec_f: FeatureRecord, r: float):
-    """The hull of the traced centres of ``rec_f`` grown by ``r / 4`` [m] (its centre alone
-    when nothing was traced)."""
-    import shapely
-
-    pts = [ex.rec.centre[s, :2] for s in rec_f.sides if len(s)]
-    geo = shapely.MultiPoint(np.vstack(pts)) if pts else shapely.Point(*rec_f.centre)
-    return geo.convex_hull.buffer(0.25 * r)
 
 
 def _past_known(areas, p, d, b, step: float = 5e-4):
