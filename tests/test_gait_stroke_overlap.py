@@ -8,7 +8,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from hypothesis import example, given, settings
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
 from planner.errors import InvalidParameter
@@ -257,3 +257,64 @@ def test_the_approach_leads_with_the_pad_end_and_servoes_the_contact_there():
     tl = np.linspace(0.0, seg.duration + 0.1, 201)
     rows = np.array([[seg.hold_force(x), *references(seg, x)] for x in tl])
     np.testing.assert_allclose(segment_references(seg, tl), rows, rtol=0, atol=1e-15)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    past=st.floats(-20.0, 20.0),
+    theta=st.floats(-7.0, 7.0),
+    wall=st.floats(0.0, 360.0),
+    direction=st.sampled_from([-1.0, 1.0]),
+)
+@example(past=3.0, theta=-2.0, wall=167.7, direction=1.0)  # seed 1's sweep (3 deg)
+@example(past=6.2, theta=-2.0, wall=167.7, direction=1.0)  # seed 0's: capped at TOP_SWEEP
+def test_the_tip_sweeps_back_over_the_top_towards_the_wall_at_most_top_sweep(
+    past, theta, wall, direction
+):
+    """The round tip ``past`` deg beyond a known wall (along the pad's motion there) with a
+    stroke running that way first goes back by ``min(past, TOP_SWEEP)``: to the wall when
+    within TOP_SWEEP, never beyond it; before the wall, farther than TOP_REACH, or with a
+    stroke the other way, no sweep."""
+    from planner.exploration.planar.corner_probe import TOP_REACH, TOP_SWEEP, top_sweep_back
+
+    # (the angles are rounded when composed: no verdict within 1e-6 deg of a bound)
+    assume(min(abs(past), abs(past - math.degrees(TOP_REACH))) > 1e-6)
+    walls = [(math.radians(wall), direction)]
+    beta = math.radians(wall + direction * past) + theta
+    ahead = beta + direction * 0.3
+    back = top_sweep_back(walls, theta, beta, ahead)
+    p = math.radians(past)
+    if 0.0 < p <= TOP_REACH:
+        went = direction * math.remainder(beta - back, 2 * math.pi)
+        assert went == pytest.approx(min(p, TOP_SWEEP), abs=1e-9)
+        left = direction * math.remainder(back - theta - math.radians(wall), 2 * math.pi)
+        assert left >= -1e-9  # still on the wall's far side (or at it)
+    else:
+        assert back is None
+    assert top_sweep_back(walls, theta, beta, beta - direction * 0.3) is None
+    assert top_sweep_back([], theta, beta, ahead) is None
+
+
+def test_the_round_tip_sweep_goes_back_and_ends_at_the_target():
+    """Phase 2 with ``via``: the right tip's contact from 40 deg back to 37 deg (at rest
+    there) and on to 60 deg (world) on the circle; without ``via`` the same stroke runs
+    straight, and the pad's trail never applies to the round tip."""
+    from planner.exploration.planar.settings import GaitSettings
+    from robots.planar_hand import PlanarHand
+
+    s, hand = GaitSettings(), PlanarHand()
+    b0, via, target = math.radians(40.0), math.radians(37.0), math.radians(60.0)
+    est = _est(math.radians(150.0), b0)
+    seg = explore_segment(2, est, np.full(6, 0.2), target, 0.1, s, hand, via=via)
+    T1 = (b0 - via) * R / s.explore_speed
+    T2 = (target - via) * R / s.explore_speed
+    assert seg.kind == 2 and seg.duration == pytest.approx(s.startup_time + T1 + T2 + 0.02)
+    (px, py), (vx, vy), _ = seg.explore(s.startup_time + T1)
+    assert np.hypot(vx, vy) < 1e-12
+    assert math.atan2(py - R, px) == pytest.approx(via, abs=1e-9)
+    assert math.hypot(px, py - R) == pytest.approx(R)  # no trail, no friction lead at rest
+    (px, py), _, _ = seg.explore(seg.duration)
+    assert math.atan2(py - R, px) == pytest.approx(target)
+    plain = explore_segment(2, est, np.full(6, 0.2), target, 0.1, s, hand)
+    assert plain.duration == pytest.approx(s.startup_time + (target - b0) * R / s.explore_speed
+                                           + 0.02)  # fmt: skip

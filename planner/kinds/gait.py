@@ -23,6 +23,7 @@ Keys (SI units)::
     corner_probe: true           # the pad's end back into the corner beyond a jumped wall
     stroke_overlap: false        # phase-3 strokes first go back into the pad's last one
     wall_approach: false         # the pad leads with its end towards a known wall
+    top_sweep: false             # the right tip first sweeps back over a ridge's top
     left_regrasp: true           # no phase-1 plan twice: the left pad regrasps before giving up
     last_resort: true            # then phase 1 with the tip's range relaxed (GaitSettings)
     follow_prior: true           # posed nominal outline: regrasp to plan_gait's handoffs
@@ -212,6 +213,7 @@ class Config(ScenarioBase):
     corner_probe: bool = Field(True, description="corner probe beyond a jumped wall")
     stroke_overlap: bool = Field(False, description="overlapping phase-3 strokes")
     wall_approach: bool = Field(False, description="pad's end first towards a known wall")
+    top_sweep: bool = Field(False, description="right tip back over a ridge's top (phase 2)")
     left_regrasp: bool = Field(True, description="left pad regrasp before giving up")
     last_resort: bool = Field(True, description="last phase-1 plan, tip's range relaxed")
     follow_prior: bool = Field(True, description="regrasp to the prior's handoffs (outline)")
@@ -254,7 +256,8 @@ class Config(ScenarioBase):
             mu=self.mu, internal_force=self.internal_force, hold_force=self.hold_force,
             left_hold_force=self.left_hold_force, sensed_features=self.sensed_features,
             corner_probe=self.corner_probe, stroke_overlap=self.stroke_overlap,
-            wall_approach=self.wall_approach, left_regrasp=self.left_regrasp,
+            wall_approach=self.wall_approach, top_sweep=self.top_sweep,
+            left_regrasp=self.left_regrasp,
             last_resort=self.last_resort, follow_prior=self.follow_prior,
             explore_force=self.explore_force,
             object_mass=self.object_mass, object_kp=g.object_kp, object_kv=g.object_kv,

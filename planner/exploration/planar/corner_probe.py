@@ -28,6 +28,10 @@ lies past that wall by :data:`MIN_BEYOND` .. :data:`MAX_BEYOND` (it jumped the r
 It aims at that NEAR wall, so the ridge's far wall stops the pad whatever the ridge's
 width. Its rows are left out of the feature detection (the executor marks it as a
 back-stroke).
+
+The recorded walls serve two more strokes: a phase 3 running towards one leads with the
+pad's end (:func:`approach_segment`), and a phase 2 whose round tip starts on a ridge's
+top, just past one, first sweeps back over the top towards it (:func:`top_sweep_back`).
 """
 
 from __future__ import annotations
@@ -68,6 +72,17 @@ JUMP_ROWS = 5
 APPROACH_REACH = math.radians(12.0)
 #: walls closer than this are one (object frame) [rad]
 SAME_WALL = math.radians(10.0)
+#: a phase 2 whose round tip starts at most this far past a known wall (along the pad's
+#: motion there) first sweeps back towards the wall (:func:`top_sweep_back`) [rad]: the tip
+#: sits on the ridge's top (4.6 deg wide on ball_with_ridge) or just past its far wall; the
+#: pad landed at least :data:`MIN_BEYOND` past a wall it jumped
+TOP_REACH = math.radians(8.0)
+#: ... but at most this far back [rad]. The sensed angles are a few degrees off (the
+#: rotation estimate and the pad's end): on seed 0 a sweep to the sensed wall (6.2 deg)
+#: went 3 deg past the true one, the tip pivoted down the wall's far side and the right
+#: finger's base joint reached its stop; the gait then lost the ball's rotation (coverage
+#: 0.68). 4 deg swept 167.7-170.7 deg on seeds 0, 1 and 3 and ended no phase early.
+TOP_SWEEP = math.radians(4.0)
 
 _COL = {k: i for i, k in enumerate(TRACE_NAMES)}
 
@@ -225,6 +240,29 @@ def wall_ahead(walls: list, theta: float, beta: float, target: float) -> float |
     return None
 
 
+def top_sweep_back(walls: list, theta: float, beta: float, target: float) -> float | None:
+    """The world polar angle [rad] a phase 2's round tip first goes back to, or None.
+
+    Phase 1 rolls the right tip onto the outline (those contacts do not count as explored:
+    the tip explores in phase 2 only), so a phase 2 that starts with the tip on a ridge's
+    top leaves the top between the near wall and its start untouched by an explorer
+    (``ball_with_ridge`` seeds 0-3: 168-169 deg, the ridge 167.7-172.3 deg). When the tip's
+    contact ``beta`` lies past a recorded wall (``walls`` of :class:`CornerProbe`; ``theta``
+    the rotation estimate [rad]) by at most :data:`TOP_REACH` along the pad's motion there,
+    and the stroke to ``target`` runs that way too, the stroke first sweeps back to the
+    wall, at most :data:`TOP_SWEEP`: a round tip moving over a convex top touches it where
+    its centre's polar angle is, up to the top's corner.
+    """
+    turn = math.remainder(target - beta, 2 * math.pi)
+    for wall, direction in walls:
+        if turn * direction <= 0.0:
+            continue
+        past = direction * math.remainder(beta - theta - wall, 2 * math.pi)
+        if 0.0 < past <= TOP_REACH:
+            return math.remainder(beta - direction * min(past, TOP_SWEEP), 2 * math.pi)
+    return None
+
+
 def approach_segment(est, q, target: float, theta0: float, settings, hand) -> Segment:
     """A phase 3 towards a known wall (:func:`wall_ahead`) with the pad's leading end
     first: its centre trails the contact and the tactile servo holds the contact
@@ -272,6 +310,7 @@ __all__ = [
     "approach_segment",
     "jumped_walls",
     "probe_segment",
+    "top_sweep_back",
     "wall_ahead",
     "wall_stall",
 ]

@@ -22,7 +22,12 @@ import numpy as np
 
 from planner.exploration.planar.carry_squeeze import phase1_squeeze
 from planner.exploration.planar.controller import TRACE_NAMES
-from planner.exploration.planar.corner_probe import approach_segment, probe_segment, wall_ahead
+from planner.exploration.planar.corner_probe import (
+    approach_segment,
+    probe_segment,
+    top_sweep_back,
+    wall_ahead,
+)
 from planner.exploration.planar.heuristics import regrasp_left_angle, stable_pair
 from planner.exploration.planar.segments import explore_segment, phase1_segment
 from planner.exploration.planar.sensed_features import rotation_cap as _cap
@@ -53,6 +58,11 @@ def plan(r, kind: int, est, q):
         return phase1_outcome(r, p, est, q, mu)
     if kind == 2:
         target = max(r.start["beta"][1], right_hold_angle(r))
+        back = top_sweep(r, est, target)
+        if back is not None:
+            seg = explore_segment(2, est, q, target, r.theta, s, r.hand, PHASE1_TRAVEL,
+                                  via=back)  # fmt: skip
+            return seg, 0.0, 0.0, ""
     elif r._via is not None:  # the back-stroke: onto the feature's far side and back
         via, r._via, r._stroking = r._via, None, True
         seg = explore_segment(3, est, q, float(est.beta[0]), r.theta, s, r.hand,
@@ -70,6 +80,21 @@ def plan(r, kind: int, est, q):
             return seg, 0.0, 0.0, ""
     seg = explore_segment(kind, est, q, target, r.theta, s, r.hand, PHASE1_TRAVEL)
     return seg, 0.0, 0.0, ""
+
+
+def top_sweep(r, est, target: float) -> float | None:
+    """The world angle [rad] this phase 2's round tip first sweeps back to over a ridge's
+    top (:func:`.corner_probe.top_sweep_back`; ``top_sweep`` on, round nominal shapes
+    only), or None."""
+    if not r.s.top_sweep or r.corner is None or r.shape is not None:
+        return None
+    beta = float(est.beta[1])
+    back = top_sweep_back(r.corner.walls, r.theta, beta, float(target))
+    if back is not None:
+        gap = math.degrees(abs(math.remainder(back - beta, 2 * math.pi)))
+        msg = f"the right tip sweeps back {gap:.1f} deg over the ridge's top to its wall"
+        r.events.append({"t": r.world.time, "kind": "top_sweep", "message": msg})
+    return back
 
 
 def corner_aim(r, est) -> float | None:

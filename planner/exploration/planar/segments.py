@@ -215,11 +215,12 @@ def explore_segment(
     moves the explorer's contact from its sensed angle to ``target_beta`` [rad] (a round
     tip turned to the §2.2.3 orientation on the way, the flat pad lying on the outline);
     ``travel`` [rad] is the contact travel expected in the next phase 1 (for the
-    orientation heuristic). ``via`` [rad] (phase 3 only): a back-stroke, to ``via`` and back
-    to ``target_beta``, the pad's centre trailing its contact (:data:`EDGE_MARGIN`) so
-    that its edge reaches the far side of a feature the pad jumped over; with ``edge``
-    False the contact stays centred on the pad (an overlap stroke,
-    :mod:`.stroke_overlap`). ``lead_end`` (phase 3 without ``via``): the pad's centre
+    orientation heuristic). ``via`` [rad]: a back-stroke, to ``via`` and back to
+    ``target_beta``; in phase 3 the pad's centre trails its contact (:data:`EDGE_MARGIN`)
+    so that its edge reaches the far side of a feature the pad jumped over, and with
+    ``edge`` False the contact stays centred on the pad (an overlap stroke,
+    :mod:`.stroke_overlap`); in phase 2 the round tip's contact simply goes there and back
+    (:func:`.corner_probe.top_sweep_back`). ``lead_end`` (phase 3 without ``via``): the pad's centre
     trails its contact by the same margin, its leading end first (the approach to a known
     wall, :func:`.corner_probe.approach_segment`), ramped in with the startup."""
     s = settings
@@ -229,10 +230,10 @@ def explore_segment(
     b1 = b0 + math.atan2(math.sin(target_beta - b0), math.cos(target_beta - b0))
     trail = 0.0
     lead = lead_end and kind == 3 and via is None and b1 != b0
-    if via is not None and kind == 3:
+    if via is not None:
         via = b0 + math.atan2(math.sin(via - b0), math.cos(via - b0))
-        # the centre on the tangent, on the side the pad comes from
-        if edge:
+        # the pad's centre on the tangent, on the side the pad comes from
+        if edge and kind == 3:
             trail = math.copysign(hand.params.left.pad_half_width - EDGE_MARGIN, b0 - via)
     else:
         via = None

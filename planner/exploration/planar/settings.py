@@ -91,6 +91,15 @@ class GaitSettings:
             ridge 3.8/0.3/0.1/2.7 deg off, no other feature, tangential 0.43-0.46 vs
             0.28-0.30 N and elongation 2.0 at the ridge, 382-384 deg in the 60 s; Fig.
             2.14's sign change at 52 of 87 switches (80 of 91 without): kept off.
+        top_sweep: a phase 2 whose right tip starts on a ridge's top, just past a wall the
+            pad stalled at, first sweeps back over the top towards that wall, at most 4 deg
+            (:func:`.corner_probe.top_sweep_back`): phase 1 rolled the tip onto the top,
+            and its contacts there are no exploring ones. Off by default, like the two
+            options above that it completes: on ``ball_with_ridge`` (with both) the
+            explorer-only coverage rose from 0.983-0.992 (3 of seeds 0-7 at or above 0.99)
+            to 0.994-0.997 on 7 of them; seed 2 stays at 0.983 (its rotation estimate is
+            9.6 deg off there after a phase 2 whose held ball turned 22 deg, so no sweep
+            is planned). Fig. 2.14's sign change: 110 of 188 switches (108 of 189 without).
         left_regrasp: when phase 1 cannot be planned a second time in a row (after the
             right finger's regrasp, phase 2), the left pad regrasps too (phase 3) before
             the gait ends (§2.2.3: "If a stable grasp within the finger workspace still
@@ -184,6 +193,7 @@ class GaitSettings:
     corner_probe: bool = True
     stroke_overlap: bool = False
     wall_approach: bool = False
+    top_sweep: bool = False
     left_regrasp: bool = True
     last_resort: bool = True
     follow_prior: bool = True
