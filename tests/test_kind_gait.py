@@ -277,9 +277,9 @@ def test_exploration_switches_reach_the_gait_settings():
 
     base = {"kind": "gait", "name": "switches", "object": {"shape": "circle", "radius": 0.05}}
     s = Config.model_validate(base).settings()
-    names = ("corner_probe", "stroke_overlap", "wall_approach", "left_regrasp", "last_resort",
-             "follow_prior")  # fmt: skip
-    defaults = (True, False, False, True, True, True)
+    names = ("corner_probe", "stroke_overlap", "wall_approach", "top_sweep", "left_regrasp",
+             "last_resort", "follow_prior")  # fmt: skip
+    defaults = (True, False, False, False, True, True, True)
     assert tuple(getattr(s, n) for n in names) == defaults
     flipped = {n: not d for n, d in zip(names, defaults, strict=True)}
     s = Config.model_validate({**base, **flipped}).settings()

@@ -92,7 +92,7 @@ def top_sweep(r, est, target: float) -> float | None:
     back = top_sweep_back(r.corner.walls, r.theta, beta, float(target))
     if back is not None:
         gap = math.degrees(abs(math.remainder(back - beta, 2 * math.pi)))
-        msg = f"the right tip sweeps back {gap:.1f} deg over the ridge's top to its wall"
+        msg = f"the right tip sweeps back {gap:.1f} deg over the ridge's top towards its wall"
         r.events.append({"t": r.world.time, "kind": "top_sweep", "message": msg})
     return back
 
