@@ -333,7 +333,7 @@ def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float 
     if not closed:
         return TraceResult(np.array(samples, int), closed, ends, reason)
     kept = _fill_holes(ex, samples, loose)
-    if not _covered(ex, list(kept), k_start):
+    if samples and not _covered(ex, list(kept), k_start):
         kept, gap = _fill_from_path(ex, kept, samples[0])
         if gap > 0.0:
             reason += f"; holes up to {gap * 1e3:.1f} mm filled from the traced path"
