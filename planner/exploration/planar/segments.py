@@ -220,9 +220,9 @@ def explore_segment(
     so that its edge reaches the far side of a feature the pad jumped over, and with
     ``edge`` False the contact stays centred on the pad (an overlap stroke,
     :mod:`.stroke_overlap`); in phase 2 the round tip's contact simply goes there and back
-    (:func:`.corner_probe.top_sweep_back`). ``lead_end`` (phase 3 without ``via``): the pad's centre
-    trails its contact by the same margin, its leading end first (the approach to a known
-    wall, :func:`.corner_probe.approach_segment`), ramped in with the startup."""
+    (:func:`.corner_probe.top_sweep_back`). ``lead_end`` (phase 3 without ``via``): the
+    pad's centre trails its contact by the same margin, its leading end first (the approach
+    to a known wall, :func:`.corner_probe.approach_segment`), ramped in with the startup."""
     s = settings
     k = 1 if kind == 2 else 0
     radius = float(np.linalg.norm(est.p[k] - est.centre))

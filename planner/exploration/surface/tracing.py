@@ -361,19 +361,9 @@ def _fill_holes(ex, samples: list[int], loose: list[int]) -> np.ndarray:
     runs of at least ``SMOOTH`` consecutive servo steps are added
     (a stray sample inside the outline would grow a loop in the medial axis). Open outlines
     (steps, cusps: their pseudo-skeleton is the samples themselves) are left as kept."""
-    from scipy.spatial import cKDTree
-
     if len(samples) < 10 or not loose:
         return np.array(samples, int)
-    rec = ex.rec
-    cand = np.asarray(loose, int)
-    d, _ = cKDTree(rec.centre[np.asarray(samples), :2]).query(rec.centre[cand, :2])
-    add = cand[d > HOLE + SETTLED_LATERAL]  # off every kept sample by more than an offset
-    runs = np.split(add, np.flatnonzero(np.diff(add) > 1) + 1) if add.size else []
-    add = [r for r in runs if len(r) >= SMOOTH]  # a stretch of outline, not a stray sample
-    if not add:
-        return np.array(samples, int)
-    return np.union1d(np.asarray(samples, int), np.concatenate(add))
+    return _fill_runs(ex, np.asarray(samples, int), np.asarray(loose, int))[0]
 
 
 def _fill_from_path(ex, kept: np.ndarray, first: int) -> tuple[np.ndarray, float]:
@@ -382,16 +372,26 @@ def _fill_from_path(ex, kept: np.ndarray, first: int) -> tuple[np.ndarray, float
     finger on the outline, not lost), from the first kept sample ``first`` on (the approach
     transient before it is traced again settled when the loop closes); ``gap`` [m] is the
     farthest an added centre lies from the kept samples (0: nothing added)."""
-    from scipy.spatial import cKDTree
-
     rec = ex.rec
     kept = np.asarray(kept, int)
     if len(kept) < 10:
         return kept, 0.0
     cand = first + np.flatnonzero(rec.phase[first : rec.n] == PHASE["trace"])
-    cand = np.setdiff1d(cand, kept)
+    return _fill_runs(ex, kept, np.setdiff1d(cand, kept))
+
+
+def _fill_runs(ex, kept: np.ndarray, cand: np.ndarray) -> tuple[np.ndarray, float]:
+    """``(kept', gap)``: ``kept`` plus the candidate recorder rows ``cand`` (sorted) that lie
+    farther than ``HOLE + SETTLED_LATERAL`` from every kept sample (a lateral offset alone
+    cannot put them there) in runs of at least ``SMOOTH`` consecutive rows (a stretch of
+    outline, not a stray sample); ``gap`` [m]: the farthest an added row lies from the kept
+    samples (0: nothing added). The fill of :func:`_fill_holes` and
+    :func:`_fill_from_path`."""
+    from scipy.spatial import cKDTree
+
     if cand.size == 0:
         return kept, 0.0
+    rec = ex.rec
     d, _ = cKDTree(rec.centre[kept, :2]).query(rec.centre[cand, :2])
     far = d > HOLE + SETTLED_LATERAL
     add, dist = cand[far], d[far]
