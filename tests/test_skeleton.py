@@ -15,6 +15,7 @@ from planner.skeleton import (
     regeneration_error,
 )
 from planner.skeleton import shapes as sh
+from planner.skeleton.region import estimate_noise
 
 
 def hausdorff(a, b):
@@ -84,6 +85,28 @@ def test_spacing_and_noise_estimates():
     sk = feature_skeleton(pts)
     assert abs(sk.spacing - s) < 0.1 * s
     assert 0.6 * sigma < sk.noise < 1.5 * sigma
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    period=st.floats(2.5, 6.5),
+    amplitude=st.floats(5e-6, 5e-5),
+    phase=st.floats(0.0, 1.0),
+    radius=st.floats(0.002, 0.008),
+)
+def test_noise_estimate_sees_a_sawtooth(period, amplitude, phase, radius):
+    """Positions read through quantized encoders drift off the outline and jump back: a
+    sawtooth of amplitude ``A`` (standard deviation ``A / sqrt(12)``) that the second
+    difference of three neighbours sees only at the jumps. The estimate is at least ``A / 4``
+    (the DVMA's edge-length threshold ``4 sigma r / s`` then covers the jump's ``A r / s``)
+    and at most twice the standard deviation (``period``: samples per tooth)."""
+    s = 8e-5
+    n = int(2 * np.pi * radius / s)
+    t = np.arange(n) * 2 * np.pi / n
+    e = amplitude * (np.mod(np.arange(n) / period + phase, 1.0) - 0.5)
+    pts = (radius + e)[:, None] * np.column_stack([np.cos(t), np.sin(t)])
+    sigma = estimate_noise(pts, [np.arange(n)])
+    assert amplitude / 4 <= sigma <= 2 * amplitude / np.sqrt(12)
 
 
 def test_radii_are_distances_to_nearest_sample():

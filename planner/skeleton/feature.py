@@ -34,8 +34,9 @@ Ogniewicz):
    corner of angle ``a`` (whose tips the medial disks hardly reach).
 
 The spacing ``s`` defaults to the median step (or nearest-neighbour distance for unordered
-samples) and the noise ``sigma`` to a robust estimate from second differences along the
-boundary (:mod:`planner.skeleton.region`).
+samples) and the noise ``sigma`` to a robust estimate from the residuals of local quadratic
+fits along the boundary (:func:`planner.skeleton.region.estimate_noise`; it sees the
+sawtooth of encoder-quantized positions, which second differences miss).
 
 Each skeleton point carries its medial radius: the distance to its generating (= nearest)
 boundary samples, so ``(points, radii)`` is the medial axis transform (MAT).
