@@ -260,33 +260,6 @@ def test_lone_foot_detection_spans_the_feature():
     assert _with_relief_extreme(np.array([foot.point]), [foot], climbing, 0.008) is None
 
 
-def test_lone_pit_bottom_is_reported_on_a_slowly_rising_plate():
-    """A pit crossed off its centre shows only its concave bottom; beyond it the path rises
-    by 0.6 mm up the pit's wall, then on and on at slope 0.02 (the tails of a bump ahead).
-    The largest departure is always at the window's end, yet the finger has left the wall:
-    the detection spans bottom to rim and is reported (it waited for the bump before, and
-    the pit was never explored)."""
-    from planner.exploration.surface.detection_adapter import PathAnalysis, PathFeature
-    from planner.exploration.surface.online import FLAT, _with_relief_extreme
-
-    r, c, half = 0.008, 0.01, 0.002  # fingertip radius, pit bottom, wall's half-width [m]
-    s = np.linspace(0.0, 0.048, 601)
-    tail = 0.02 * np.maximum(s - c, 0.0)
-    w = r - 6e-4 / (1.0 + ((s - c) / half) ** 2) + tail
-    uv = np.column_stack([s, np.zeros_like(s)])
-    i = int(np.searchsorted(s, c))
-    bottom = PathFeature(-1, c, c - half, c + half, uv[i], float(i))
-    a = PathAnalysis((bottom,), "-", s, w, uv)
-    pts = _with_relief_extreme(np.array([bottom.point]), [bottom], a, r)
-    assert pts is not None and len(pts) == 2
-    wall = 6e-4 * 2 * (s - c) / half**2 / (1.0 + ((s - c) / half) ** 2) ** 2  # its slope
-    steepest = c + half / np.sqrt(3.0)
-    rim = s[np.flatnonzero((s > steepest) & (wall + 0.02 < FLAT))[0]]  # off the wall
-    assert rim - r / 4 - 1e-9 <= pts[1][0] <= rim + r / 4 + 1e-9
-    steep = PathAnalysis((bottom,), "-", s[: i + 25], w[: i + 25], uv[: i + 25])  # on the wall
-    assert _with_relief_extreme(np.array([bottom.point]), [bottom], steep, r) is None
-
-
 def test_a_noisy_small_round_outline_stays_a_pit():
     """The medial axis of a 2 mm circle with 0.4 mm lobes (three, as a lagging servo leaves
     them) grows branches longer than its radius; its enclosed area stays round (elongation

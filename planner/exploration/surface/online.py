@@ -28,16 +28,13 @@ import numpy as np
 
 from planner.exploration.surface.detection_adapter import analyse_path, collapse_pattern
 
-__all__ = ["EDGE", "FLAT", "STRIDE", "TURN", "Detection", "OnlineDetector", "uncertain_turn"]
+__all__ = ["EDGE", "STRIDE", "TURN", "Detection", "OnlineDetector", "uncertain_turn"]
 
 #: margin at the ends of the analysed path where curvature features are not trusted [r_f]
 EDGE = 0.2
 #: the window is analysed again once the finger has moved this far [r_f] (1 mm: a report
 #: comes at most ~30 ms later at the search speed; algorithm 3 over the window is ~1.5 ms)
 STRIDE = 0.125
-#: slope [-] below which the centre path is off a flank (the tracer's flattest flank,
-#: :data:`~planner.exploration.surface.tracing.MIN_SLOPE`)
-FLAT = 0.05
 #: turn [rad] of the centre path over ``r_f / 2`` on each side of a point that asks for type
 #: identification without a curvature feature: a surface at the Definition 1 threshold
 #: (curvature ``1/r_f``) crossed at 60 deg from its principal direction has a normal
@@ -216,19 +213,11 @@ def uncertain_turn(s: np.ndarray, w: np.ndarray, r: float, past: float) -> tuple
 
 def _with_relief_extreme(pts: np.ndarray, group, analysis, r: float, least: float = 3e-4):
     """The group's points plus, for a lone curvature feature (one sign: the foot of a wide
-    ridge seen by a ball whose crest reads flatter than ``1/r_f``, a step's edge, the
-    bottom of a pit crossed off its centre), the relief extreme of the crossing: the point
-    that departs most from the feature's height up to ``r/4`` past the first point where the
-    path, having departed by more than ``least`` [m], stops departing (by less than
-    :data:`FLAT` times ``r/4`` over the next ``r/4``: off the flank). The detection then
-    spans the feature instead of sitting on its foot. The path as is when it never departs
-    by ``least``; None while it has not left the flank (the finger is still climbing or
-    descending it: wait).
-
-    Not the largest departure of the whole window: a path that keeps rising slowly (the
-    tails of the next feature) has it at the window's end for as long as it rises, and the
-    detection waited until the next feature had taken its place (a pit crossed 3 mm off
-    its centre on the way to a bump was never reported)."""
+    ridge seen by a ball whose crest reads flatter than ``1/r_f``, a step's edge), the point
+    of the path after it that departs most from its height (the crest), when that departs by
+    more than ``least`` [m]: the detection then spans the feature instead of sitting on its
+    foot. None while that point is the end of the window (the finger is still on the flank:
+    wait)."""
     if len({f.sign for f in group}) > 1:
         return pts
     s, w = analysis.s, analysis.w
@@ -236,12 +225,9 @@ def _with_relief_extreme(pts: np.ndarray, group, analysis, r: float, least: floa
     if i0 >= len(w) - 2:
         return pts
     dev = np.abs(w[i0:] - w[i0])
-    if float(dev.max()) < least:
+    j = i0 + int(np.argmax(dev))
+    if dev[j - i0] < least:
         return pts
-    ss = s[i0:]
-    ahead = np.searchsorted(ss, ss + r / 4, side="right")  # one past r/4 ahead
-    for i in np.flatnonzero((dev > least) & (ss + r / 4 <= ss[-1])):
-        if float(dev[i : ahead[i]].max()) - dev[i] < FLAT * r / 4:
-            j = int(np.argmax(dev[: ahead[i]]))
-            return np.vstack([pts, analysis.point_at(i0 + j)])
-    return None
+    if s[-1] - s[j] < 0.25 * r:
+        return None
+    return np.vstack([pts, analysis.point_at(j)])
