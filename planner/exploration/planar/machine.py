@@ -36,15 +36,16 @@ from planner.exploration.planar.stroke_overlap import ExploredOutline
 
 FULL_TURN = 2 * math.pi
 CX = TRACE_NAMES.index("cx")
-#: the gait terminates when this many cycles together turned the object less than
-#: ``STALL_ROTATION`` [rad]
-STALL_CYCLES = 3
 #: phases 2/3 end when the sensed object centre (circle model) or the holding fingertip
 #: (posed outline) moved this far from its start [m] (:class:`.gait_loop.PhaseStop`; a
 #: safety net: the sliding pad rolls the ball 1-5 mm per phase 3, more over the ridge)
 HOLD_SLIP = 0.01
+#: the gait terminates when this many cycles together turned the object less than
+#: ``STALL_ROTATION`` [rad] ...
+STALL_CYCLES = 3
 STALL_ROTATION = math.radians(5.0)
-#: ... unless the phase 1 just run turned it this much [rad] (:func:`stall_verdict`)
+#: ... unless the phase 1 just run turned it ``RESUME_ROTATION`` [rad] or more
+#: (:func:`stall_verdict`)
 RESUME_ROTATION = math.radians(15.0)
 #: phase-1 end events of a stalled gait and the constraint each names (the issue's three:
 #: workspace, force closure, reach)
