@@ -343,6 +343,32 @@ def test_object_rotation_of_a_ball_rolling_on_the_palm():
     np.testing.assert_allclose(th[4:], -0.3 + np.linspace(0, 0.1, 7))
 
 
+def test_object_rotation_skips_a_phase_1s_first_centre():
+    """Phase 1 is read from its second row: a ball rolling between fixed contacts (pad
+    ``u = -R theta``, tip ``s_R = R theta``, eq. 2.4) gives its rotation from there
+    exactly, also when the first row's sensed centre is the phase before's, 3 mm off (the
+    first row's increment is left out: at a phase's start-up it is 0.004 deg on average)."""
+    from planner.exploration.planar.metrics import PHASE1_SKIP, object_rotation
+
+    R, n = 0.05, 12
+    theta = np.linspace(0.0, -0.2, n)
+    tr = {
+        "t": np.linspace(0.0, 0.11, n), "kind": np.ones(n), "theta": np.zeros(n),
+        "u": -R * theta, "sR": R * theta, "pad_touch": np.ones(n),
+        "pLx": np.full(n, -R), "pLy": np.full(n, R), "nLx": -np.ones(n), "nLy": np.zeros(n),
+        "pRx": np.full(n, R), "pRy": np.full(n, R), "cx": np.zeros(n), "cy": np.full(n, R),
+    }  # fmt: skip
+    assert PHASE1_SKIP == 1
+    expected = np.r_[0.0, theta[1:] - theta[1]]
+    np.testing.assert_allclose(object_rotation(tr, R), expected, atol=1e-12)
+    tr["cx"], tr["cy"] = tr["cx"].copy(), tr["cy"].copy()
+    tr["cx"][0], tr["cy"][0] = -2.4e-3, R - 1.8e-3  # the first row: 3 mm off
+    th = object_rotation(tr, R)
+    np.testing.assert_allclose(th, expected, atol=1e-12)
+    # one row's increment is left out, not the centre's error (3 mm / R = 3.4 deg)
+    assert abs(th[-1] - (theta[-1] - theta[0])) <= abs(theta[1] - theta[0]) + 1e-12
+
+
 def test_friction_lead_balances_the_impedance():
     from planner.exploration.planar import GaitSettings
     from planner.exploration.planar.segments import friction_lag

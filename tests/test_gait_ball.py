@@ -202,22 +202,23 @@ def test_a_held_ball_is_read_from_the_centroid_inside_the_array():
 
 def test_phase1_rotation_averages_the_two_rolling_fingertips():
     """Both fingertips roll without slip (eq. 2.4): the pad's ``beta_L - u / R`` and the
-    tip's ``beta_R + s_R / R`` each say the turn; a tactile centroid jump (the ridge under
-    the pad) counts half."""
+    tip's ``beta_R + s_R / R`` each say the turn (from the phase's second row,
+    ``PHASE1_SKIP``); a tactile centroid jump (the ridge under the pad) counts half."""
     turn = np.linspace(0.0, -0.3, 31)
     tr = _rolling_between_the_fingers(turn)
     tip = tip_rolling(tr, R)
     np.testing.assert_allclose(tip - tip[0], turn, atol=1e-12)
-    np.testing.assert_allclose(object_rotation(tr, R), turn, atol=1e-12)
+    from_second = np.r_[0.0, turn[1:] - turn[1]]
+    np.testing.assert_allclose(object_rotation(tr, R), from_second, atol=1e-12)
     jumped = {**tr, "u": tr["u"] + np.where(np.arange(31) >= 15, 0.003, 0.0)}
     th = object_rotation(jumped, R)
-    np.testing.assert_allclose(th[-1] - turn[-1], -0.5 * 0.003 / R, atol=1e-12)
+    np.testing.assert_allclose(th[-1] - from_second[-1], -0.5 * 0.003 / R, atol=1e-12)
 
 
 def test_rotation_is_chained_over_phases():
     """Phase 1 adds both fingertips' rolling, phase 2 the pad's, phase 3 the palm's
-    (-dx / R), each from its own first row (not from the last phase's readings); rows
-    without the pad hold its value."""
+    (-dx / R), each from its own first row (phase 1 from its second, ``PHASE1_SKIP``; not
+    from the last phase's readings); rows without the pad hold its value."""
     tr1 = _rolling_between_the_fingers(np.linspace(0.0, -0.3, 5))
     tr1["u"] = tr1["u"] + 0.004  # the centroid of phase 1 differs from phase 2's last one
     tr2 = _rolling_on_the_pad(np.linspace(0.0, 0.05, 5))
@@ -238,11 +239,12 @@ def test_rotation_is_chained_over_phases():
     for k in ("pRx", "pRy", "sR"):
         tr[k] = np.r_[tr1[k], np.full(5 + n3, np.nan)]
     th = object_rotation(tr, R)
-    np.testing.assert_allclose(th[:5], -0.1 + np.linspace(0.0, -0.3, 5), atol=1e-12)
-    expect2 = -0.4 + np.linspace(0.0, 0.05, 5)
+    turn1 = np.linspace(0.0, -0.3, 5)
+    np.testing.assert_allclose(th[:5], -0.1 + np.r_[0.0, turn1[1:] - turn1[1]], atol=1e-12)
+    expect2 = -0.325 + np.linspace(0.0, 0.05, 5)
     expect2[2] = expect2[1]  # held while the pad does not touch
     np.testing.assert_allclose(th[5:10], expect2, atol=1e-12)
-    np.testing.assert_allclose(th[-n3:], -0.35 + np.linspace(0.0, 0.02, n3), atol=1e-12)
+    np.testing.assert_allclose(th[-n3:], -0.275 + np.linspace(0.0, 0.02, n3), atol=1e-12)
 
 
 def _rolling_on_the_palm(turn: np.ndarray, lift: np.ndarray, pad_at: float = 2.6) -> dict:
