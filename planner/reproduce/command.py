@@ -15,6 +15,8 @@ import tempfile
 from datetime import datetime
 from pathlib import Path
 
+from planner.exit_codes import EXIT_BAD_INPUT, EXIT_OK
+
 __all__ = ["add_arguments", "run"]
 
 
@@ -54,21 +56,21 @@ def run(args: argparse.Namespace) -> int:
 
     if args.jobs < 1:
         print(f"--jobs: {args.jobs}: must be >= 1", file=sys.stderr)
-        return 2
+        return EXIT_BAD_INPUT
     try:
         claims = select(args.only)
     except InvalidParameter as exc:
         print(f"--only: {exc}", file=sys.stderr)
-        return 2
+        return EXIT_BAD_INPUT
     if args.list:
         for c in claims:
             print(f"{c.id:14s} {c.reference:32s} {c.statement}")
-        return 0
+        return EXIT_OK
     out = args.out or Path("runs") / f"reproduce-{datetime.now():%Y%m%d-%H%M%S}"
     problem = _out_problem(out)
     if problem:
         print(f"--out: {out}: {problem}", file=sys.stderr)
-        return 2
+        return EXIT_BAD_INPUT
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.tmp-", dir=out.parent))
     try:

@@ -9,6 +9,7 @@ from collections import Counter
 from datetime import datetime, timezone
 from pathlib import Path
 
+from planner.exit_codes import EXIT_FAILED, EXIT_OK
 from planner.reproduce.claim import Verdict
 from planner.reproduce.execute import ClaimResult
 
@@ -32,10 +33,10 @@ def exit_code(results: list[ClaimResult]) -> int:
     for r in results:
         v = r.evidence.verdict
         if v is Verdict.ERROR:
-            return 1
+            return EXIT_FAILED
         if v in (Verdict.PARTLY, Verdict.DIFFERS) and not r.evidence.explanation.strip():
-            return 1
-    return 0
+            return EXIT_FAILED
+    return EXIT_OK
 
 
 def _versions() -> dict[str, str]:

@@ -12,6 +12,8 @@ import shlex
 import sys
 from pathlib import Path
 
+from planner.exit_codes import EXIT_BAD_INPUT, EXIT_FAILED, EXIT_INTERRUPTED, EXIT_OK
+
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     """The options of ``hapex sweep``."""
@@ -46,7 +48,7 @@ def _bad(message: str) -> int:
     """Print ``OPTION: VALUE: problem`` (the form ``hapex run`` and ``reproduce`` use for
     their options) to stderr; the exit code 2."""
     print(message, file=sys.stderr)
-    return 2
+    return EXIT_BAD_INPUT
 
 
 def resume_command(args: argparse.Namespace, out: Path) -> list[str]:
@@ -88,7 +90,7 @@ def run_command(args: argparse.Namespace) -> int:
         for r in runs:
             print(f"{r.run_id}  {r.label}")
         print(f"{sweep.name}: {len(runs)} runs, all valid")
-        return 0
+        return EXIT_OK
     out = args.out or Path("sweeps") / (sweep.name + ("-quick" if args.quick else ""))
     problem = out_problem(out, sweep)
     if problem:
@@ -119,17 +121,17 @@ def run_command(args: argparse.Namespace) -> int:
     except SweepInterrupted as exc:
         again = shlex.join(resume_command(args, out))
         print(f"{exc}; complete runs are kept. Resume with: {again}", file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
     except SweepBackendError as exc:
         print(f"hapex sweep: {exc}. Run the same command again to resume.", file=sys.stderr)
-        return 1
+        return EXIT_FAILED
     n_ok = int((table["status"] == "ok").sum())
     n_bad = len(table) - n_ok
     print(f"{sweep.name}: {len(table)} of {len(runs)} runs complete: {n_ok} ok, {n_bad} failed")
     print(f"results: {out / 'results.parquet'}, {out / 'results.csv'}")
     if not args.no_report:
         print(f"report: {out / 'report.md'}")
-    return 0 if len(table) == len(runs) else 1
+    return EXIT_OK if len(table) == len(runs) else EXIT_FAILED
 
 
 __all__ = ["add_arguments", "resume_command", "run_command"]
