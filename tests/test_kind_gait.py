@@ -41,11 +41,12 @@ CIRCLE = "kind: gait\nobject:\n  shape: circle\n  radius: 0.05\n"  # fits the ha
          "round nominal model only"),
         (CIRCLE + "gravity: -9.81\n", "gravity", "greater than or equal to 0"),
         (CIRCLE + "gains:\n  rolling: [1.0, 0.05, 0.0]\n", "gains.rolling", "must be > 0"),
+        (CIRCLE + "mu_cap: 0\n", "mu_cap", "greater than 0"),
     ],
     ids=["unknown-object", "unknown-nominal", "mu-zero", "mu-negative", "too-big",
          "too-small", "gain-negative", "gain-too-high", "damping-negative", "hold-force",
          "joint-range", "switch-not-bool", "left-tip-too-big", "round-left-outline-model",
-         "gravity-negative", "rolling-saturation-zero"],
+         "gravity-negative", "rolling-saturation-zero", "mu-cap-zero"],
 )  # fmt: skip
 def test_bad_input_exits_2_with_key_path_and_writes_nothing(cli, tmp_path, text, key, words):
     scenario = tmp_path / "bad.yaml"
@@ -284,6 +285,16 @@ def test_exploration_switches_reach_the_gait_settings():
     flipped = {n: not d for n, d in zip(names, defaults, strict=True)}
     s = Config.model_validate({**base, **flipped}).settings()
     assert tuple(getattr(s, n) for n in names) == tuple(not d for d in defaults)
+
+
+def test_the_friction_cap_reaches_the_gait_settings():
+    from planner.kinds.gait import Config
+
+    base = {"kind": "gait", "name": "cap", "object": {"shape": "circle", "radius": 0.05}}
+    s = Config.model_validate({**base, "mu": 2.0}).settings()
+    assert (s.mu, s.mu_cap, s.planning_mu) == (2.0, 1.0, pytest.approx(0.8))
+    s = Config.model_validate({**base, "mu": 2.0, "mu_cap": 1.5}).settings()
+    assert s.planning_mu == pytest.approx(1.2)
 
 
 @pytest.mark.parametrize("seed", [0])

@@ -15,6 +15,7 @@ Keys (SI units)::
       points: [[x, y], ...]      # polygon [m]
     nominal: null                # the planner's model (same keys); default: feature-less circle
     mu: 1.0                      # friction of fingers/palm/object [-]
+    mu_cap: 1.0                  # the planners and controllers count on at most this mu [-]
     explore_force: 0.3           # normal force of the exploring finger [N]
     internal_force: 1.0          # squeeze of the two-finger grasp (phase 1) [N]
     hold_force: 2.0              # press of the right finger against the palm (phase 3) [N]
@@ -205,6 +206,7 @@ class Config(ScenarioBase):
     object: ObjectSpec
     nominal: ObjectSpec | None = None
     mu: float = Field(1.0, gt=0, le=10, description="friction coefficient [-]")
+    mu_cap: float = Field(1.0, gt=0, le=10, description="friction counted on, at most [-]")
     explore_force: float = Field(0.3, gt=0, le=5, description="[N]")
     internal_force: float = Field(1.0, gt=0, le=20, description="[N]")
     hold_force: float = Field(2.0, gt=0, le=20, description="phase 3 right finger press [N]")
@@ -243,7 +245,10 @@ class Config(ScenarioBase):
             check_tips(tip, "round", nominal)
         except InvalidParameter as err:
             raise ValueError(str(err)) from None
-        why = check_fits(self.object.profile(), self.mu, hand=self.hand.hand(self.mu))
+        from planner.exploration.planar import GaitSettings
+
+        fit = GaitSettings(mu=self.mu, mu_cap=self.mu_cap)  # the start grasp's cones
+        why = check_fits(self.object.profile(), self.mu, self.hand.hand(self.mu), settings=fit)
         if why:
             raise ValueError(f"object: {why}")
         return self
@@ -253,8 +258,9 @@ class Config(ScenarioBase):
 
         g = self.gains
         return GaitSettings(
-            mu=self.mu, internal_force=self.internal_force, hold_force=self.hold_force,
-            left_hold_force=self.left_hold_force, sensed_features=self.sensed_features,
+            mu=self.mu, mu_cap=self.mu_cap, internal_force=self.internal_force,
+            hold_force=self.hold_force, left_hold_force=self.left_hold_force,
+            sensed_features=self.sensed_features,
             corner_probe=self.corner_probe, stroke_overlap=self.stroke_overlap,
             wall_approach=self.wall_approach, top_sweep=self.top_sweep,
             left_regrasp=self.left_regrasp,

@@ -24,6 +24,20 @@ class GaitSettings:
             Lowering it does not help: rounded squares 6-14 cm, the true outline, seeds
             0-2, 60 s, turned 1306 deg in total with 0.2, 1027 with 0.1 and 876 with 0
             (measured 2026-11-24), because grasps planned at the cones' edges slip.
+        mu_cap: the planners and the controllers count on at most this friction
+            coefficient [-]: ``planning_mu = min(mu, mu_cap) (1 - friction_margin)``; the
+            friction above it is a reserve. With the full cones of a higher ``mu`` the
+            start grasp and the phase-1 plans went lower on the object and deeper into the
+            fingers' workspace, and the gait lost more than it gained (a 3 cm circle at
+            mu 1.5: right contact at 5 deg, each phase 2 ended at the right finger's joint
+            stop after 0.1 s while the held ball rolled back 15-16 deg; dropped at 13 s).
+            ``explore_object`` defaults, full turns in 90 s, the 10 cm ridge ball (ridge at
+            170 and 45 deg), circles of 2/3/5/7 cm, a 1.1:1 ellipse and an 8 cm rounded
+            square, seeds 0-1 (measured 2026-11-25): at mu 1.25/1.5/2/3 without the cap
+            4, 6, 2, 0 of 16; capped at 1: 14, 14, 12, 7 of 16 (at mu 1: 15 of 16); capped
+            at 1.25: as without; at 0.875: fewer (19 of 48 at mu 1.5-3). What is left at
+            mu 3 is the sliding explorer's drag (``mu explore_force``): 12 of 16 with a
+            0.15 N explorer. At ``mu <= mu_cap`` it changes nothing.
         internal_force: commanded internal (squeeze) force of the phase-1 grasp [N].
         carry_weight: after a phase 1 that ended at a workspace limit with the object more
             than the NLP's travel (1 cm) from where its plan put it (it rolled along the
@@ -183,6 +197,7 @@ class GaitSettings:
 
     mu: float = 1.0
     friction_margin: float = 0.2
+    mu_cap: float = 1.0
     internal_force: float = 1.0
     carry_weight: bool = True
     carry_margin: float = 0.2
@@ -229,9 +244,9 @@ class GaitSettings:
 
     @property
     def planning_mu(self) -> float:
-        """Friction coefficient of the planners' and controllers' cones, ``mu (1 -
-        friction_margin)`` [-] (0.8 by default)."""
-        return self.mu * (1 - self.friction_margin)
+        """Friction coefficient of the planners' and controllers' cones, ``min(mu,
+        mu_cap) (1 - friction_margin)`` [-] (0.8 by default)."""
+        return min(self.mu, self.mu_cap) * (1 - self.friction_margin)
 
     def __post_init__(self) -> None:
         for f in fields(self):  # the switches: a string "false" would read as true
@@ -239,6 +254,7 @@ class GaitSettings:
             if f.type == "bool" and not isinstance(v, bool):
                 raise InvalidParameter(f"{f.name}: expected true or false, got {v!r}")
         checks.positive("mu", self.mu)
+        checks.positive("mu_cap", self.mu_cap)
         checks.in_range("friction_margin", self.friction_margin, 0.0, 0.9)
         for name in ("internal_force", "hold_force", "left_hold_force", "explore_force",
                      "object_mass", "tip_kp", "phi_kp", "rotation_speed", "explore_speed",

@@ -81,15 +81,16 @@ def _collides(hand, profile, q, pose, mu, settings) -> bool:
     )
 
 
-def check_fits(profile, mu: float, hand=None, radius: float | None = None) -> str:
+def check_fits(profile, mu: float, hand=None, radius: float | None = None, settings=None) -> str:
     """Why the object cannot be grasped at the start ("" when it can): the bad-input test
-    of scenario validation (exit 2)."""
+    of scenario validation (exit 2). ``settings``: the run's ``GaitSettings`` (default
+    ``GaitSettings(mu=mu)``; its ``planning_mu`` bounds the start grasp's cones)."""
     from planner.exploration.planar.objects import mean_radius
     from planner.exploration.planar.settings import GaitSettings
     from robots.planar_hand import PlanarHand
 
     hand = hand or PlanarHand(friction=mu)
-    s = GaitSettings(mu=mu)
+    s = settings or GaitSettings(mu=mu)
     R = radius or mean_radius(profile)
     try:
         build_world(profile, hand, mu, R, None, s, 0, dry=True)
@@ -134,10 +135,11 @@ def build_world(
             found = (bl, br, q)
             break
     if found is None:
+        capped = f" capped at {settings.mu_cap:g}" if settings.mu > settings.mu_cap else ""
         raise InvalidParameter(
             "profile: the object does not fit the hand: no stable two-finger grasp of it "
             "resting on the palm is within the fingers' joint limits (friction cones of "
-            f"mu {mu_plan:.3g}: the planner's mu {settings.mu:g} with its "
+            f"mu {mu_plan:.3g}: the planner's mu {settings.mu:g}{capped} with its "
             f"{settings.friction_margin:.0%} reserve)"
         )
     bl, br, q = found
