@@ -133,9 +133,10 @@ def _print_issues(exc) -> None:
 
 
 def _cmd_run(args) -> int:
+    from planner.errors import InvalidParameter, ScenarioError
     from planner.results import run_directory_problem
     from planner.runner import execute
-    from planner.scenario import load_scenario
+    from planner.scenario import late_issue, load_scenario
 
     if args.seed is not None and args.seed < 0:
         print(f"--seed: {args.seed}: must be >= 0", file=sys.stderr)
@@ -145,15 +146,22 @@ def _cmd_run(args) -> int:
         print(f"--out: {args.out}: {problem}", file=sys.stderr)
         return EXIT_BAD_INPUT
     config = load_scenario(args.scenario, args.overrides, seed=args.seed)
-    outcome = execute(
-        config,
-        args.out,
-        plots=not args.no_plots,
-        quick=args.quick,
-        base_dir=args.scenario.resolve().parent,
-        verbose=args.verbose,
-        progress=sys.stderr.isatty(),
-    )
+    try:
+        outcome = execute(
+            config,
+            args.out,
+            plots=not args.no_plots,
+            quick=args.quick,
+            base_dir=args.scenario.resolve().parent,
+            verbose=args.verbose,
+            progress=sys.stderr.isatty(),
+        )
+    except InvalidParameter as exc:  # bad input found late: put it at its key
+        if args.verbose:
+            traceback.print_exc()
+        resolved = config.model_dump(mode="json")
+        issue = late_issue(args.scenario, args.overrides, str(exc), args.seed, resolved)
+        raise ScenarioError([issue]) from None
     res = outcome.result
     print(f"{config.name}: {res.status}{' - ' + res.reason if res.reason else ''}")
     print(f"run directory: {outcome.out_dir}")

@@ -34,9 +34,10 @@ ROOT = "(root)"
 
 
 class StrictModel(BaseModel):
-    """Base of every scenario model: unknown keys are errors; models are immutable."""
+    """Base of every scenario model: unknown keys are errors; models are immutable; no
+    number may be infinite or NaN (``.inf`` / ``.nan`` in YAML, ``inf`` on ``--set``)."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
 
 class OutputSettings(StrictModel):
@@ -456,6 +457,51 @@ def load_scenario(
     return validate(doc)
 
 
+def late_issue(
+    path: str | Path,
+    overrides: Sequence[str],
+    message: str,
+    seed: int | None = None,
+    resolved: Mapping[str, Any] | None = None,
+) -> InputIssue:
+    """Where bad input found during a run belongs: the library's ``name: message`` (an
+    :class:`~planner.errors.InvalidParameter`) put at the one scenario key named ``name``.
+
+    The key is looked up in the file and its overrides (with its line, or its ``--set``),
+    else in the ``resolved`` scenario (a key left at its default: line 0); a name that
+    matches no key, or several, stays at ``(root)`` with the whole message.
+    """
+    head, sep, rest = message.partition(": ")
+    name = head.split("[")[0].strip()
+    if not sep or not name.isidentifier():
+        return InputIssue(str(path), 0, ROOT, message)
+    seeded = [*overrides, f"seed={seed}"] if seed is not None else list(overrides)
+    doc = apply_overrides(read_yaml(path), seeded)
+    for data, lines in ((doc.data, True), (resolved, False)):
+        hits = [p for p in _key_paths(data) if p[-1] == name] if data is not None else []
+        if len(hits) == 1:
+            if lines:
+                source, line, dotted = _locate(doc, hits[0])
+            else:
+                source, line, dotted = str(path), 0, _dotted(hits[0])
+            return InputIssue(source, line, dotted, f"{rest} ({head})" if head != name else rest)
+    return InputIssue(str(path), 0, ROOT, message)
+
+
+def _key_paths(data: Any, prefix: tuple = ()) -> list[tuple]:
+    """Every key path of the mappings nested in ``data`` (through lists too)."""
+    out: list[tuple] = []
+    items = (
+        data.items()
+        if isinstance(data, Mapping)
+        else (enumerate(data) if isinstance(data, list) else ())
+    )
+    for k, v in items:
+        out.append((*prefix, k))
+        out.extend(_key_paths(v, (*prefix, k)))
+    return [p for p in out if isinstance(p[-1], str)]
+
+
 def scenario_from_dict(data: Mapping[str, Any]) -> ScenarioBase:
     """Validate a scenario given as a Python mapping (library use)."""
     return validate(SourceDoc(dict(data), "(dict)", {}, {}))
@@ -469,6 +515,7 @@ __all__ = [
     "StrictModel",
     "apply_overrides",
     "kinds",
+    "late_issue",
     "load_scenario",
     "read_yaml",
     "scenario_from_dict",

@@ -125,6 +125,9 @@ def test_all_errors_at_once_with_lines(tmp_path):
         (GOOD.replace("height: 0.004", "height: 0"), "profile"),
         (GOOD.replace("seed: 7", "seed: -1"), "seed"),
         (GOOD.replace("tip_radius: 0.005", "tip_radius: abc"), "tip_radius"),
+        (GOOD.replace("tip_radius: 0.005", "tip_radius: .inf"), "tip_radius"),
+        (GOOD.replace("center_sigma: 1.0e-4", "center_sigma: .nan"), "noise.center_sigma"),
+        (GOOD + "smoothing:\n  sigma_samples: 1.0e+9\n", "smoothing.sigma_samples"),
         ("- a\n- b\n", "(root)"),
         ("kind: [trace\n", "(root)"),
         ("", "(root)"),
@@ -137,6 +140,12 @@ def test_bad_scenarios(tmp_path, text, key):
     lines = assert_bad_input(proc, f": {key}")
     assert all(ln.startswith(f"{s}:") for ln in lines)
     assert not out.exists()
+
+
+def test_an_infinite_number_is_named_at_its_line(tmp_path):
+    s = write(tmp_path, GOOD.replace("tip_radius: 0.005", "tip_radius: .inf"))
+    lines = assert_bad_input(run_cli("run", str(s), "--out", str(tmp_path / "out")))
+    assert lines == [f"{s}:9: tip_radius: Input should be a finite number"]
 
 
 def test_missing_file_and_bad_set(tmp_path):
@@ -332,3 +341,35 @@ def test_the_console_script_ignores_ctrl_c_once_the_command_is_done(monkeypatch)
         assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
     finally:
         signal.signal(signal.SIGINT, before)
+
+
+def test_bad_input_found_late_is_put_at_its_key_and_line(tmp_path):
+    """The spacing passes validation; the profile's length set on the command line makes
+    it too fine only once the run builds the profile (the library's InvalidParameter)."""
+    scenario = ROOT / "scenarios" / "wire_detect_compare.yaml"
+    line = 1 + next(i for i, ln in enumerate(scenario.read_text().splitlines())
+                    if ln.strip().startswith("spacing:"))  # fmt: skip
+    out = tmp_path / "out"
+    proc = run_cli("run", str(scenario), "--quick", "--out", str(out),
+                   "--set", "simulation.profile.length=1e9")  # fmt: skip
+    lines = assert_bad_input(proc)
+    assert len(lines) == 1
+    assert lines[0].startswith(f"{scenario}:{line}: simulation.spacing: expected at least")
+    assert not out.exists()
+
+
+def test_late_issue_names_one_key_or_the_root(tmp_path):
+    from planner.scenario import late_issue
+
+    s = write(tmp_path, GOOD)
+    issue = late_issue(s, [], "tip_radius: expected < 1 [m], got 5")
+    assert (issue.line, issue.path, issue.message) == (9, "tip_radius", "expected < 1 [m], got 5")
+    issue = late_issue(s, ["noise.center_sigma=0.001"], "center_sigma: too big")
+    assert (issue.source, issue.path) == ("--set:1", "noise.center_sigma")
+    # a key left at its default: named from the resolved scenario, line unknown
+    issue = late_issue(s, [], "speed: too fast", resolved={"sampling": {"speed": 0.03}})
+    assert (issue.line, issue.path, issue.message) == (0, "sampling.speed", "too fast")
+    # no such key, or not one key: the whole message at the root
+    for msg in ("centers: spans 7e9 m", "a sentence without a name", "speed: too fast"):
+        issue = late_issue(s, [], msg, resolved={"a": {"speed": 1}, "b": [{"speed": 2}]})
+        assert (issue.line, issue.path, issue.message) == (0, "(root)", msg)

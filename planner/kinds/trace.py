@@ -51,15 +51,18 @@ class Sampling(StrictModel):
 class Noise(StrictModel):
     """Gaussian measurement noise (standard deviations)."""
 
-    center_sigma: float = Field(0.0, ge=0, description="fingertip centre, per axis [m]")
-    contact_sigma: float = Field(0.0, ge=0, description="contact point, per axis [m]")
+    center_sigma: float = Field(0.0, ge=0, le=0.01, description="fingertip centre, per axis [m]")
+    contact_sigma: float = Field(0.0, ge=0, le=0.01, description="contact point, per axis [m]")
     normal_sigma_deg: float = Field(0.0, ge=0, le=90, description="contact normal [deg]")
 
 
 class Smoothing(StrictModel):
     """Gaussian smoothing of the measured centres against sample index (App. B)."""
 
-    sigma_samples: float = Field(8.0, ge=0, description="Gaussian sigma [samples]; 0: none")
+    # the filter's kernel spans 8 sigma + 1 samples: 1e9 asked numpy for 60 GB
+    sigma_samples: float = Field(
+        8.0, ge=0, le=1000, description="Gaussian sigma [samples]; 0: none"
+    )
 
 
 class Config(ScenarioBase):
