@@ -153,6 +153,23 @@ def shifted_geometric_mean(values: Sequence[float], shift: float = 1e-3) -> floa
     return math.exp(sum(math.log(v + shift) for v in values) / len(values)) - shift
 
 
+def run_pool(fn, tasks: Sequence, jobs: int) -> list:
+    """``fn`` over ``tasks`` in ``jobs`` spawned worker processes, with a progress bar on
+    stderr; the results in the order they finished."""
+    import multiprocessing as mp
+
+    try:
+        from tqdm import tqdm
+    except ImportError:  # pragma: no cover - tqdm is a dependency of the CLI
+        tqdm = None
+    rows = []
+    with mp.get_context("spawn").Pool(max(1, jobs)) as pool:
+        it = pool.imap_unordered(fn, tasks)
+        for row in tqdm(it, total=len(tasks), desc="runs") if tqdm else it:
+            rows.append(row)
+    return rows
+
+
 def arg_parser(description: str) -> argparse.ArgumentParser:
     """An argparse parser with the options every benchmark script takes."""
     p = argparse.ArgumentParser(description=description)

@@ -26,13 +26,12 @@ mu 1 and 2, one seed, 20 s). 144 runs by default (the full gait is not run at mu
 from __future__ import annotations
 
 import math
-import multiprocessing as mp
 import sys
 import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).parent))
-from _common import arg_parser, load_average, write_report  # noqa: E402
+from _common import arg_parser, load_average, run_pool, write_report  # noqa: E402
 
 #: name -> (kind, parameters [m, rad])
 OBJECTS = {
@@ -118,15 +117,7 @@ def main() -> None:
     tasks = [(c, n, m, s, args.duration) for c in configs for n in names for m in mus
              for s in seeds if c == "capped" or m > 1.0]  # fmt: skip
     t0 = time.perf_counter()
-    rows = []
-    try:
-        from tqdm import tqdm
-    except ImportError:  # pragma: no cover - tqdm is a dependency of the CLI
-        tqdm = None
-    with mp.get_context("spawn").Pool(max(1, args.jobs)) as pool:
-        it = pool.imap_unordered(_run, tasks)
-        for row in tqdm(it, total=len(tasks), desc="runs") if tqdm else it:
-            rows.append(row)
+    rows = run_pool(_run, tasks, args.jobs)
     rows.sort(key=lambda r: (r["config"], r["mu"], r["object"], r["seed"]))
     notes = _summary(rows) + [
         "capped: GaitSettings(mu) (mu_cap 1: planning cones of min(mu, 1) x 0.8); full: "

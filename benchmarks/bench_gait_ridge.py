@@ -28,13 +28,12 @@ friction cone's edge).
 from __future__ import annotations
 
 import math
-import multiprocessing as mp
 import sys
 import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).parent))
-from _common import ROOT, arg_parser, load_average, write_report  # noqa: E402
+from _common import ROOT, arg_parser, load_average, run_pool, write_report  # noqa: E402
 
 SCENARIO = ROOT / "scenarios" / "ball_with_ridge.yaml"
 #: a detected ridge this close to the true one is "the ridge" [deg]; farther: a phantom
@@ -135,15 +134,7 @@ def main() -> None:
     tasks = [(c, a, s, args.duration, tuple(args.set)) for c in configs for a in angles
              for s in seeds]  # fmt: skip
     t0 = time.perf_counter()
-    rows = []
-    try:
-        from tqdm import tqdm
-    except ImportError:  # pragma: no cover - tqdm is a dependency of the CLI
-        tqdm = None
-    with mp.get_context("spawn").Pool(max(1, args.jobs)) as pool:
-        it = pool.imap_unordered(_run, tasks)
-        for row in tqdm(it, total=len(tasks), desc="runs") if tqdm else it:
-            rows.append(row)
+    rows = run_pool(_run, tasks, args.jobs)
     rows.sort(key=lambda r: (r["config"], r["ridge_deg"], r["seed"]))
     notes = _summary(rows) + [
         f"ridge: 4 mm wide, 3 mm high on a 10 cm ball, mu = 1; a detection within "
