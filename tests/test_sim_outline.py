@@ -100,3 +100,80 @@ def test_open_outline_ends_are_unsigned():
     assert len(c) == 1 and c[0][0] == pytest.approx(d - 0.01, abs=1e-15)
     assert np.allclose(c[0][5:7], [0.005 / d, -0.002 / d], atol=1e-15)
     assert np.allclose(c[0][3:5], [0.08, 0.0], atol=1e-15)
+
+
+def _star_polygon(radii, angles) -> list[tuple[float, float]]:
+    """A simple polygon: vertices at increasing ``angles`` [rad] and ``radii`` [m] (sharp
+    convex corners and deep reflex notches both occur)."""
+    return [(r * math.cos(a), r * math.sin(a)) for r, a in zip(radii, angles, strict=True)]
+
+
+star = st.integers(3, 9).flatmap(
+    lambda n: st.tuples(
+        st.lists(st.floats(0.01, 0.05), min_size=n, max_size=n),
+        st.lists(st.floats(0.1, 1.0), min_size=n, max_size=n),
+    )
+)
+
+
+def _signed_distances(vertices, px, py):
+    """(Python path, compiled kernel) signed distances of (px, py) to the polygon [m]."""
+    from planner.sim.planar.geometry_kernel import closest
+    from planner.sim.planar.packed_outlines import PackedOutlines
+
+    ol = compile_outline(shapes.polygon(vertices))
+    packed = PackedOutlines.from_outlines([ol])
+    return closest_point(ol, px, py)[0], closest(packed.F, packed.I, 0, px, py)[0]
+
+
+@settings(max_examples=150, deadline=None, derandomize=True)
+@given(
+    shape=star,
+    corner=st.integers(0, 8),
+    dist=st.floats(1e-4, 0.03),
+    direction=st.floats(-math.pi, math.pi),
+)
+@example(  # a round 25 mm fingertip on a triangle's 60 deg corner (2026-11-25 gait fault)
+    shape=([0.04, 0.04, 0.04], [1.0, 1.0, 1.0]), corner=0, dist=0.025, direction=0.9
+)
+def test_polygon_corners_are_signed_by_inside_or_outside(shape, corner, dist, direction):
+    """Near any corner, sharp or reflex: |d| is the distance to the outline and d < 0 exactly
+    inside (shapely's verdict), in the Python path and the compiled kernel alike. A sharp
+    corner's normal cone holds points behind one of its faces: until 2026-11-25 those came
+    out at -|d| (a 50 mm phantom penetration of a fingertip touching a triangle's corner)."""
+    from shapely.geometry import Point, Polygon
+
+    radii, steps = shape
+    angles = np.cumsum(steps)
+    angles = angles * (2 * math.pi / (angles[-1] + steps[0]))
+    vertices = _star_polygon(radii, angles)
+    vx, vy = vertices[corner % len(vertices)]
+    px, py = vx + dist * math.cos(direction), vy + dist * math.sin(direction)
+    poly = Polygon(vertices)
+    exact = poly.exterior.distance(Point(px, py))
+    if exact < 1e-9:
+        return  # on the outline: no sign to check
+    inside = poly.contains(Point(px, py))
+    for d in _signed_distances(vertices, px, py):
+        assert abs(d) == pytest.approx(exact, abs=1e-12)
+        assert (d < 0) == inside
+
+
+def test_a_fingertip_on_a_sharp_corner_is_touching_not_deep():
+    """The gait fault's geometry: a 25 mm disc whose centre is in a 60 deg corner's normal
+    cone, partly behind one face's line, touches the corner (gap 0), never 50 mm deep -
+    at every corner of a turned triangle (which face wins the distance tie is round-off)."""
+    r = 0.04
+    disc = compile_outline(shapes.circle(0.025))
+    for turn in np.linspace(0.0, 2 * math.pi / 3, 7, endpoint=False):
+        corners = turn + np.array([0.0, 2 * math.pi / 3, 4 * math.pi / 3])
+        tri = compile_outline(shapes.polygon(_star_polygon([r] * 3, corners)))
+        for c in corners:
+            for a in c + np.radians(np.linspace(-59.0, 59.0, 13)):  # within the cone
+                centre = Pose(
+                    r * math.cos(c) + 0.025 * math.cos(a),
+                    r * math.sin(c) + 0.025 * math.sin(a),
+                    0.0,
+                )
+                gaps = [g[0] for g in candidates(disc, centre, tri, Pose(0.0, 0.0, 0.0), 1e-3)]
+                assert gaps and min(gaps) == pytest.approx(0.0, abs=1e-12)

@@ -332,6 +332,11 @@ def _better(d2, sig, bd2, bsig):
 
 
 @njit(cache=True)
+def _same_point(ax, ay, bx, by):
+    return abs(ax - bx) + abs(ay - by) <= 1e-12 * (1.0 + abs(ax) + abs(ay))
+
+
+@njit(cache=True)
 def _is_end(F, e, qx, qy):
     """Whether (qx, qy) is one of the two ends stored at F[e:e+4] (e < 0: a closed outline)."""
     if e < 0:
@@ -347,9 +352,10 @@ def _is_end(F, e, qx, qy):
 def closest(F, I, b, px, py):  # noqa: E741
     """Signed distance of body-frame point (px, py) to body b: ``(d, qx, qy, nx, ny)``
     (transcribes :func:`planner.sim.planar.outline.closest_point`; unsigned at an open
-    outline's ends)."""
+    outline's ends; at a corner signed by the sum ``bsx, bsy`` of the normals of the pieces
+    meeting there)."""
     bd2, bsig, binner = math.inf, -math.inf, True
-    bqx = bqy = bnx = bny = 0.0
+    bqx = bqy = bnx = bny = bsx = bsy = 0.0
     o = I[b, 0]
     for k in range(I[b, 1]):
         r = o + 6 * k
@@ -367,8 +373,13 @@ def closest(F, I, b, px, py):  # noqa: E741
         qx, qy = ax + t * ex, ay + t * ey
         d2 = (px - qx) ** 2 + (py - qy) ** 2
         sig = (px - qx) * nx + (py - qy) * ny
-        if _better(d2, sig, bd2, bsig):
+        if _same_point(qx, qy, bqx, bqy):
+            bsx, bsy = bsx + nx, bsy + ny
+            if _better(d2, sig, bd2, bsig):
+                bd2, bsig, binner, bqx, bqy, bnx, bny = d2, sig, inner, qx, qy, nx, ny
+        elif _better(d2, sig, bd2, bsig):
             bd2, bsig, binner, bqx, bqy, bnx, bny = d2, sig, inner, qx, qy, nx, ny
+            bsx, bsy = nx, ny
     o = I[b, 2]
     for k in range(I[b, 3]):
         r = o + ARC * k
@@ -389,17 +400,28 @@ def closest(F, I, b, px, py):  # noqa: E741
             d2 = (px - qx) ** 2 + (py - qy) ** 2
             nx, ny = sgn * ux, sgn * uy
             sig = (px - qx) * nx + (py - qy) * ny
-            if _better(d2, sig, bd2, bsig):
+            if _same_point(qx, qy, bqx, bqy):
+                bsx, bsy = bsx + nx, bsy + ny
+                if _better(d2, sig, bd2, bsig):
+                    bd2, bsig, binner, bqx, bqy, bnx, bny = d2, sig, inside, qx, qy, nx, ny
+            elif _better(d2, sig, bd2, bsig):
                 bd2, bsig, binner, bqx, bqy, bnx, bny = d2, sig, inside, qx, qy, nx, ny
+                bsx, bsy = nx, ny
     o = I[b, 6]
     for k in range(I[b, 7]):
         d2, qx, qy, nx, ny, inner = param_closest(F, o + PH * k, px, py)
         sig = (px - qx) * nx + (py - qy) * ny
-        if _better(d2, sig, bd2, bsig):
+        if _same_point(qx, qy, bqx, bqy):
+            bsx, bsy = bsx + nx, bsy + ny
+            if _better(d2, sig, bd2, bsig):
+                bd2, bsig, binner, bqx, bqy, bnx, bny = d2, sig, inner, qx, qy, nx, ny
+        elif _better(d2, sig, bd2, bsig):
             bd2, bsig, binner, bqx, bqy, bnx, bny = d2, sig, inner, qx, qy, nx, ny
+            bsx, bsy = nx, ny
     d = math.sqrt(bd2)
     if not binner and d > 1e-13:
-        s = 1.0 if bsig >= 0 or _is_end(F, I[b, 9], bqx, bqy) else -1.0
+        out = (px - bqx) * bsx + (py - bqy) * bsy >= 0.0
+        s = 1.0 if out or _is_end(F, I[b, 9], bqx, bqy) else -1.0
         return s * d, bqx, bqy, s * (px - bqx) / d, s * (py - bqy) / d
     return (px - bqx) * bnx + (py - bqy) * bny, bqx, bqy, bnx, bny
 

@@ -217,8 +217,17 @@ def closest_point(ol: Outline, px: float, py: float):
         two ends the distance is unsigned (d >= 0, n from q to p) - signing it by the face
         normal would put every point of the half-plane behind the face "inside" (a phantom
         penetration of the pad's corner 9 cm behind the palm ended a gait run).
+
+    At a corner (the closest point is where two pieces meet) the sign is that of
+    ``(p - q) . (n_1 + n_2)``, the sum of the normals of every piece that ends there (the
+    2-D angle-weighted pseudonormal, Baerentzen & Aanaes 2005): p is outside exactly when
+    it is in front of the bisector. One piece's normal is not enough: a point in the normal
+    cone of a corner sharper than 90 deg can be behind one of its two faces while outside
+    (until 2026-11-25 the piece that won the distance tie by round-off signed it, so 1 in
+    8 such points of a triangle came out 2 d deep: a "50 mm penetration" of a round
+    fingertip touching a triangle's corner ended a gait as a simulator fault).
     """
-    best = (math.inf, 0.0, 0.0, 0.0, 0.0, True, -math.inf)  # d2, q, n, interior, signed
+    best = (math.inf, 0.0, 0.0, 0.0, 0.0, True, -math.inf, 0.0, 0.0)  # d2 q n inner sig nsum
     for ax, ay, bx, by, nx, ny in ol.line_list:
         ex, ey = bx - ax, by - ay
         t = ((px - ax) * ex + (py - ay) * ey) / (ex * ex + ey * ey)
@@ -245,10 +254,11 @@ def closest_point(ol: Outline, px: float, py: float):
     for pp in ol.params:
         d2, qx, qy, nx, ny, inner = _param_closest(pp, px, py)
         best = _keep(best, d2, qx, qy, nx, ny, inner, px, py)
-    d2, qx, qy, nx, ny, inner, signed = best
+    d2, qx, qy, nx, ny, inner, _, sx, sy = best
     d = math.sqrt(d2)
     if not inner and d > 1e-13:
-        s = 1.0 if signed >= 0 or is_end(ol.ends, qx, qy) else -1.0
+        outside = (px - qx) * sx + (py - qy) * sy >= 0.0
+        s = 1.0 if outside or is_end(ol.ends, qx, qy) else -1.0
         return s * d, qx, qy, s * (px - qx) / d, s * (py - qy) / d
     sd = (px - qx) * nx + (py - qy) * ny
     return sd, qx, qy, nx, ny
@@ -259,10 +269,23 @@ def is_end(ends, qx: float, qy: float) -> bool:
     return any(abs(qx - ex) + abs(qy - ey) <= 1e-12 * (1.0 + abs(ex) + abs(ey)) for ex, ey in ends)
 
 
+def same_point(ax: float, ay: float, bx: float, by: float) -> bool:
+    """Whether two closest points are the same corner (to round-off, body frame [m])."""
+    return abs(ax - bx) + abs(ay - by) <= 1e-12 * (1.0 + abs(ax) + abs(ay))
+
+
 def _keep(best, d2, qx, qy, nx, ny, inner, px, py):
+    """The nearer of ``best`` and a piece's closest point; the normals of pieces meeting
+    at the same closest point are summed (``best[7:9]``, the corner's sign, see
+    :func:`closest_point`)."""
     signed = (px - qx) * nx + (py - qy) * ny
+    if same_point(qx, qy, best[1], best[2]):
+        sx, sy = best[7] + nx, best[8] + ny
+        if d2 < best[0] - 1e-24 or (abs(d2 - best[0]) <= 1e-24 and signed > best[6]):
+            return (d2, qx, qy, nx, ny, inner, signed, sx, sy)
+        return (*best[:7], sx, sy)
     if d2 < best[0] - 1e-24 or (abs(d2 - best[0]) <= 1e-24 and signed > best[6]):
-        return (d2, qx, qy, nx, ny, inner, signed)
+        return (d2, qx, qy, nx, ny, inner, signed, nx, ny)
     return best
 
 
