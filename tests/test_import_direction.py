@@ -17,7 +17,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 
 #: The always-allowed leaves of the whole code base.
-BASE = {"planner", "planner.errors", "planner.checks"}
+BASE = {"planner", "planner.errors", "planner.checks", "planner.jit"}
 #: The spine: what only kinds and the command line may use.
 SPINE = {
     "planner.kinds",

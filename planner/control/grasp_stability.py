@@ -11,9 +11,8 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
-
 from planner.grasp.closure import HULL_TOL
+from planner.jit import njit
 
 
 @njit(cache=True, nogil=True)

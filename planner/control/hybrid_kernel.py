@@ -31,7 +31,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from planner.jit import njit
 
 # parameter indices
 P_L1, P_L2, P_L3, P_L4, P_L5, P_H1, P_H2, P_H3 = range(8)

@@ -28,7 +28,8 @@ Python (correct, ~100x slower).
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from planner.jit import njit
 
 __all__ = [
     "COVERS",

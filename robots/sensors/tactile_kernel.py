@@ -25,7 +25,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from planner.jit import njit
 
 __all__ = ["pairwise_sum", "sphere_image_add"]
 

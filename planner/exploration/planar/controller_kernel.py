@@ -27,11 +27,12 @@ from __future__ import annotations
 import math
 
 from llvmlite import ir
-from numba import njit, types
+from numba import types
 from numba.extending import intrinsic
 
 from planner.control.grasp_stability import epsilon_two_scalar
 from planner.exploration.planar.sensing import sense_kernel
+from planner.jit import njit
 
 # --- sv: reference values of the phase at this call
 V_FDES, V_HAS_POSE, V_X, V_XD = 0, 1, 2, 5  # hold force [N]; pose (3) and twist (3)

@@ -13,10 +13,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
 from planner.exploration.planar import controller_kernel as ck
 from planner.exploration.planar.controller_kernel import REJECTED, gait_kernel
+from planner.jit import njit
 from planner.sim.planar.run_kernel import (
     BLOW_UP,
     CALL_DUE,

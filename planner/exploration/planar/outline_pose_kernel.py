@@ -19,7 +19,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from planner.jit import njit
 
 #: length of a packed reading (:func:`pack`)
 NREAD = 16

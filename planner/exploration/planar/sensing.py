@@ -31,7 +31,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from planner.jit import njit
 
 #: tactile force [N] above which the pad is considered in contact
 TOUCH_FORCE = 0.02

@@ -24,7 +24,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
 from planner.control import hybrid_kernel as hk
 from planner.control.hybrid_law import (
@@ -34,6 +33,7 @@ from planner.control.hybrid_law import (
     tip_force,
 )
 from planner.errors import ContactLost, HapexError
+from planner.jit import njit
 from planner.sim import SimEvent
 
 __all__ = ["PHASES", "Estimate", "ExplorerController", "Recorder", "explorer_step"]

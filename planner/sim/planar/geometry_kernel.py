@@ -31,8 +31,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from planner.jit import njit
 from planner.sim.planar.packed_outlines import ARC, BLOCK, PH
 
 __all__ = ["closest", "contacts_into", "contacts_kernel"]

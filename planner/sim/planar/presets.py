@@ -25,7 +25,7 @@ import numpy as np
 import pinocchio as pin
 
 from planner import checks
-from planner.sim.lcp import njit
+from planner.jit import njit
 from planner.sim.planar.step_kernel import hand_dynamics, hand_kinematics
 from robots.planar_hand import PlanarHand
 

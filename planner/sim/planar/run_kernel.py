@@ -35,7 +35,7 @@ import math
 
 import numpy as np
 
-from planner.sim.lcp import njit
+from planner.jit import njit
 from planner.sim.planar.presets import _task_torques
 from planner.sim.planar.step_kernel import full_step
 

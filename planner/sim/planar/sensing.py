@@ -18,7 +18,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from planner.sim.lcp import njit
+from planner.jit import njit
 from planner.sim.observation import Observation, read_forces, read_joints
 from planner.sim.planar.bodies import FREE, TIP
 from robots.sensors import Encoder, ForceSensor, TactileArray

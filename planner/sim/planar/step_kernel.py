@@ -32,7 +32,8 @@ from __future__ import annotations
 import numpy as np
 
 from planner.errors import InvalidParameter
-from planner.sim.lcp import _residual, lemke_verified, njit
+from planner.jit import njit
+from planner.sim.lcp import _residual, lemke_verified
 from planner.sim.planar.geometry_kernel import contacts_into
 
 __all__ = [

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from planner.jit import njit
 
 __all__ = ["cone_impulse", "slide_newton"]
 

@@ -35,9 +35,10 @@ import math
 
 import numpy as np
 from llvmlite import ir
-from numba import njit, types
+from numba import types
 from numba.extending import intrinsic
 
+from planner.jit import njit
 from planner.sim.spatial.closest import FOOT_SLACK
 from planner.sim.spatial.cone_kernel import cone_impulse
 from planner.sim.spatial.kernel import plate_eval, plate_foot, plate_seed

@@ -14,9 +14,10 @@ import math
 import numpy as np
 
 from planner import checks
+from planner.jit import njit
 from planner.sim.spatial.finger import tcs_rotation
 from planner.sim.spatial.finger_codegen import CompiledFunction, reduced_dynamics_function
-from planner.sim.spatial.step_kernel import call_compiled, njit
+from planner.sim.spatial.step_kernel import call_compiled
 
 __all__ = ["TipForceVelocityController", "tip_torques"]
 
