@@ -184,6 +184,60 @@ def test_any_catalogue_body_lands_on_a_ridge_floor(profile):
     assert log.normal_force.max() > 0
 
 
+def _star(rng) -> object:
+    """A random star polygon: 3-8 corners, radii 1-4 cm (sharp corners, reflex notches)."""
+    n = int(rng.integers(3, 9))
+    steps = rng.uniform(0.1, 1.0, n)
+    ang = np.cumsum(steps) * 2 * math.pi / (steps.sum() + steps[0])
+    rad = rng.uniform(0.01, 0.04, n)
+    return shapes.polygon(np.column_stack([rad * np.cos(ang), rad * np.sin(ang)]))
+
+
+@pytest.mark.parametrize("seed", [1039, 1004, 1010, 1015, 1070, 1075])
+def test_thrown_polygons_in_a_box_never_gain_energy(seed):
+    """Three random star polygons thrown (up to 20 rad/s) into a box of planes, 1.5 s.
+
+    Impacts are inelastic and friction dissipates; the only energy a step may add is the
+    potential energy of the position projection lifting a body out of the first-order
+    step's overlap (<= 2 mm at these speeds, the module doc of ``stepper``). Seeds from an
+    80-seed fuzz of 2026-11-25: the largest overlaps, and two (1015, 1070) that fail with
+    the corner-sign rule before 0e45203 (a polygon's corner in another's sharp corner
+    signed 2d deep; the compiled step, still running that rule from a stale cache, gave
+    two polygons 2.8 J in one step).
+    """
+    rng = np.random.default_rng(seed)
+    world = PlanarWorld(dt=1e-3, gravity=(0.0, -G), seed=seed, sensors=SensorSettings.ideal())
+    mu = float(rng.uniform(0.0, 1.5))
+    world.add_fixed(shapes.plane(0.0, 1.0), friction=mu, name="floor")
+    for x, a in ((0.15, math.pi / 2), (-0.15, -math.pi / 2)):  # walls reaching below the floor
+        world.add_fixed(shapes.plane(0.0, 2.0), pose=(x, 0.5, a), friction=mu)
+    for k in range(3):
+        pose = (rng.uniform(-0.08, 0.08), 0.06 + 0.1 * k, rng.uniform(-math.pi, math.pi))
+        vel = (rng.uniform(-0.5, 0.5), rng.uniform(-0.5, 0.5), rng.uniform(-20, 20))
+        world.add_body(_star(rng), pose, 0.05, velocity=vel, friction=mu)
+    assert not world.penetrations()
+    free = [b for b in world.bodies if b.kind == 1]
+
+    def energy() -> float:
+        e = 0.0
+        for b in free:
+            (_, y, _), (vx, vy, w) = world._x[b.index], world._v[b.index]
+            e += 0.5 * b.mass * (vx * vx + vy * vy) + 0.5 * b.inertia * w * w + b.mass * G * y
+        return e
+
+    lift = sum(b.mass for b in free) * G * 2e-3  # [J] projection of a 2 mm overlap
+    e_prev, rises, deepest = energy(), [], 0.0
+    for _ in range(1500):
+        world.step()
+        e = energy()
+        rises.append(e - e_prev)
+        e_prev = e
+        deepest = min([deepest] + [p[2] for p in world.penetrations()])
+    assert max(rises) <= lift
+    assert deepest >= -2e-3
+    assert not world.penetrations(1e-6)  # at rest: projected out
+
+
 def test_bad_arguments_raise_invalid_parameter():
     with pytest.raises(InvalidParameter, match="dt"):
         PlanarWorld(dt=0.0)
