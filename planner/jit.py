@@ -15,8 +15,8 @@ edit did, silently.
 file of :data:`KERNEL_FILES` (the modules that define compiled functions): any change to any
 kernel recompiles all of them once (about a minute on the reference machine), and an
 unchanged checkout keeps its cache. ``root`` is ``$NUMBA_CACHE_DIR/hapex`` when that is set,
-else ``planner/__pycache__/numba`` when writable (older fingerprints there are removed when a
-new one is created), else ``~/.cache/hapex/numba``.
+else ``planner/__pycache__/numba`` when writable (older fingerprints there, idle for an hour,
+are removed when a new one is created), else ``~/.cache/hapex/numba``.
 """
 
 from __future__ import annotations
@@ -24,6 +24,7 @@ from __future__ import annotations
 import hashlib
 import os
 import shutil
+import time
 from functools import lru_cache
 from pathlib import Path
 
@@ -85,6 +86,19 @@ def _writable(path: Path) -> bool:
         return False
 
 
+def _prune(local: Path, keep: str, idle: float = 3600.0) -> None:
+    """Remove this checkout's earlier fingerprints, those untouched for ``idle`` [s] (a
+    process still running an older checkout may yet write to its own)."""
+    now = time.time()
+    for old in local.iterdir():
+        try:
+            stale = old.is_dir() and old.name != keep and now - old.stat().st_mtime > idle
+        except OSError:
+            continue
+        if stale:
+            shutil.rmtree(old, ignore_errors=True)
+
+
 @lru_cache(maxsize=1)
 def cache_dir() -> Path:
     """The directory this checkout's compiled kernels are cached in (see the module doc)."""
@@ -96,9 +110,7 @@ def cache_dir() -> Path:
     if _writable(local):
         target = local / fp
         if not target.exists():
-            for old in local.iterdir():  # earlier fingerprints of this checkout
-                if old.is_dir() and old.name != fp:
-                    shutil.rmtree(old, ignore_errors=True)
+            _prune(local, keep=fp)
         return target
     return Path.home() / ".cache" / "hapex" / "numba" / fp
 

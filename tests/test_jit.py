@@ -76,3 +76,17 @@ def test_njit_keeps_numba_semantics():
     assert plain(3) == 6 and with_options(3) == 4
     with pytest.raises(TypeError, match="keywords"):
         jit.njit("float64(float64)")
+
+
+def test_prune_keeps_the_current_and_recently_used_fingerprints(tmp_path):
+    import os
+    import time
+
+    for name in ("current", "recent", "old"):
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "k.nbi").write_text("")
+    hours_ago = time.time() - 7200
+    os.utime(tmp_path / "old", (hours_ago, hours_ago))
+    os.utime(tmp_path / "current", (hours_ago, hours_ago))
+    jit._prune(tmp_path, keep="current")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["current", "recent"]
