@@ -177,30 +177,3 @@ def test_a_fingertip_on_a_sharp_corner_is_touching_not_deep():
                 )
                 gaps = [g[0] for g in candidates(disc, centre, tri, Pose(0.0, 0.0, 0.0), 1e-3)]
                 assert gaps and min(gaps) == pytest.approx(0.0, abs=1e-12)
-
-
-@settings(max_examples=60, deadline=None, derandomize=True)
-@given(x=st.floats(-0.0099, 0.0099), depth=st.floats(1e-6, 0.005))
-def test_behind_a_pad_the_penetration_is_the_nearest_side_of_its_slab(x, depth):
-    """An open outline bounds a slab: behind its face near an end, the nearest way out is
-    the side wall through that end (normal along the face), in both paths alike; a corner
-    that swung round the pad's end came out 1.2 mm deep along the face normal while 60 um
-    from the end (190 kN impulses, 2026-11-25)."""
-    from planner.sim.planar.geometry_kernel import closest
-    from planner.sim.planar.packed_outlines import PackedOutlines
-
-    pad = compile_outline(Profile((Line((-0.01, 0.0), (0.01, 0.0)),), name="pad"))
-    packed = PackedOutlines.from_outlines([pad])
-    wall = 0.01 - abs(x)
-    want = -min(depth, wall)
-    for d, qx, qy, nx, ny in (
-        closest_point(pad, x, -depth),
-        closest(packed.F, packed.I, 0, x, -depth),
-    ):
-        assert d == pytest.approx(want, abs=1e-15)
-        assert np.allclose([qx + d * nx, qy + d * ny], [x, -depth], atol=1e-15)
-        if wall < depth:  # out through the end's side
-            assert np.allclose([nx, ny], [math.copysign(1.0, x), 0.0], atol=1e-15)
-            assert qx == pytest.approx(math.copysign(0.01, x), abs=1e-15)
-        else:  # out through the face
-            assert (nx, ny) == (0.0, 1.0) and qy == 0.0

@@ -422,24 +422,8 @@ def closest(F, I, b, px, py):  # noqa: E741
     if not binner and d > 1e-13:
         out = (px - bqx) * bsx + (py - bqy) * bsy >= 0.0
         s = 1.0 if out or _is_end(F, I[b, 9], bqx, bqy) else -1.0
-        sd, bnx, bny = s * d, s * (px - bqx) / d, s * (py - bqy) / d
-    else:
-        sd = (px - bqx) * bnx + (py - bqy) * bny
-    e = I[b, 9]
-    if sd < 0.0 and e >= 0:  # an open outline: the side walls of its slab (outline.side_wall)
-        tx, ty = -bny, bnx
-        best = -sd
-        rd, rx, ry, rnx, rny = sd, bqx, bqy, bnx, bny
-        for k in range(2):
-            ex, ey = F[e + 2 * k], F[e + 2 * k + 1]
-            side = 1.0 if (ex - bqx) * tx + (ey - bqy) * ty >= 0.0 else -1.0
-            wall = side * ((ex - px) * tx + (ey - py) * ty)
-            if 0.0 <= wall < best:
-                best = wall
-                ux, uy = side * tx, side * ty
-                rd, rx, ry, rnx, rny = -wall, px + wall * ux, py + wall * uy, ux, uy
-        return rd, rx, ry, rnx, rny
-    return sd, bqx, bqy, bnx, bny
+        return s * d, bqx, bqy, s * (px - bqx) / d, s * (py - bqy) / d
+    return (px - bqx) * bnx + (py - bqy) * bny, bqx, bqy, bnx, bny
 
 
 @njit(cache=True)

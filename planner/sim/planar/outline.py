@@ -259,38 +259,9 @@ def closest_point(ol: Outline, px: float, py: float):
     if not inner and d > 1e-13:
         outside = (px - qx) * sx + (py - qy) * sy >= 0.0
         s = 1.0 if outside or is_end(ol.ends, qx, qy) else -1.0
-        sd, nx, ny = s * d, s * (px - qx) / d, s * (py - qy) / d
-    else:
-        sd = (px - qx) * nx + (py - qy) * ny
-    if sd < 0.0 and ol.ends:
-        return side_wall(ol.ends, px, py, sd, qx, qy, nx, ny)
+        return s * d, qx, qy, s * (px - qx) / d, s * (py - qy) / d
+    sd = (px - qx) * nx + (py - qy) * ny
     return sd, qx, qy, nx, ny
-
-
-def side_wall(ends, px: float, py: float, sd: float, qx: float, qy: float, nx: float, ny: float):
-    """An open outline's penetration ``sd`` < 0 at q (normal n), or the side of its slab.
-
-    Behind an open outline's face is inside only within the slab its ends bound, so the
-    material is bounded by the face and by the slab's side walls, the lines through the
-    ends along the face normal. A point behind the face near an end is nearer to that side
-    wall than to the face: its penetration is the distance to the wall (normal: the face's
-    tangent, out through the end), not the depth behind the face. Without the walls a
-    polygon's corner that swung round the left pad's end came out 1.2 mm behind the face
-    with the face's normal while 60 um from the end; with the right tip pressing the other
-    way the step found 190 kN impulses and the object spun at 670 rad/s (2026-11-25, a
-    5-gon at mu 3). Points beyond the ends are outside (unsigned, unchanged).
-    """
-    tx, ty = -ny, nx  # the face's tangent at q
-    best = -sd
-    out = (sd, qx, qy, nx, ny)
-    for ex, ey in ends:
-        side = 1.0 if (ex - qx) * tx + (ey - qy) * ty >= 0.0 else -1.0
-        wall = side * ((ex - px) * tx + (ey - py) * ty)  # [m] from p to the wall, >= 0 inside
-        if 0.0 <= wall < best:
-            best = wall
-            ux, uy = side * tx, side * ty
-            out = (-wall, px + wall * ux, py + wall * uy, ux, uy)
-    return out
 
 
 def is_end(ends, qx: float, qy: float) -> bool:
