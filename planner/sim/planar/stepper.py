@@ -80,6 +80,18 @@ spins its distal link (about 3e-5 kg m^2 about its joint) from 13 to 108 rad/s i
 0.4 N m, and the fingers collide. A motor armature of 1e-4 kg m^2 per joint in the simulator
 alone (the controllers unaware) removed it but moved the batch (circle model 11 -> 9
 objects, two Lemke-ray faults on posed-outline runs): not kept.
+
+**Open outlines have no side walls.** Behind a pad's (or the palm's) face within its slab
+is inside, at the depth behind the face, however near the slab's side. A corner that swings
+round the pad's end therefore lands "deep" behind the face with the face's normal: found
+on 2026-11-25 by fuzzing ``explore_object`` (a regular 5-gon of 2.55 cm at mu 3, seed 363,
+t = 0.838 s): an object corner 60 um inside the pad's end but 1.2 mm behind its face, the
+right tip pressing the other way, and the step answered with 190 kN and a 670 rad/s spin
+(under the loop's 1000 rad/s runaway guard, so the run reported a -350 deg "rotation" and
+ended on a planning reason). Taking the nearer of the face and the side walls (the signed
+distance to the slab as a solid) ended that spin (a drop at -54 deg instead) but moved the
+bundled ``ball_with_ridge`` run past 393 deg to a lost contact (coverage 0.969): reverted
+(777c608, 7688cae), not re-validated.
 """
 
 from __future__ import annotations
