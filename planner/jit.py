@@ -128,8 +128,8 @@ def _compile(fn, options: dict):
 
 def njit(*args, **options):
     """``numba.njit`` (same arguments); with ``cache=True`` cached under :func:`cache_dir`."""
-    if len(args) == 1 and callable(args[0]) and not options:
-        return _compile(args[0], {})
+    if len(args) == 1 and callable(args[0]):
+        return _compile(args[0], options)
     if args:
         raise TypeError("njit: give options as keywords (signatures are not used here)")
     return lambda fn: _compile(fn, options)

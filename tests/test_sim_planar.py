@@ -12,6 +12,7 @@ from hypothesis import strategies as st
 from planner.errors import InvalidParameter
 from planner.geometry import shapes
 from planner.sim import PlanarWorld, SensorSettings
+from planner.sim.planar.bodies import FREE
 from planner.sim.planar.scenes import incline_scene
 
 G = 9.81
@@ -216,7 +217,7 @@ def test_thrown_polygons_in_a_box_never_gain_energy(seed):
         vel = (rng.uniform(-0.5, 0.5), rng.uniform(-0.5, 0.5), rng.uniform(-20, 20))
         world.add_body(_star(rng), pose, 0.05, velocity=vel, friction=mu)
     assert not world.penetrations()
-    free = [b for b in world.bodies if b.kind == 1]
+    free = [b for b in world.bodies if b.kind == FREE]
 
     def energy() -> float:
         e = 0.0

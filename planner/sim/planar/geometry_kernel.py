@@ -337,6 +337,20 @@ def _same_point(ax, ay, bx, by):
 
 
 @njit(cache=True)
+def _keep(best, d2, sig, inner, qx, qy, nx, ny):
+    """The nearer of ``best = (d2, sig, inner, qx, qy, nx, ny, sx, sy)`` and a piece's
+    closest point; pieces meeting at the best point add their normals to ``(sx, sy)``, the
+    corner's sign (transcribes ``outline._keep``)."""
+    same = _same_point(qx, qy, best[3], best[4])
+    sx, sy = (best[7] + nx, best[8] + ny) if same else (nx, ny)
+    if _better(d2, sig, best[0], best[1]):
+        return (d2, sig, inner, qx, qy, nx, ny, sx, sy)
+    if same:
+        return (best[0], best[1], best[2], best[3], best[4], best[5], best[6], sx, sy)
+    return best
+
+
+@njit(cache=True)
 def _is_end(F, e, qx, qy):
     """Whether (qx, qy) is one of the two ends stored at F[e:e+4] (e < 0: a closed outline)."""
     if e < 0:
@@ -352,10 +366,9 @@ def _is_end(F, e, qx, qy):
 def closest(F, I, b, px, py):  # noqa: E741
     """Signed distance of body-frame point (px, py) to body b: ``(d, qx, qy, nx, ny)``
     (transcribes :func:`planner.sim.planar.outline.closest_point`; unsigned at an open
-    outline's ends; at a corner signed by the sum ``bsx, bsy`` of the normals of the pieces
-    meeting there)."""
-    bd2, bsig, binner = math.inf, -math.inf, True
-    bqx = bqy = bnx = bny = bsx = bsy = 0.0
+    outline's ends; at a corner signed by the sum of the normals of the pieces meeting there,
+    :func:`_keep`)."""
+    best = (math.inf, -math.inf, True, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)  # see _keep
     o = I[b, 0]
     for k in range(I[b, 1]):
         r = o + 6 * k
@@ -373,13 +386,7 @@ def closest(F, I, b, px, py):  # noqa: E741
         qx, qy = ax + t * ex, ay + t * ey
         d2 = (px - qx) ** 2 + (py - qy) ** 2
         sig = (px - qx) * nx + (py - qy) * ny
-        if _same_point(qx, qy, bqx, bqy):
-            bsx, bsy = bsx + nx, bsy + ny
-            if _better(d2, sig, bd2, bsig):
-                bd2, bsig, binner, bqx, bqy, bnx, bny = d2, sig, inner, qx, qy, nx, ny
-        elif _better(d2, sig, bd2, bsig):
-            bd2, bsig, binner, bqx, bqy, bnx, bny = d2, sig, inner, qx, qy, nx, ny
-            bsx, bsy = nx, ny
+        best = _keep(best, d2, sig, inner, qx, qy, nx, ny)
     o = I[b, 2]
     for k in range(I[b, 3]):
         r = o + ARC * k
@@ -387,7 +394,7 @@ def closest(F, I, b, px, py):  # noqa: E741
         sgn = 1.0 if F[r + 5] != 0.0 else -1.0
         dx, dy = px - cx, py - cy
         dist = math.sqrt(dx * dx + dy * dy)
-        if (dist - rad) ** 2 > bd2 * (1.0 + 1e-9) + 1e-24:
+        if (dist - rad) ** 2 > best[0] * (1.0 + 1e-9) + 1e-24:
             continue  # no point of the circle can beat (or tie) the best so far
         full = abs(sweep) >= TWO_PI - 1e-15  # a full circle: no angle needed
         inside = full or _arc_contains(phi0, sweep, math.atan2(dy, dx))
@@ -400,24 +407,13 @@ def closest(F, I, b, px, py):  # noqa: E741
             d2 = (px - qx) ** 2 + (py - qy) ** 2
             nx, ny = sgn * ux, sgn * uy
             sig = (px - qx) * nx + (py - qy) * ny
-            if _same_point(qx, qy, bqx, bqy):
-                bsx, bsy = bsx + nx, bsy + ny
-                if _better(d2, sig, bd2, bsig):
-                    bd2, bsig, binner, bqx, bqy, bnx, bny = d2, sig, inside, qx, qy, nx, ny
-            elif _better(d2, sig, bd2, bsig):
-                bd2, bsig, binner, bqx, bqy, bnx, bny = d2, sig, inside, qx, qy, nx, ny
-                bsx, bsy = nx, ny
+            best = _keep(best, d2, sig, inside, qx, qy, nx, ny)
     o = I[b, 6]
     for k in range(I[b, 7]):
         d2, qx, qy, nx, ny, inner = param_closest(F, o + PH * k, px, py)
         sig = (px - qx) * nx + (py - qy) * ny
-        if _same_point(qx, qy, bqx, bqy):
-            bsx, bsy = bsx + nx, bsy + ny
-            if _better(d2, sig, bd2, bsig):
-                bd2, bsig, binner, bqx, bqy, bnx, bny = d2, sig, inner, qx, qy, nx, ny
-        elif _better(d2, sig, bd2, bsig):
-            bd2, bsig, binner, bqx, bqy, bnx, bny = d2, sig, inner, qx, qy, nx, ny
-            bsx, bsy = nx, ny
+        best = _keep(best, d2, sig, inner, qx, qy, nx, ny)
+    bd2, _, binner, bqx, bqy, bnx, bny, bsx, bsy = best
     d = math.sqrt(bd2)
     if not binner and d > 1e-13:
         out = (px - bqx) * bsx + (py - bqy) * bsy >= 0.0

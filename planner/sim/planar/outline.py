@@ -269,7 +269,7 @@ def is_end(ends, qx: float, qy: float) -> bool:
     return any(abs(qx - ex) + abs(qy - ey) <= 1e-12 * (1.0 + abs(ex) + abs(ey)) for ex, ey in ends)
 
 
-def same_point(ax: float, ay: float, bx: float, by: float) -> bool:
+def _same_point(ax: float, ay: float, bx: float, by: float) -> bool:
     """Whether two closest points are the same corner (to round-off, body frame [m])."""
     return abs(ax - bx) + abs(ay - by) <= 1e-12 * (1.0 + abs(ax) + abs(ay))
 
@@ -279,14 +279,11 @@ def _keep(best, d2, qx, qy, nx, ny, inner, px, py):
     at the same closest point are summed (``best[7:9]``, the corner's sign, see
     :func:`closest_point`)."""
     signed = (px - qx) * nx + (py - qy) * ny
-    if same_point(qx, qy, best[1], best[2]):
-        sx, sy = best[7] + nx, best[8] + ny
-        if d2 < best[0] - 1e-24 or (abs(d2 - best[0]) <= 1e-24 and signed > best[6]):
-            return (d2, qx, qy, nx, ny, inner, signed, sx, sy)
-        return (*best[:7], sx, sy)
+    same = _same_point(qx, qy, best[1], best[2])
+    sx, sy = (best[7] + nx, best[8] + ny) if same else (nx, ny)
     if d2 < best[0] - 1e-24 or (abs(d2 - best[0]) <= 1e-24 and signed > best[6]):
-        return (d2, qx, qy, nx, ny, inner, signed, nx, ny)
-    return best
+        return (d2, qx, qy, nx, ny, inner, signed, sx, sy)
+    return (*best[:7], sx, sy) if same else best
 
 
 def param_extreme(pp: ParamPiece, nx: float, ny: float):
