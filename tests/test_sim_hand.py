@@ -239,3 +239,59 @@ def test_compiled_preset_equals_its_reference(seed):
     world.qd = rng.normal(0.0, 2.0, 6)
     obs, t = world.observe(), float(rng.uniform(0.0, 5.0))
     assert np.abs(ctrl(t, obs) - ctrl.reference(t, obs)).max() <= 1e-12
+
+
+#: the state of a fuzzed gait (explore_object on a regular 5-gon of 2.55 cm at mu 3, seed
+#: 363, t = 0.836 s): an object corner under the left pad's face 60 um from its end, the pad's
+#: end against the next side - a wedge at mu 3
+WEDGE = {
+    "q": [-0.28794595110818355, -1.6450191350171137, -0.4546201472611658,
+          0.13534766695130918, 2.0760816353620357, 0.6309607538400521],
+    "qd": [0.22812960948283573, 0.12989801467646156, -5.900286157292609,
+           2.424113759855933, -3.468718079552313, 5.447766175913548],
+    "tau": [-0.15608592414159217, 0.01631290111983849, 0.036644989563028946,
+            -0.04966077184958721, -0.33200819371798174, -0.12633765203784691],
+    "pose": (-0.02007413840626403, 0.030596847379347814, -0.8988320769811609),
+    "velocity": (-0.3440122921304133, 0.16970824419243938, -4.622426205553605),
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+def test_a_wedged_step_answer_is_refused_and_no_energy_is_added(compiled):
+    """At mu 3 the step's LCP has more than one answer in a wedge (Painleve's paradox in
+    the plane): Lemke found one with 376 N s impulses at a 12 um overlap left by the
+    projection, whose gap term (6 mm/s) took the kinetic energy from 7 mJ to 0.94 J and
+    spun the 50 g object to 201 rad/s. The stepper refuses an answer that adds more kinetic energy than the gap
+    terms can (``step_kernel.gains_energy``) and closes gaps only, which cannot add any:
+    the kinetic energy after the step is at most the one before plus the work of the
+    torques and of gravity over the step. (At this state the compiled step's Lemke path
+    happens to end on the small answer with or without the check; the Python step's ends on
+    the wedged one without it: 0.94 J after the step instead of <= 0.014 J.)"""
+    from robots.planar_hand import gait_hand_params
+
+    n = 5
+    r = 0.025512646173997244
+    ring = [(r * math.cos(2 * math.pi * j / n), r * math.sin(2 * math.pi * j / n))
+            for j in range(n)]  # fmt: skip
+    world = PlanarWorld(dt=2e-3, gravity=(0.0, -9.81), seed=0, compiled=compiled)
+    world.add_hand(PlanarHand(gait_hand_params(3.0)), np.array(WEDGE["q"]))
+    world.qd = np.array(WEDGE["qd"])
+    world.add_body(shapes.polygon(ring[::-1]), WEDGE["pose"], 0.05, friction=3.0, name="object")
+    world.set_state("object", pose=WEDGE["pose"], velocity=WEDGE["velocity"])
+    body = next(b for b in world.bodies if b.name == "object")
+
+    def kinetic() -> float:
+        M, _ = world.hand.mass_bias(world.q, world.qd)
+        vx, vy, w = world._v[body.index]
+        return 0.5 * (world.qd @ M @ world.qd + body.mass * (vx * vx + vy * vy)) + (
+            0.5 * body.inertia * w * w
+        )
+
+    e0, y0 = kinetic(), world._x[body.index][1]
+    tau = np.array(WEDGE["tau"])
+    world.step(tau)
+    h = world.dt
+    work = abs(float(tau @ world.qd)) * h + body.mass * 9.81 * abs(world._x[body.index][1] - y0)
+    gravity_hand = abs(float(world.hand.gravity(world.q) @ world.qd)) * h
+    assert kinetic() <= e0 + work + gravity_hand + 1e-6
+    assert abs(world._v[body.index][2]) < 20.0  # [rad/s] (201 with the wedged answer)

@@ -251,6 +251,35 @@ def _contact_rows(cand, kind, index, mu_body, nfree, x, joints, nlim, lim_joint,
     return R, T, fr, mu
 
 
+#: the kinetic energy the impulses of a step may add, in units of the energy that gives
+#: each penetrating row's effective mass its gap-closing speed ``-phi / h`` (stepper's
+#: "Energy"); above it the answer is a wedged one and the step closes gaps only
+ENERGY_ALLOWANCE = 100.0
+
+
+@njit(cache=True)
+def gains_energy(G, Rv, z, phi, nr, nn, h):
+    """Whether impulses ``z[:nr]`` on rows with Delassus matrix ``G`` (nr, nr) and free
+    velocities ``Rv`` (nr,) add more kinetic energy than the gap terms of the first ``nn``
+    rows (gaps ``phi`` [m or rad], step ``h`` [s]) can: the gain
+    ``z.Rv + z.G.z / 2`` [J] (= ``(nu+ M nu+ - v M v) / 2`` with ``nu+ = v + M^-1 R^T z``)
+    against :data:`ENERGY_ALLOWANCE` times ``sum (phi_r / h)^2 / (2 G_rr)`` over the
+    penetrating rows, plus round-off (1e-9 of the terms' magnitudes)."""
+    gain, scale = 0.0, 0.0
+    for r in range(nr):
+        gz = 0.0
+        for c in range(nr):
+            gz += G[r, c] * z[c]
+        a, b = z[r] * Rv[r], 0.5 * z[r] * gz
+        gain += a + b
+        scale += abs(a) + abs(b)
+    allow = 0.0
+    for r in range(nn):
+        if phi[r] < 0.0 and G[r, r] > 0.0:
+            allow += 0.5 * (phi[r] / h) ** 2 / G[r, r]
+    return gain > ENERGY_ALLOWANCE * allow + 1e-9 * scale
+
+
 @njit(cache=True, inline="always")
 def _impulse_lcp(R, Minv, v_free, phi, fr, mu, nn, h, covers):
     """Solve the Stewart-Trinkle LCP of the step (normal, limit and friction-edge rows of
@@ -279,6 +308,8 @@ def _impulse_lcp(R, Minv, v_free, phi, fr, mu, nn, h, covers):
         bq[r] += phi[r] / h
     it = 50 * m_all + 10
     z, status, _ = lemke_verified(A, bq, covers, it, 1e-9)
+    if status == 0 and gains_energy(G, Rv, z, phi, nr, nn, h):
+        status = 1  # a spurious (wedged) answer: close gaps only (stepper's "Energy")
     if status != 0:  # a jam with sub-tolerance penetration: close gaps only
         for r in range(nn):
             b[r] += max(phi[r], 0.0) / h

@@ -81,17 +81,31 @@ spins its distal link (about 3e-5 kg m^2 about its joint) from 13 to 108 rad/s i
 alone (the controllers unaware) removed it but moved the batch (circle model 11 -> 9
 objects, two Lemke-ray faults on posed-outline runs): not kept.
 
+**Energy.** With friction the LCP can have more than one answer (Painleve's paradox; in
+the plane a wedge of two contacts at a friction angle past their opening), and an answer
+with huge impulses is exact too. Its kinetic energy gain ``z.R v + z.G.z / 2``, with the
+complementarity conditions, is ``sum p_n (-phi) / h - sum lambda mu p_n - z.G.z / 2``: only
+the gap term of a penetrating contact can add energy, in proportion to the impulse. A
+regular 5-gon of 2.55 cm at mu 3 (``explore_object``, seed 363, t = 0.836 s) wedged an
+object corner under the left pad's face 60 um from its end, the pad's end against the next
+side; the projection left a 12 um overlap, and Lemke's answer carried 376 N s at it:
+the kinetic energy went from 7 mJ to 0.94 J, the object to 201 rad/s, in one step. An answer that adds more than
+:data:`planner.sim.planar.step_kernel.ENERGY_ALLOWANCE` (100) times the energy that gives
+each penetrating row's effective mass its speed ``-phi / h`` is refused
+(:func:`~planner.sim.planar.step_kernel.gains_energy`) and the step closes gaps only
+(``b + max(phi, 0) / h``), whose every answer adds no energy (the gap term is gone). The
+rule changed no row of ``bench_gait`` (198), ``bench_gait_friction`` (144) or
+``bench_gait_ridge`` (96) (2026-11-25): it only acts on such answers.
+
 **Open outlines have no side walls.** Behind a pad's (or the palm's) face within its slab
-is inside, at the depth behind the face, however near the slab's side. A corner that swings
-round the pad's end therefore lands "deep" behind the face with the face's normal: found
-on 2026-11-25 by fuzzing ``explore_object`` (a regular 5-gon of 2.55 cm at mu 3, seed 363,
-t = 0.838 s): an object corner 60 um inside the pad's end but 1.2 mm behind its face, the
-right tip pressing the other way, and the step answered with 190 kN and a 670 rad/s spin
-(under the loop's 1000 rad/s runaway guard, so the run reported a -350 deg "rotation" and
-ended on a planning reason). Taking the nearer of the face and the side walls (the signed
-distance to the slab as a solid) ended that spin (a drop at -54 deg instead) but moved the
-bundled ``ball_with_ridge`` run past 393 deg to a lost contact (coverage 0.969): reverted
-(777c608, 7688cae), not re-validated.
+is inside, at the depth behind the face, however near the slab's side: a corner that comes
+round the pad's end is pushed out through the face. Taking the nearer of the face and the
+side walls (the signed distance to a sharp-edged slab; tried in 777c608, reverted in
+7688cae) was measured on 2026-11-25 with ``bench_gait_ridge``: full turns 43 -> 29 of 48
+(scenario configuration) and 46 -> 28 (defaults), coverage lower on every ridge angle.
+The pad's sharp end catches the ball's 3 mm ridge, which the face-only rule lets it ride
+over as a rounded edge would (the thesis' flat fingertip slid over its ridge). A pad with
+thickness and rounded ends of at least the ridge's height would model both; not done.
 """
 
 from __future__ import annotations
@@ -105,6 +119,7 @@ from planner.errors import InfeasibleProblem
 from planner.sim.lcp import COVERS, lcp_residual, solve_lcp
 from planner.sim.planar.bodies import FIXED, FREE, TIP
 from planner.sim.planar.contacts import Pose, candidates
+from planner.sim.planar.step_kernel import gains_energy
 
 __all__ = ["StepResult", "find_contacts", "point_velocity", "step", "step_fast"]
 
@@ -447,6 +462,8 @@ def step(world, tau) -> StepResult:
         b = np.concatenate([R @ v_free, np.zeros(nf)])
         phi = np.concatenate([gap, lphi])
         z, status, _ = solve_lcp(A, b + np.concatenate([phi / h, np.zeros(m - nn)]))
+        if status == 0 and gains_energy(G, b, z, phi, nn + 2 * nf, nn, h):
+            status = 1  # a wedged answer (module docstring, "Energy"): close gaps only
         if status != 0:  # a jam with sub-tolerance penetration: close gaps only (see lcp.py)
             b[:nn] += np.maximum(phi, 0.0) / h
             z = _solve(A, b, "contact problem", regularize=STEP_REGULARIZE)
