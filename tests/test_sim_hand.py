@@ -258,12 +258,12 @@ WEDGE = {
 
 @pytest.mark.parametrize("compiled", [False, True])
 def test_a_wedged_step_answer_is_refused_and_no_energy_is_added(compiled):
-    """At mu 3 the step's LCP has more than one answer in a wedge (Painleve's paradox in
-    the plane): Lemke found one with 376 N s impulses at a 12 um overlap left by the
-    projection, whose gap term (6 mm/s) took the kinetic energy from 7 mJ to 0.94 J and
-    spun the 50 g object to 201 rad/s. The stepper refuses an answer that adds more kinetic energy than the gap
-    terms can (``step_kernel.gains_energy``) and closes gaps only, which cannot add any:
-    the kinetic energy after the step is at most the one before plus the work of the
+    """At mu 3 the step's LCP has more than one answer in a wedge (Painleve's paradox in the
+    plane): Lemke found one with 376 N s impulses at a 12 um overlap left by the projection,
+    whose gap term (6 mm/s) took the kinetic energy from 7 mJ to 0.94 J and spun the 50 g
+    object to 201 rad/s. The stepper refuses an answer that adds more kinetic energy than
+    the gap terms can (``step_kernel.gains_energy``) and closes gaps only, which cannot add
+    any: the kinetic energy after the step is at most the one before plus the work of the
     torques and of gravity over the step. (At this state the compiled step's Lemke path
     happens to end on the small answer with or without the check; the Python step's ends on
     the wedged one without it: 0.94 J after the step instead of <= 0.014 J.)"""

@@ -81,20 +81,20 @@ spins its distal link (about 3e-5 kg m^2 about its joint) from 13 to 108 rad/s i
 alone (the controllers unaware) removed it but moved the batch (circle model 11 -> 9
 objects, two Lemke-ray faults on posed-outline runs): not kept.
 
-**Energy.** With friction the LCP can have more than one answer (Painleve's paradox; in
-the plane a wedge of two contacts at a friction angle past their opening), and an answer
-with huge impulses is exact too. Its kinetic energy gain ``z.R v + z.G.z / 2``, with the
+**Energy.** With friction the LCP can have more than one answer (Painleve's paradox; in the
+plane a wedge of two contacts at a friction angle past their opening), and an answer with
+huge impulses is exact too. Its kinetic energy gain ``z.R v + z.G.z / 2``, with the
 complementarity conditions, is ``sum p_n (-phi) / h - sum lambda mu p_n - z.G.z / 2``: only
 the gap term of a penetrating contact can add energy, in proportion to the impulse. A
 regular 5-gon of 2.55 cm at mu 3 (``explore_object``, seed 363, t = 0.836 s) wedged an
 object corner under the left pad's face 60 um from its end, the pad's end against the next
-side; the projection left a 12 um overlap, and Lemke's answer carried 376 N s at it:
-the kinetic energy went from 7 mJ to 0.94 J, the object to 201 rad/s, in one step. An answer that adds more than
-:data:`planner.sim.planar.step_kernel.ENERGY_ALLOWANCE` (100) times the energy that gives
-each penetrating row's effective mass its speed ``-phi / h`` is refused
+side; the projection left a 12 um overlap, and Lemke's answer carried 376 N s at it: the
+kinetic energy went from 7 mJ to 0.94 J, the object to 201 rad/s, in one step. An answer
+that adds more than :data:`planner.sim.planar.step_kernel.ENERGY_ALLOWANCE` (100) times the
+energy that gives each penetrating row's effective mass its speed ``-phi / h`` is refused
 (:func:`~planner.sim.planar.step_kernel.gains_energy`) and the step closes gaps only
-(``b + max(phi, 0) / h``), whose every answer adds no energy (the gap term is gone). The
-rule changed no row of ``bench_gait`` (198), ``bench_gait_friction`` (144) or
+(``b + max(phi, 0) / h``), whose every answer adds no energy (the gap term is gone). The rule
+changed no row of ``bench_gait`` (198), ``bench_gait_friction`` (144) or
 ``bench_gait_ridge`` (96) (2026-11-25): it only acts on such answers.
 
 **Open outlines have no side walls.** Behind a pad's (or the palm's) face within its slab
