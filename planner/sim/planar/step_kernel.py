@@ -284,7 +284,8 @@ def gains_energy(G, Rv, z, phi, nr, nn, h):
 def _impulse_lcp(R, Minv, v_free, phi, fr, mu, nn, h, covers):
     """Solve the Stewart-Trinkle LCP of the step (normal, limit and friction-edge rows of
     ``R``, the friction-cone slack rows): ``(status, z, MRt)``; a failed Lemke path on the
-    stabilized ``b + phi/h`` is retried closing gaps only (``b + max(phi, 0)/h``)."""
+    stabilized ``b + phi/h``, or an answer that adds energy (:func:`gains_energy`), is
+    retried closing gaps only (``b + max(phi, 0)/h``)."""
     nf = fr.shape[0]
     nr = R.shape[0]
     MRt = Minv @ R.T
