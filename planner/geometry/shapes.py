@@ -329,13 +329,48 @@ def polyline(points) -> Profile:
 
 
 def polygon(points) -> Profile:
-    """A closed polygon through ``points`` (N, 2) [m], N >= 3 (reordered clockwise)."""
+    """A closed polygon through ``points`` (N, 2) [m], N >= 3 (reordered clockwise).
+
+    Raises:
+        InvalidParameter: fewer than 3 points, consecutive duplicates, or an outline that
+            crosses or touches itself (not the boundary of one region).
+    """
     P = _vertices(points, 3)
     if np.allclose(P[0], P[-1]):
         P = P[:-1]
+    _simple(P)
     if _signed_area(P) > 0:
         P = P[::-1]
     return Profile(tuple(_chain(P, closed=True)), closed=True, name="polygon")
+
+
+def _simple(P: np.ndarray) -> None:
+    """Refuse a closed polygon ``P`` (N, 2) whose edges cross or touch (other than
+    neighbours at their shared vertex), naming the first such pair of edges."""
+    from shapely.geometry import LinearRing
+
+    if len(P) >= 3 and LinearRing(P).is_simple:
+        return
+    n = len(P)
+    for i in range(n):
+        a, b = P[i], P[(i + 1) % n]
+        for j in range(i + 1, n):
+            if j == i + 1 or (i == 0 and j == n - 1):
+                continue  # neighbours share a vertex
+            c, d = P[j], P[(j + 1) % n]
+            if _segments_meet(a, b, c, d):
+                raise InvalidParameter(
+                    f"points: the polygon crosses itself: edge {i} ({a.tolist()} -> "
+                    f"{b.tolist()}) meets edge {j} ({c.tolist()} -> {d.tolist()})"
+                )
+    raise InvalidParameter("points: the polygon crosses or touches itself")
+
+
+def _segments_meet(a, b, c, d) -> bool:
+    """Whether segments ab and cd share a point (shapely's test on two segments)."""
+    from shapely.geometry import LineString
+
+    return LineString([a, b]).intersects(LineString([c, d]))
 
 
 def spline(points, closed: bool = False) -> Profile:
