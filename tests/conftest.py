@@ -28,29 +28,6 @@ settings.register_profile(
 settings.register_profile("dev", deadline=None)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "dev"))
 
-
-def _import_the_package() -> None:
-    """Import every module of ``planner`` and ``robots`` before any test runs (~2.5 s).
-
-    Hypothesis (>= 6.1xx) sometimes draws numbers from the literals of the local modules
-    loaded so far (``sys.modules``); under pytest-xdist which modules a worker has loaded
-    when a property test runs depends on which tests it ran before, so a derandomized test
-    could draw other examples from run to run. With the whole package loaded up front the
-    pool is the same for every test and every run."""
-    import importlib
-    import pkgutil
-
-    import planner
-    import robots
-
-    for pkg in (planner, robots):
-        for info in pkgutil.walk_packages(pkg.__path__, pkg.__name__ + "."):
-            if not info.name.endswith("__main__"):
-                importlib.import_module(info.name)
-
-
-_import_the_package()
-
 ROOT = Path(__file__).resolve().parent.parent
 
 
