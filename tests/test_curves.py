@@ -200,6 +200,8 @@ def test_resample_equal_arclength():
         (lambda: shapes.polyline([[0, 0], [0, 0]]), "duplicates"),
         (lambda: shapes.polygon([[0, 0], [1, 1], [1, 0], [0, 1]]), "edge 0 .* meets edge 2"),
         (lambda: shapes.polygon([[0, 0], [2, 0], [1, 0], [1, 1]]), "crosses"),  # a spike
+        (lambda: shapes.polygon([[0, 0], [1, 0], [0, 0]]), "at least 3 vertices"),
+        (lambda: shapes.polygon([[0, 0], [1, 0], [2, 0]]), "retraces itself"),
         (lambda: shapes.rounded_rectangle(0.1, 0.05, 0.04), "corner_radius"),
         (lambda: shapes.bump(0.001, 0.01, "square"), "shape"),
         (lambda: c.estimated_curve(np.zeros((3, 3)), 0.01), "shape"),

@@ -345,32 +345,25 @@ def polygon(points) -> Profile:
 
 
 def _simple(P: np.ndarray) -> None:
-    """Refuse a closed polygon ``P`` (N, 2) whose edges cross or touch (other than
-    neighbours at their shared vertex), naming the first such pair of edges."""
-    from shapely.geometry import LinearRing
+    """Refuse a closed polygon ``P`` (N, 2) that is not the boundary of one region: fewer
+    than 3 vertices, or edges that cross or touch (other than neighbours at their shared
+    vertex; the first such pair is named), or one that retraces itself along a line."""
+    from shapely.geometry import LinearRing, LineString
 
-    if len(P) >= 3 and LinearRing(P).is_simple:
-        return
     n = len(P)
+    if n < 3:
+        raise InvalidParameter(f"points: expected at least 3 vertices, got {n} (and a repeat)")
+    if LinearRing(P).is_simple:
+        return
     for i in range(n):
-        a, b = P[i], P[(i + 1) % n]
-        for j in range(i + 1, n):
-            if j == i + 1 or (i == 0 and j == n - 1):
-                continue  # neighbours share a vertex
-            c, d = P[j], P[(j + 1) % n]
-            if _segments_meet(a, b, c, d):
+        for j in range(i + 2, n - (i == 0)):  # not neighbours (they share a vertex)
+            ab, cd = P[[i, (i + 1) % n]], P[[j, (j + 1) % n]]
+            if LineString(ab).intersects(LineString(cd)):
                 raise InvalidParameter(
-                    f"points: the polygon crosses itself: edge {i} ({a.tolist()} -> "
-                    f"{b.tolist()}) meets edge {j} ({c.tolist()} -> {d.tolist()})"
+                    f"points: the polygon crosses itself: edge {i} ({ab[0].tolist()} -> "
+                    f"{ab[1].tolist()}) meets edge {j} ({cd[0].tolist()} -> {cd[1].tolist()})"
                 )
-    raise InvalidParameter("points: the polygon crosses or touches itself")
-
-
-def _segments_meet(a, b, c, d) -> bool:
-    """Whether segments ab and cd share a point (shapely's test on two segments)."""
-    from shapely.geometry import LineString
-
-    return LineString([a, b]).intersects(LineString([c, d]))
+    raise InvalidParameter("points: the polygon retraces itself along a line (no area)")
 
 
 def spline(points, closed: bool = False) -> Profile:
