@@ -44,6 +44,33 @@ def benchmark_module(name: str):
         sys.path.remove(folder)
 
 
+def _import_every_local_module() -> None:
+    """Import every module of ``planner`` and ``robots`` and every benchmark script before
+    any test runs (~2 s per process).
+
+    Hypothesis draws some numbers from the literals of the *local* modules loaded so far
+    (``sys.modules``, outside site-packages and tests/). Under pytest-xdist which modules a
+    worker has loaded when a property test runs depends on which tests it ran before, so a
+    derandomized test could draw other examples from run to run. With everything loaded up
+    front the pool is the same for every test in every run. (This needs every package
+    export to survive the import of a same-named submodule: tests/test_package_names.py.)"""
+    import importlib
+    import pkgutil
+
+    import planner
+    import robots
+
+    for pkg in (planner, robots):
+        for info in pkgutil.walk_packages(pkg.__path__, pkg.__name__ + "."):
+            if not info.name.endswith("__main__"):
+                importlib.import_module(info.name)
+    for script in sorted((ROOT / "benchmarks").glob("*.py")):
+        benchmark_module(script.stem)
+
+
+_import_every_local_module()
+
+
 def run_cli(
     *args: str, cwd: Path | None = None, timeout: float = 300
 ) -> subprocess.CompletedProcess:
