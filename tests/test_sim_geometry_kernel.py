@@ -226,6 +226,48 @@ def test_open_outline_ends_are_unsigned_in_the_kernel_too():
         _assert_same(got, _reference([other, palm], poses, [(0, 1)], [1e-3]))
 
 
+def test_a_pad_is_the_face_of_a_body_pad_depth_deep():
+    """A flat fingertip's pad is compiled with ``depth`` PAD_DEPTH (5 mm): a corner, an arc
+    or a parametric piece whose gap to it is -4 mm touches it, one at -6 mm is behind the
+    fingertip and makes no contact (no phantom pushed out through the face), in both twins;
+    the same pad with the default (unbounded) depth, like the palm, keeps it."""
+    from planner.sim.planar.hand import PAD_DEPTH
+
+    assert PAD_DEPTH == 5e-3
+    pad = OUTLINES["pad"]
+    thin = compile_outline(pad.profile, depth=PAD_DEPTH)
+    box = compile_outline(shapes.rounded_rectangle(0.004, 0.004))  # corners at +-2 mm
+    disc = compile_outline(shapes.circle(0.002))
+    ellipse = compile_outline(shapes.ellipse(0.003, 0.002))
+    # behind the pad's face (y = 0, normal +y) at depth d: the box's top corners (its bottom
+    # ones 4 mm deeper, always beyond the body), the disc's and the ellipse's lowest point
+    # (an arc's and a parametric piece's gap is their deepest point's)
+    for other, centre in ((box, -0.002), (disc, 0.002), (ellipse, 0.002)):
+        for depth, touches in ((0.004, True), (0.006, False)):
+            poses = np.array([(0.001, centre - depth, 0.0), (0.0, 0.0, 0.0)])
+            for face, bounded in ((thin, True), (pad, False)):
+                outlines = [other, face]
+                ref = _reference(outlines, poses, [(0, 1)], [1e-3])
+                got = find_contacts_packed(PackedOutlines.from_outlines(outlines), poses, 1e-3)
+                _assert_same(got, ref)
+                deepest = ref[:, 2].min(initial=np.inf)
+                if not bounded:  # every row kept (the box's bottom corners at -d - 4 mm)
+                    assert np.isclose(ref[:, 2], -depth, rtol=0.0, atol=1e-12).any()
+                elif touches:  # the rows within the body only
+                    assert deepest == pytest.approx(-depth, abs=1e-12)
+                else:
+                    assert deepest == np.inf
+
+
+def test_an_outline_depth_is_checked():
+    pad = OUTLINES["pad"].profile
+    for bad in (0.0, -1e-3, float("nan"), "deep"):
+        with pytest.raises(InvalidParameter, match="depth"):
+            compile_outline(pad, depth=bad)
+    with pytest.raises(InvalidParameter, match="closed outline"):
+        compile_outline(shapes.circle(0.01), depth=0.005)
+
+
 @settings(max_examples=60, deadline=None, derandomize=True)
 @given(
     name=st.sampled_from(["ellipse", "ellipse_moved", "bump_parabolic", "pit_gaussian"]),

@@ -68,11 +68,12 @@ START_PENETRATION = 5e-4
 
 
 def _collides(hand, profile, q, pose, mu, settings) -> bool:
-    """Whether the start configuration ``q`` puts a fingertip into the palm or the object."""
+    """Whether the start configuration ``q`` puts a fingertip into the palm or the object
+    (anything behind a flat pad counts as inside it: that is where its finger is)."""
     from planner.sim import PlanarWorld
 
     world = PlanarWorld(dt=settings.dt)
-    world.add_hand(hand, q)
+    world.add_hand(hand, q, pad_depth=math.inf)
     world.add_body(profile, pose, settings.object_mass, friction=mu, name="object")
     return any(
         gap < -START_PENETRATION

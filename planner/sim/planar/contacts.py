@@ -75,7 +75,7 @@ def _arcs_vs(oa: Outline, pa: Pose, ob: Outline, pb: Pose, margin: float, flip: 
         wx, wy = pa.to_world(cx, cy)
         d, qx, qy, nx, ny = _point_vs(ob, pb, wx, wy)
         gap = d - r
-        if gap >= margin:
+        if gap >= margin or gap < -ob.depth:  # (beyond an open outline's body)
             continue
         lx, ly = pa.unrotate(-nx, -ny)
         if not _arc_contains(phi0, sweep, math.atan2(ly, lx)):
@@ -113,7 +113,7 @@ def _params_vs_lines(oa: Outline, pa: Pose, ob: Outline, pb: Pose, margin, flip,
             if not inner:
                 continue
             gap = h - (lax * lnx + lay * lny)
-            if gap >= margin:
+            if gap >= margin or gap < -ob.depth:  # (beyond an open outline's body)
                 continue
             fx, fy = x - gap * lnx, y - gap * lny
             ex, ey = lbx - lax, lby - lay

@@ -363,11 +363,19 @@ def _is_end(F, e, qx, qy):
 
 
 @njit(cache=True)
+def _depth(F, I, b):  # noqa: E741
+    """How deep body b's outline reaches behind its face [m] (inf: closed, or a half-plane;
+    :attr:`planner.sim.planar.outline.Outline.depth`)."""
+    e = I[b, 9]
+    return math.inf if e < 0 else F[e + 4]
+
+
+@njit(cache=True)
 def closest(F, I, b, px, py):  # noqa: E741
     """Signed distance of body-frame point (px, py) to body b: ``(d, qx, qy, nx, ny)``
     (transcribes :func:`planner.sim.planar.outline.closest_point`; unsigned at an open
-    outline's ends; at a corner signed by the sum of the normals of the pieces meeting there,
-    :func:`_keep`)."""
+    outline's ends, ``inf`` beyond its body's depth (:func:`_depth`); at a corner signed by
+    the sum of the normals of the pieces meeting there, :func:`_keep`)."""
     best = (math.inf, -math.inf, True, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)  # see _keep
     o = I[b, 0]
     for k in range(I[b, 1]):
@@ -418,8 +426,13 @@ def closest(F, I, b, px, py):  # noqa: E741
     if not binner and d > 1e-13:
         out = (px - bqx) * bsx + (py - bqy) * bsy >= 0.0
         s = 1.0 if out or _is_end(F, I[b, 9], bqx, bqy) else -1.0
+        if s * d < -_depth(F, I, b):  # beyond an open outline's body: no contact
+            return math.inf, bqx, bqy, s * (px - bqx) / d, s * (py - bqy) / d
         return s * d, bqx, bqy, s * (px - bqx) / d, s * (py - bqy) / d
-    return (px - bqx) * bnx + (py - bqy) * bny, bqx, bqy, bnx, bny
+    sd = (px - bqx) * bnx + (py - bqy) * bny
+    if sd < -_depth(F, I, b):  # beyond an open outline's body: no contact
+        return math.inf, bqx, bqy, bnx, bny
+    return sd, bqx, bqy, bnx, bny
 
 
 @njit(cache=True)
@@ -482,7 +495,7 @@ def _arcs_vs(F, I, a, Pa, b, Pb, margin, flip, out, n, i, j):  # noqa: E741
             continue
         d, qx, qy, nx, ny = _point_vs(F, I, b, Pb, wx, wy)
         gap = d - rad
-        if gap >= margin:
+        if gap >= margin or gap < -_depth(F, I, b):  # (beyond an open outline's body)
             continue
         lx, ly = _unrotate(Pa, -nx, -ny)
         full = abs(F[r + 4]) >= TWO_PI - 1e-15
@@ -509,7 +522,7 @@ def _params_vs_lines(F, I, a, Pa, b, Pb, margin, flip, out, n, i, j):  # noqa: E
             if not inner:
                 continue
             gap = hv - (lax * lnx + lay * lny)
-            if gap >= margin:
+            if gap >= margin or gap < -_depth(F, I, b):  # (beyond an open outline's body)
                 continue
             fx, fy = x - gap * lnx, y - gap * lny
             ex, ey = lbx - lax, lby - lay

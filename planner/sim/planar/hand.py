@@ -13,7 +13,8 @@ fingertip frame (origin at the fingertip point, y along the distal link), is
 
 * round: the circle of radius ``tip_radius`` about the origin;
 * flat: the pad segment ``y = 0, |x| <= pad_half_width`` with outward normal +y (an open
-  profile: its two ends are corners).
+  profile: its two ends are corners), the face of a body :data:`PAD_DEPTH` deep: a point
+  farther behind it is behind the fingertip and makes no contact.
 """
 
 from __future__ import annotations
@@ -30,7 +31,20 @@ from planner.sim.planar.step_kernel import hand_parameters
 from robots.planar_hand import PlanarHand
 from robots.planar_hand.model import EFFORT_LIMIT
 
-__all__ = ["HandModel", "tip_profile"]
+__all__ = ["PAD_DEPTH", "HandModel", "tip_profile"]
+
+#: how deep a flat fingertip's body reaches behind its pad face [m]
+#: (:attr:`planner.sim.planar.outline.Outline.depth`). A corner, an arc or a curve of the
+#: object farther behind the pad has come round its end and is behind the fingertip (where
+#: the links, which do not collide, are), not in it. Pushed out through the face however
+#: deep (until 2026-11-25), such a "penetration" fed the step's gap term: a 2.8 cm 7-gon
+#: tumbling in a failed gait (mu 1, seed 687) brought a corner round the left pad's end
+#: 25 mm behind its face, and the kinetic energy went from 0.08 to 1.25 J, the object to
+#: 235 rad/s, in one step; a round right tip whose centre came behind the left pad read as
+#: 50 mm deep and stopped a run on a Lemke ray. A step's own penetrations are its travel
+#: (about 2 mm at 1 m/s), and the ball's 3 mm ridge entering a pad's slab from the side is
+#: still pushed out through the face. The palm keeps an unbounded depth (a floor).
+PAD_DEPTH = 5e-3
 
 
 def tip_profile(hand: PlanarHand, finger: str) -> Profile:

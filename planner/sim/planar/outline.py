@@ -82,6 +82,10 @@ class Outline:
         closed: whether the outline bounds a region.
         bound: radius of a circle about the body origin containing the outline [m].
         ends: an open outline's two end points ((x0, y0), (x1, y1)) [m]; () when closed.
+        depth: how deep an open outline's body reaches behind its face [m]: a corner, an
+            arc or a parametric piece whose gap to it is below ``-depth`` is beyond the body
+            (through its back) and makes no contact. ``inf`` (the default, and always for a
+            closed outline): a half-plane behind the face (a floor, the palm).
     """
 
     lines: np.ndarray
@@ -95,14 +99,20 @@ class Outline:
     arc_list: tuple = ()
     corner_list: tuple = ()
     ends: tuple = ()
+    depth: float = math.inf
 
 
-def compile_outline(profile: Profile) -> Outline:
-    """Compile ``profile`` (in its own frame) for the contact queries."""
+def compile_outline(profile: Profile, depth: float = math.inf) -> Outline:
+    """Compile ``profile`` (in its own frame) for the contact queries; ``depth`` [m] > 0:
+    how deep an open outline's body reaches behind its face (:class:`Outline`; a closed
+    outline's is its interior)."""
     if not isinstance(profile, Profile):
         raise InvalidParameter(
             f"profile: expected a planner.geometry Profile, got {checks.shown(profile)}"
         )
+    depth = checks.positive("depth", depth, "m", allow_inf=True)
+    if profile.closed and depth != math.inf:
+        raise InvalidParameter("depth: a closed outline's body is its interior (leave inf)")
     lines, arcs, params, corners = [], [], [], []
     for piece in profile.pieces:
         if isinstance(piece, Line):
@@ -150,6 +160,7 @@ def compile_outline(profile: Profile) -> Outline:
         tuple(tuple(map(float, r)) for r in A),
         tuple(tuple(map(float, r)) for r in C),
         () if profile.closed else tuple(tuple(map(float, r)) for r in C[-2:]),
+        float(depth),
     )
 
 
@@ -216,7 +227,9 @@ def closest_point(ol: Outline, px: float, py: float):
         behind it only within the slab of its pieces; when the closest point is one of its
         two ends the distance is unsigned (d >= 0, n from q to p) - signing it by the face
         normal would put every point of the half-plane behind the face "inside" (a phantom
-        penetration of the pad's corner 9 cm behind the palm ended a gait run).
+        penetration of the pad's corner 9 cm behind the palm ended a gait run). A point more
+        than ``ol.depth`` behind an open outline's face is beyond its body: ``d`` is ``inf``
+        (no contact; see :data:`planner.sim.planar.hand.PAD_DEPTH`).
 
     At a corner (the closest point is where two pieces meet) the sign is that of
     ``(p - q) . (n_1 + n_2)``, the sum of the normals of every piece that ends there (the
@@ -259,8 +272,12 @@ def closest_point(ol: Outline, px: float, py: float):
     if not inner and d > 1e-13:
         outside = (px - qx) * sx + (py - qy) * sy >= 0.0
         s = 1.0 if outside or is_end(ol.ends, qx, qy) else -1.0
+        if s * d < -ol.depth:  # beyond an open outline's body: no contact
+            return math.inf, qx, qy, s * (px - qx) / d, s * (py - qy) / d
         return s * d, qx, qy, s * (px - qx) / d, s * (py - qy) / d
     sd = (px - qx) * nx + (py - qy) * ny
+    if sd < -ol.depth:  # beyond an open outline's body: no contact
+        return math.inf, qx, qy, nx, ny
     return sd, qx, qy, nx, ny
 
 

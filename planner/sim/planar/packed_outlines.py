@@ -17,7 +17,8 @@ the body frame.
 ``I`` (int64, ``(nb, 10)``): per body the offsets into ``F`` and counts ``line0, nlines,
 arc0, narcs, corner0, ncorners, param0, nparams, known, ends``; ``known`` is 1 when the
 kernel handles every piece of the body; ``ends`` is the offset of an open outline's two end
-points (``x0, y0, x1, y1``), -1 for a closed one.
+points and the depth of its body behind its face (``x0, y0, x1, y1, depth``; ``depth`` [m]
+may be inf, :attr:`~planner.sim.planar.outline.Outline.depth`), -1 for a closed one.
 
 Parametric pieces are recognised by their values, not by their names: a piece whose
 ``f, df, ddf`` equal, on the whole 257-sample seed table, to 1e-13 of their largest values
@@ -151,7 +152,7 @@ def _pack(outlines) -> tuple[np.ndarray, np.ndarray]:
             heads[k, 15:17] = c[6:]
         I[b, 6], I[b, 7] = put(heads), len(ol.params)
         I[b, 8] = int(known)
-        I[b, 9] = put(ol.ends) if ol.ends else -1
+        I[b, 9] = put([*np.ravel(ol.ends), ol.depth]) if ol.ends else -1
     return np.concatenate(chunks), I
 
 

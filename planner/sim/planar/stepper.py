@@ -105,7 +105,14 @@ side walls (the signed distance to a sharp-edged slab; tried in 777c608, reverte
 (scenario configuration) and 46 -> 28 (defaults), coverage lower on every ridge angle.
 The pad's sharp end catches the ball's 3 mm ridge, which the face-only rule lets it ride
 over as a rounded edge would (the thesis' flat fingertip slid over its ridge). A pad with
-thickness and rounded ends of at least the ridge's height would model both; not done.
+thickness and rounded ends of at least the ridge's height would model both; not done. The
+face has a depth, though: a point more than :data:`~planner.sim.planar.hand.PAD_DEPTH`
+(5 mm) behind a fingertip pad is beyond its body and makes no contact (the palm's depth is
+unbounded). Before 2026-11-25 it was pushed out through the face however deep: a 2.8 cm
+7-gon tumbling in a failed gait (mu 1, seed 687) brought a corner round the left pad's end
+25 mm behind its face, the projection left 23 mm of it, and the gap term at that depth
+(which the energy rule allows in proportion) took the kinetic energy from 0.08 to 1.25 J
+and the object to 235 rad/s in one step.
 """
 
 from __future__ import annotations

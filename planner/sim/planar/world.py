@@ -24,7 +24,7 @@ from planner.geometry.profiles import Profile
 from planner.sim.observation import Observation, SensorSettings
 from planner.sim.planar.bodies import FIXED, FREE, TIP, Body, area_properties
 from planner.sim.planar.contacts import Pose
-from planner.sim.planar.hand import HandModel, tip_profile
+from planner.sim.planar.hand import PAD_DEPTH, HandModel, tip_profile
 from planner.sim.planar.outline import compile_outline
 from planner.sim.planar.records import contact_records
 from planner.sim.planar.sensing import observe as _observe
@@ -204,11 +204,16 @@ class PlanarWorld(WorldBase):
         self._v = np.vstack([self._v, vc])
         return self._add(body)
 
-    def add_hand(self, hand, q, qd=None, name: str = "hand", palm: bool = True) -> str:
+    def add_hand(
+        self, hand, q, qd=None, name: str = "hand", palm: bool = True, pad_depth=PAD_DEPTH
+    ) -> str:
         """Add the planar two-finger hand with joint angles ``q`` (6,) [rad].
 
         Its fingertips become bodies ``<name>.left`` and ``<name>.right``; with ``palm`` the
         palm segment becomes the fixed outline ``<name>.palm`` (y = 0, facing +y).
+        ``pad_depth`` [m] > 0: how deep a flat fingertip's body reaches behind its pad
+        (:data:`~planner.sim.planar.hand.PAD_DEPTH`; ``inf`` to see everything behind a pad
+        as inside it, as a start-pose overlap check wants).
         """
         if self.hand is not None:
             raise InvalidParameter("add_hand: this world already has a hand")
@@ -220,8 +225,10 @@ class PlanarWorld(WorldBase):
         self.q, self.qd = q.copy(), qd.copy()
         self.hand_name = str(name)
         mu = float(hand.params.friction)
+        pad_depth = checks.positive("pad_depth", pad_depth, "m", allow_inf=True)
         for k, f in enumerate(FINGER_NAMES):
-            ol = compile_outline(tip_profile(hand, f))
+            tip = tip_profile(hand, f)
+            ol = compile_outline(tip, depth=math.inf if tip.closed else pad_depth)
             self._add(Body(self._name(f"{name}.{f}", ""), TIP, ol, mu, index=k))
         if palm:
             w = hand.params.palm_half_width
