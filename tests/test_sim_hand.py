@@ -256,6 +256,36 @@ WEDGE = {
 }  # fmt: skip
 
 
+def _recorded_step(profile, mu: float, state: dict, compiled: bool):
+    """One step of the gait hand (friction ``mu``) and a 50 g ``profile`` from a recorded
+    ``state`` (q, qd, tau, the object's pose and velocity): ``(e0, e1, bound, w)`` - the
+    kinetic energy before and after [J], ``e0`` plus the work the torques and gravity can
+    do in the step [J], and the object's angular velocity after [rad/s]."""
+    from robots.planar_hand import gait_hand_params
+
+    world = PlanarWorld(dt=2e-3, gravity=(0.0, -9.81), seed=0, compiled=compiled)
+    world.add_hand(PlanarHand(gait_hand_params(mu)), np.array(state["q"]))
+    world.qd = np.array(state["qd"])
+    world.add_body(profile, state["pose"], 0.05, friction=mu, name="object")
+    world.set_state("object", pose=state["pose"], velocity=state["velocity"])
+    body = next(b for b in world.bodies if b.name == "object")
+
+    def kinetic() -> float:
+        M, _ = world.hand.mass_bias(world.q, world.qd)
+        vx, vy, w = world._v[body.index]
+        return 0.5 * (world.qd @ M @ world.qd + body.mass * (vx * vx + vy * vy)) + (
+            0.5 * body.inertia * w * w
+        )
+
+    e0, y0 = kinetic(), world._x[body.index][1]
+    tau = np.array(state["tau"])
+    world.step(tau)
+    h = world.dt
+    work = abs(float(tau @ world.qd)) * h + body.mass * 9.81 * abs(world._x[body.index][1] - y0)
+    gravity_hand = abs(float(world.hand.gravity(world.q) @ world.qd)) * h
+    return e0, kinetic(), e0 + work + gravity_hand, float(world._v[body.index][2])
+
+
 @pytest.mark.parametrize("compiled", [False, True])
 def test_a_wedged_step_answer_is_refused_and_no_energy_is_added(compiled):
     """At mu 3 the step's LCP has more than one answer in a wedge (Painleve's paradox in the
@@ -267,34 +297,13 @@ def test_a_wedged_step_answer_is_refused_and_no_energy_is_added(compiled):
     torques and of gravity over the step. (At this state the compiled step's Lemke path
     happens to end on the small answer with or without the check; the Python step's ends on
     the wedged one without it: 0.94 J after the step instead of <= 0.014 J.)"""
-    from robots.planar_hand import gait_hand_params
-
     n = 5
     r = 0.025512646173997244
     ring = [(r * math.cos(2 * math.pi * j / n), r * math.sin(2 * math.pi * j / n))
             for j in range(n)]  # fmt: skip
-    world = PlanarWorld(dt=2e-3, gravity=(0.0, -9.81), seed=0, compiled=compiled)
-    world.add_hand(PlanarHand(gait_hand_params(3.0)), np.array(WEDGE["q"]))
-    world.qd = np.array(WEDGE["qd"])
-    world.add_body(shapes.polygon(ring[::-1]), WEDGE["pose"], 0.05, friction=3.0, name="object")
-    world.set_state("object", pose=WEDGE["pose"], velocity=WEDGE["velocity"])
-    body = next(b for b in world.bodies if b.name == "object")
-
-    def kinetic() -> float:
-        M, _ = world.hand.mass_bias(world.q, world.qd)
-        vx, vy, w = world._v[body.index]
-        return 0.5 * (world.qd @ M @ world.qd + body.mass * (vx * vx + vy * vy)) + (
-            0.5 * body.inertia * w * w
-        )
-
-    e0, y0 = kinetic(), world._x[body.index][1]
-    tau = np.array(WEDGE["tau"])
-    world.step(tau)
-    h = world.dt
-    work = abs(float(tau @ world.qd)) * h + body.mass * 9.81 * abs(world._x[body.index][1] - y0)
-    gravity_hand = abs(float(world.hand.gravity(world.q) @ world.qd)) * h
-    assert kinetic() <= e0 + work + gravity_hand + 1e-6
-    assert abs(world._v[body.index][2]) < 20.0  # [rad/s] (201 with the wedged answer)
+    _, e1, bound, w = _recorded_step(shapes.polygon(ring[::-1]), 3.0, WEDGE, compiled)
+    assert e1 <= bound + 1e-6
+    assert abs(w) < 20.0  # [rad/s] (201 with the wedged answer)
 
 
 #: a 2.84 cm regular 7-gon at mu 1 (explore_object, seed 687, t = 1.2 s) tumbling in phase 2:
@@ -319,31 +328,10 @@ def test_a_corner_far_behind_a_pad_is_not_pushed_out_through_its_face(compiled):
     the energy rule at that depth, took the kinetic energy from 0.078 to 1.25 J and the
     object from 37 to 235 rad/s in one step. Without that row the step's energy gain is at
     most the torques' and gravity's work."""
-    from robots.planar_hand import gait_hand_params
-
     n, size, offset = 7, 0.028407344632261754, 0.3332020420704127
     ang = -0.5 * np.pi + np.pi / n - 2 * np.pi * np.arange(n) / n + offset
     profile = shapes.polygon(size * np.column_stack([np.cos(ang), np.sin(ang)]))
-    world = PlanarWorld(dt=2e-3, gravity=(0.0, -9.81), seed=0, compiled=compiled)
-    world.add_hand(PlanarHand(gait_hand_params(1.0)), np.array(BEHIND_PAD["q"]))
-    world.qd = np.array(BEHIND_PAD["qd"])
-    world.add_body(profile, BEHIND_PAD["pose"], 0.05, friction=1.0, name="object")
-    world.set_state("object", pose=BEHIND_PAD["pose"], velocity=BEHIND_PAD["velocity"])
-    body = next(b for b in world.bodies if b.name == "object")
-
-    def kinetic() -> float:
-        M, _ = world.hand.mass_bias(world.q, world.qd)
-        vx, vy, w = world._v[body.index]
-        return 0.5 * (world.qd @ M @ world.qd + body.mass * (vx * vx + vy * vy)) + (
-            0.5 * body.inertia * w * w
-        )
-
-    e0, y0 = kinetic(), world._x[body.index][1]
-    tau = np.array(BEHIND_PAD["tau"])
-    world.step(tau)
-    h = world.dt
-    work = abs(float(tau @ world.qd)) * h + body.mass * 9.81 * abs(world._x[body.index][1] - y0)
-    gravity_hand = abs(float(world.hand.gravity(world.q) @ world.qd)) * h
+    e0, e1, bound, w = _recorded_step(profile, 1.0, BEHIND_PAD, compiled)
     assert e0 == pytest.approx(0.078, abs=1e-3)
-    assert kinetic() <= e0 + work + gravity_hand + 1e-6
-    assert abs(world._v[body.index][2]) < 60.0  # [rad/s] (235 pushed out through the face)
+    assert e1 <= bound + 1e-6
+    assert abs(w) < 60.0  # [rad/s] (235 pushed out through the face)

@@ -440,6 +440,26 @@ def test_a_degenerate_step_lcp_gets_the_regularized_answer_checked_on_the_origin
     assert z.min() >= 0.0 and np.min(M @ z + q) >= -1e-6 * max(1.0, np.abs(q).max())
 
 
+def test_a_jammed_step_lcp_escalates_the_shift_until_an_answer_is_verified():
+    """A 26-row step LCP (a rounded rectangle on the palm between both fingers at their
+    joint limits, found fuzzing explore_object; condition number ~5e18) on which Lemke stops
+    on a ray unshifted and at the 1e-12 shift: the fallback tries 10, 100 and 1000 times
+    that shift, each answer checked on the ORIGINAL problem (at 1e-10: residual ~2e-8)."""
+    from pathlib import Path
+
+    from planner.sim.lcp import lcp_residual, solve_lcp
+    from planner.sim.planar.stepper import STEP_REGULARIZE, _solve
+
+    data = np.load(Path(__file__).parent / "data" / "step_lcp_jam26.npz")
+    M, q = data["M"], data["q"]
+    scale = STEP_REGULARIZE * np.abs(np.diag(M)).max()
+    assert solve_lcp(M, q)[1] != 0
+    assert solve_lcp(M + scale * np.eye(len(q)), q)[1] != 0  # the first shift fails too
+    z = _solve(M, q, "contact problem", regularize=STEP_REGULARIZE)
+    assert lcp_residual(M, q, z) <= 1e-6
+    assert z.min() >= 0.0 and np.min(M @ z + q) >= -1e-6 * max(1.0, np.abs(q).max())
+
+
 def test_a_failed_projection_names_its_deepest_penetration(monkeypatch):
     """A projection with no verified answer ends the step with an error that says what it
     met: the deepest penetration and its bodies (the fuzzed gait whose right tip got 19 cm

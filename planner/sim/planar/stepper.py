@@ -35,7 +35,8 @@ projection (post-stabilization, Cline & Pai 2003) when a gap is below
 **Verification.** Every LCP answer is checked (``z >= 0``, ``w >= 0``, ``z.w = 0`` to 1e-9
 relative, :func:`planner.sim.lcp.lcp_residual`); a projection whose Lemke path fails is
 retried on the regularized ``N M^-1 N^T + eps I`` and still checked on the original problem,
-to 1e-6 (so is a step's LCP that Lemke fails on in floating point, :data:`STEP_REGULARIZE`); a
+to 1e-6 (so is a step's LCP that Lemke fails on in floating point, :data:`STEP_REGULARIZE`,
+the shift raised tenfold up to three times, :data:`REGULARIZE_STEPS`); a
 step whose problem has no verified answer raises :class:`planner.errors.InfeasibleProblem`
 (a ``stopped`` event of the run), never returns an unchecked impulse. One exception, where
 no answer exists: a *jam*, contacts and joint limits that oppose each other so that no
@@ -357,13 +358,19 @@ def _limit_rows(world, nv, h):
 #: degeneracy handling in floating point; ``A + 1e-12 max(diag A) I`` was solved there with
 #: residual 1.2e-8 on the original problem, still checked (<= 1e-6) before it is used
 STEP_REGULARIZE = 1e-12
+#: the shifts :func:`_solve` tries, in units of its ``regularize``, until one is verified: a
+#: 26-row jam of a rounded rectangle on the palm between both fingers at their limits
+#: (explore_object fuzzing, 2026-11-25; condition number 5e18) defeated Lemke at 1e-12 and
+#: was solved at 1e-10 with residual 2.2e-8 on the original problem (1e-8: 2.2e-6, refused)
+REGULARIZE_STEPS = (1.0, 10.0, 100.0, 1000.0)
 
 
 def _solve(M, q, what, regularize: float = 0.0, compliant: bool = False):
     """Lemke's solution of the LCP (M, q), verified (see :func:`planner.sim.lcp.solve_lcp`).
 
     With ``regularize > 0`` a failed solve is retried on ``M + eps I`` (eps = ``regularize``
-    times the largest diagonal entry): for the position projection, whose matrix
+    times the largest diagonal entry, then 10, 100, 1000 times that,
+    :data:`REGULARIZE_STEPS`, until an answer passes): for the position projection, whose matrix
     ``N M^-1 N^T`` is only positive semidefinite when contacts jam, that makes it a P-matrix
     with a unique solution - a projection that is exact to eps, which is all a projection
     needs. The answer is still checked on the original problem (residual <= 1e-6).
@@ -378,10 +385,11 @@ def _solve(M, q, what, regularize: float = 0.0, compliant: bool = False):
     if status == 0:
         return z
     if regularize > 0.0 and len(q):
-        eps = regularize * max(1.0, float(np.abs(np.diag(M)).max()))
-        zr, st, _ = solve_lcp(M + eps * np.eye(len(q)), q)
-        if st == 0 and (compliant or lcp_residual(M, q, zr) <= 1e-6):
-            return zr
+        scale = regularize * max(1.0, float(np.abs(np.diag(M)).max()))
+        for k in REGULARIZE_STEPS:
+            zr, st, _ = solve_lcp(M + k * scale * np.eye(len(q)), q)
+            if st == 0 and (compliant or lcp_residual(M, q, zr) <= 1e-6):
+                return zr
     raise InfeasibleProblem(
         f"{what}: Lemke stopped on a {'ray' if status == 1 else 'pivot limit'}",
         problem={"M": M, "q": q},
