@@ -170,6 +170,26 @@ def run_pool(fn, tasks: Sequence, jobs: int) -> list:
     return rows
 
 
+def comma_list(convert: Callable = str, choices: Sequence | None = None) -> Callable:
+    """An argparse ``type`` for a comma-separated option (``--seeds 0,1``): each item passed
+    through ``convert`` and, with ``choices``, one of them; a bad item is argparse's usage
+    error (one line, exit 2)."""
+
+    def parse(text: str) -> list:
+        items = [t.strip() for t in text.split(",") if t.strip()]
+        try:
+            values = [convert(t) for t in items]
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"expected comma-separated {convert.__name__} values, got {text!r}"
+            ) from None
+        if choices is not None and (bad := [v for v in values if v not in choices]):
+            raise argparse.ArgumentTypeError(f"unknown {bad}; known: {', '.join(choices)}")
+        return values
+
+    return parse
+
+
 def arg_parser(description: str) -> argparse.ArgumentParser:
     """An argparse parser with the options every benchmark script takes."""
     p = argparse.ArgumentParser(description=description)

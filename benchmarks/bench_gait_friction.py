@@ -31,7 +31,7 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).parent))
-from _common import arg_parser, load_average, run_pool, write_report  # noqa: E402
+from _common import arg_parser, comma_list, load_average, run_pool, write_report  # noqa: E402
 
 #: name -> (kind, parameters [m, rad])
 OBJECTS = {
@@ -94,21 +94,17 @@ def _summary(rows: list[dict]) -> list[str]:
 
 def main() -> None:
     p = arg_parser(__doc__.splitlines()[0])
-    p.add_argument("--mus", default="1,1.25,1.5,2,3", help="true friction coefficients")
-    p.add_argument("--seeds", default="0,1", help="sensor seeds")
-    p.add_argument("--config", default="capped,full", help="capped and/or full")
-    p.add_argument("--objects", default=",".join(OBJECTS), help="object names")
+    p.add_argument("--mus", type=comma_list(float), default="1,1.25,1.5,2,3",
+                   help="true friction coefficients")  # fmt: skip
+    p.add_argument("--seeds", type=comma_list(int), default="0,1", help="sensor seeds")
+    p.add_argument("--config", type=comma_list(choices=CONFIGS), default="capped,full",
+                   help="capped and/or full")  # fmt: skip
+    p.add_argument("--objects", type=comma_list(choices=tuple(OBJECTS)),
+                   default=",".join(OBJECTS), help="object names")  # fmt: skip
     p.add_argument("--duration", type=float, default=90.0, help="simulated s per run")
     p.add_argument("--jobs", type=int, default=2, help="worker processes")
     args = p.parse_args()
-    mus = [float(m) for m in args.mus.split(",")]
-    seeds = [int(s) for s in args.seeds.split(",")]
-    names = [n for n in args.objects.split(",") if n]
-    configs = [c for c in args.config.split(",") if c]
-    if bad := [c for c in configs if c not in CONFIGS]:
-        p.error(f"--config: expected capped and/or full, got {bad}")
-    if bad := [n for n in names if n not in OBJECTS]:
-        p.error(f"--objects: unknown {bad}; known: {', '.join(OBJECTS)}")
+    mus, seeds, names, configs = args.mus, args.seeds, args.objects, args.config
     if bad := [m for m in mus if not (math.isfinite(m) and m > 0)]:
         p.error(f"--mus: expected positive numbers, got {bad}")
     if args.quick:

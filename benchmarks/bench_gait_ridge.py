@@ -33,7 +33,14 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).parent))
-from _common import ROOT, arg_parser, load_average, run_pool, write_report  # noqa: E402
+from _common import (  # noqa: E402
+    ROOT,
+    arg_parser,
+    comma_list,
+    load_average,
+    run_pool,
+    write_report,
+)
 
 SCENARIO = ROOT / "scenarios" / "ball_with_ridge.yaml"
 #: a detected ridge this close to the true one is "the ridge" [deg]; farther: a phantom
@@ -110,9 +117,11 @@ def _summary(rows: list[dict]) -> list[str]:
 
 def main() -> None:
     p = arg_parser(__doc__.splitlines()[0])
-    p.add_argument("--angles", default="0,45,90,135,170,225,270,315", help="ridge angles [deg]")
-    p.add_argument("--seeds", default="0,1,2,3,4,5", help="sensor seeds")
-    p.add_argument("--config", default="scenario,default", help="scenario and/or default")
+    p.add_argument("--angles", type=comma_list(float), default="0,45,90,135,170,225,270,315",
+                   help="ridge angles [deg]")  # fmt: skip
+    p.add_argument("--seeds", type=comma_list(int), default="0,1,2,3,4,5", help="sensor seeds")
+    p.add_argument("--config", type=comma_list(choices=("scenario", "default")),
+                   default="scenario,default", help="scenario and/or default")  # fmt: skip
     p.add_argument("--jobs", type=int, default=2, help="worker processes")
     p.add_argument("--duration", type=float, default=None, help="simulated s (default: full)")
     p.add_argument(
@@ -123,14 +132,9 @@ def main() -> None:
         help="override a key of the scenario configuration (repeatable)",
     )
     args = p.parse_args()
-    angles = [float(a) for a in args.angles.split(",")]
-    seeds = [int(s) for s in args.seeds.split(",")]
+    angles, seeds, configs = args.angles, args.seeds, args.config
     if args.quick:
         angles, seeds, args.duration = angles[:3], seeds[:1], 20.0
-    configs = [c for c in args.config.split(",") if c]
-    bad = [c for c in configs if c not in ("scenario", "default")]
-    if bad:
-        p.error(f"--config: expected scenario and/or default, got {bad}")
     tasks = [(c, a, s, args.duration, tuple(args.set)) for c in configs for a in angles
              for s in seeds]  # fmt: skip
     t0 = time.perf_counter()

@@ -24,3 +24,18 @@ def test_the_stamp_is_taken_before_any_file_is_written(tmp_path, monkeypatch):
     text = md.read_text()
     assert "| hapex_commit | abc123 |" in text and "| 1 | 2.5 |" in text
     assert text.rstrip().endswith("- a note")
+
+
+def test_comma_list_options_convert_check_and_refuse_in_one_line():
+    import argparse
+
+    import pytest
+
+    common = benchmark_module("_common")
+    assert common.comma_list(float)("0, 45,90,") == [0.0, 45.0, 90.0]
+    assert common.comma_list(int)("3") == [3]
+    assert common.comma_list(choices=("a", "b"))("b,a") == ["b", "a"]
+    with pytest.raises(argparse.ArgumentTypeError, match="comma-separated int values"):
+        common.comma_list(int)("1,x")
+    with pytest.raises(argparse.ArgumentTypeError, match=r"unknown \['c'\]; known: a, b"):
+        common.comma_list(choices=("a", "b"))("a,c")

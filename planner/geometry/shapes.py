@@ -352,7 +352,9 @@ def _simple(P: np.ndarray) -> None:
 
     n = len(P)
     if n < 3:
-        raise InvalidParameter(f"points: expected at least 3 vertices, got {n} (and a repeat)")
+        raise InvalidParameter(
+            f"points: expected at least 3 vertices, got {n} (the last point repeats the first)"
+        )
     if LinearRing(P).is_simple:
         return
     for i in range(n):
