@@ -42,11 +42,13 @@ CIRCLE = "kind: gait\nobject:\n  shape: circle\n  radius: 0.05\n"  # fits the ha
         (CIRCLE + "gravity: -9.81\n", "gravity", "greater than or equal to 0"),
         (CIRCLE + "gains:\n  rolling: [1.0, 0.05, 0.0]\n", "gains.rolling", "must be > 0"),
         (CIRCLE + "mu_cap: 0\n", "mu_cap", "greater than 0"),
+        ("kind: gait\nobject:\n  shape: circle_with_ridge\n  radius: 0.004\n"
+         "  ridge_width: 0.005\n", "object.ridge_width", "< radius 0.004"),
     ],
     ids=["unknown-object", "unknown-nominal", "mu-zero", "mu-negative", "too-big",
          "too-small", "gain-negative", "gain-too-high", "damping-negative", "hold-force",
          "joint-range", "switch-not-bool", "left-tip-too-big", "round-left-outline-model",
-         "gravity-negative", "rolling-saturation-zero", "mu-cap-zero"],
+         "gravity-negative", "rolling-saturation-zero", "mu-cap-zero", "ridge-wider-than-ball"],
 )  # fmt: skip
 def test_bad_input_exits_2_with_key_path_and_writes_nothing(cli, tmp_path, text, key, words):
     scenario = tmp_path / "bad.yaml"

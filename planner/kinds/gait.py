@@ -68,6 +68,15 @@ from pydantic import Field, model_validator
 
 from planner.scenario import OutputSettings, ScenarioBase, StrictModel
 
+#: the keys of :class:`ObjectSpec` that give a shape function's parameters of other names
+_SHAPE_KEYS = {
+    "circle_with_ridge": {
+        "width": "ridge_width",
+        "height": "ridge_height",
+        "angle": "ridge_angle_deg",
+    },
+}
+
 
 class ObjectSpec(StrictModel):
     """A closed planar object profile (object frame)."""
@@ -97,8 +106,10 @@ class ObjectSpec(StrictModel):
 
         try:
             self.profile().point_at_polar_angle([0.0, 2.0, 4.0])
-        except HapexError as exc:
-            raise ValueError(str(exc)) from None
+        except HapexError as exc:  # named by its key here (circle_with_ridge's "width")
+            head, sep, rest = str(exc).partition(": ")
+            key = _SHAPE_KEYS.get(self.shape, {}).get(head, head)
+            raise ValueError(f"{key}{sep}{rest}") from None
         return self
 
     def profile(self):
