@@ -196,3 +196,17 @@ def test_zero_gains_are_allowed():
     """A gain of 0 switches its term off (the theta stiffness of a grasp that may turn)."""
     s = GaitSettings(object_kp=(80.0, 80.0, 0.0), rolling_gains=(0.0, 0.0, 0.04), hold_kp=0.0)
     assert s.object_kp[2] == 0.0 and s.rolling_gains[0] == 0.0 and s.hold_kp == 0.0
+
+
+@pytest.mark.parametrize("name", ["profile", "nominal"])
+def test_an_open_outline_is_refused_by_name_not_by_its_repr(name):
+    """An open Profile (a surface, not an object) is named by its name and size, in one line
+    (the message used to cut the Profile's repr of nested floats at 80 characters)."""
+    from planner.geometry import shapes
+
+    wire = shapes.polyline([[0.0, 0.0], [0.05, 0.01], [0.1, 0.0]])
+    args = {"profile": DISC, "nominal": None, name: wire}
+    with pytest.raises(InvalidParameter) as err:
+        explore_object(args["profile"], nominal=args["nominal"], duration=0.1)
+    assert str(err.value).startswith(f"{name}: expected a closed planar Profile (")
+    assert str(err.value).endswith("got an open Profile 'polyline' of 2 pieces")

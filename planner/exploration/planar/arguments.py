@@ -12,6 +12,7 @@ import numpy as np
 from planner import checks
 from planner.errors import InvalidParameter
 from planner.exploration.planar.settings import GaitSettings
+from planner.geometry.profiles import Profile
 
 #: the fingertips the executor runs, (left, right): the thesis' hand (the flat pad with the
 #: 8x8 tactile array and the 2.5 cm soft round tip, ``robots.planar_hand.params``), or a
@@ -23,11 +24,14 @@ EXECUTOR_TIPS = (("flat", "round"), ("round", "round"))
 
 def _closed_profile(name: str, value: object, what: str) -> None:
     if getattr(value, "closed", False) is not True:
-        hint = ""
+        hint, got = "", checks.shown(value)
         if _vertex_array(value):
             hint = " (for (N, 2) vertices [m] use planner.geometry.polygon(points))"
+        elif isinstance(value, Profile):
+            n = len(value.pieces)
+            got = f"an open Profile {value.name!r} of {n} piece{'s' * (n != 1)}"
         raise InvalidParameter(
-            f"{name}: expected a closed planar Profile ({what}), got {checks.shown(value)}{hint}"
+            f"{name}: expected a closed planar Profile ({what}), got {got}{hint}"
         )
 
 
