@@ -73,6 +73,27 @@ def test_bad_controller_output_stops_cleanly(bad, what):
     assert log.status == "failed" and what in log.reason
 
 
+@pytest.mark.parametrize("bad", ["abc", ["a"] * 6, {"tau": 0}, object(), [True] * 6, [[1, 2], [3]]])
+@pytest.mark.parametrize("loop", ["auto", "python"])
+def test_non_numeric_controller_output_stops_cleanly(bad, loop):
+    """A string, a list of strings, a dict, an object (each a crash escaping ``run`` until
+    2026-11-25), booleans or a ragged list: ``stopped``, status "failed", in both loops."""
+    world, _, _ = pinch_scene()
+    log = world.run(0.01, lambda t, obs: bad, loop=loop)
+    assert log.status == "failed" and "non-numeric command" in log.reason
+    assert log.events[-1].kind == "stopped" and log.events[-1].message == log.reason
+    assert len(log.t) == 1
+
+
+def test_non_numeric_controller_output_stops_a_spatial_run():
+    from planner.sim.spatial.scenes import ridge_slide_scene
+
+    sc = ridge_slide_scene(travel=0.002)
+    log = sc.world.run(0.01, lambda t, obs: "abc")
+    assert log.status == "failed" and "non-numeric command 'abc'" in log.reason
+    assert log.events[-1].kind == "stopped"
+
+
 def test_blow_up_guard():
     world = PlanarWorld(gravity=(0.0, 0.0), sensors=SensorSettings.ideal())
     world.add_body(shapes.circle(0.01), (0, 0, 0), 1.0, velocity=(2e3, 0, 0), name="b")

@@ -42,6 +42,7 @@ from typing import Any
 import numpy as np
 
 from planner import checks
+from planner.checks import shown
 from planner.errors import HapexError
 from planner.sim.events import SimEvent
 from planner.sim.log import SimLog
@@ -65,7 +66,18 @@ def _command(world, controller, t: float, oracle: bool, n: int) -> tuple[np.ndar
         tau = controller(t, world.observe(oracle=oracle))
     except (HapexError, ArithmeticError, np.linalg.LinAlgError) as exc:
         return None, f"controller failed at t={t:.6g} s: {type(exc).__name__}: {exc}"
-    tau = np.asarray(tau if tau is not None else np.zeros(n), float)
+    if tau is None:
+        tau = np.zeros(n)
+    try:  # a string, a dict, an object or a ragged list is a bad command, not a crash
+        tau = np.asarray(tau)
+    except (TypeError, ValueError) as exc:
+        return None, f"controller returned a non-numeric command at t={t:.6g} s ({exc})"
+    if tau.dtype.kind not in "iuf":
+        return None, (
+            f"controller returned a non-numeric command {shown(tau.tolist())} "
+            f"(dtype {tau.dtype}) at t={t:.6g} s, expected ({n},) joint torques [N m]"
+        )
+    tau = tau.astype(float, copy=False)
     if tau.shape != (n,):
         return None, f"controller returned torques of shape {tau.shape}, expected ({n},)"
     # one dot product first (finite => every entry finite); the exact test only when it trips
