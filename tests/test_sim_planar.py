@@ -256,6 +256,35 @@ def test_bad_arguments_raise_invalid_parameter():
         world.pose("nope")
 
 
+@pytest.mark.parametrize(
+    "build, message",
+    [
+        (lambda: PlanarWorld(seed=-1), "seed: expected an integer >= 0, got -1"),
+        (lambda: PlanarWorld(seed=1.5), "seed: expected an integer >= 0, got 1.5"),
+        (lambda: PlanarWorld(seed="x"), "seed: expected an integer >= 0, got 'x'"),
+        (lambda: PlanarWorld(sensors=5), "sensors: expected a SensorSettings or None, got 5"),
+        (lambda: PlanarWorld().add_body(None, (0, 0.5, 0), 1.0), "profile: expected a closed"),
+        (lambda: PlanarWorld().add_body("circle", (0, 0.5, 0), 1.0), "profile: .* got 'circle'"),
+        (lambda: PlanarWorld().add_hand("hand", np.zeros(6)), "hand: expected a .*PlanarHand"),
+        (lambda: PlanarWorld().add_hand(None, np.zeros(6)), "hand: .* got None"),
+    ],
+)
+def test_bad_argument_types_raise_invalid_parameter_naming_the_argument(build, message):
+    """Each of these raised numpy's ValueError/TypeError or an AttributeError (sensors=5
+    only at the first observe()) until 2026-11-25."""
+    with pytest.raises(InvalidParameter, match=message):
+        build()
+
+
+def test_run_refuses_a_controller_or_stop_that_is_not_callable():
+    world = PlanarWorld()
+    world.add_body(shapes.circle(0.01), (0, 0, 0), 0.1)
+    with pytest.raises(InvalidParameter, match="controller: expected a callable .* got 5"):
+        world.run(0.01, controller=5)
+    with pytest.raises(InvalidParameter, match="stop: expected a callable .* got 'x'"):
+        world.run(0.01, stop="x")
+
+
 def _state(world):
     return [world._x.copy(), world._v.copy(), world.q.copy(), world.qd.copy()]
 

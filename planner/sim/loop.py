@@ -43,11 +43,13 @@ import numpy as np
 
 from planner import checks
 from planner.checks import shown
-from planner.errors import HapexError
+from planner.errors import HapexError, InvalidParameter
 from planner.sim.events import SimEvent
 from planner.sim.log import SimLog
 
 __all__ = ["CHUNK", "LoopState", "run"]
+
+_SIGNATURES = {"controller": "controller(t, observation) -> tau", "stop": "stop(t, world) -> str"}
 
 MAX_SPEED = 1.0e3  # [m/s] or [rad/s]: beyond this the state is considered blown up
 
@@ -165,6 +167,11 @@ class LoopState:
         checks.nonnegative("duration", duration, "s")
         checks.positive("control_rate", control_rate, "Hz")
         checks.integer("max_contacts", max_contacts, 1)
+        for name, fn in (("controller", controller), ("stop", stop)):
+            if fn is not None and not callable(fn):
+                raise InvalidParameter(
+                    f"{name}: expected a callable {_SIGNATURES[name]} or None, got {shown(fn)}"
+                )
         self.world, self.controller, self.oracle, self.stop = world, controller, oracle, stop
         self.n_steps = int(round(duration / world.dt))
         self.n = n = world.n_joints

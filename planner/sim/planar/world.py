@@ -77,8 +77,12 @@ class PlanarWorld(WorldBase):
         )
         self.drop_time = checks.positive("drop_time", drop_time, "s")
         self.compiled = bool(compiled)
+        if sensors is not None and not isinstance(sensors, SensorSettings):
+            raise InvalidParameter(
+                f"sensors: expected a SensorSettings or None, got {checks.shown(sensors)}"
+            )
         self.sensors = sensors if sensors is not None else SensorSettings()
-        self.rng = np.random.default_rng(seed)
+        self.rng = np.random.default_rng(checks.integer("seed", seed, 0))
         self.time = 0.0
         self.bodies: list[Body] = []
         self._names: dict[str, Body] = {}
@@ -182,6 +186,10 @@ class PlanarWorld(WorldBase):
             friction: Coulomb coefficient [-].
             name: handle (default ``body0``, ``body1``...).
         """
+        if not isinstance(profile, Profile):
+            raise InvalidParameter(
+                f"profile: expected a closed planner.geometry Profile, got {checks.shown(profile)}"
+            )
         m = checks.positive("mass", mass, "kg")
         p = checks.vector("pose", pose, 3, "m, m, rad")
         v = checks.vector("velocity", velocity, 3, "m/s, m/s, rad/s")
@@ -218,7 +226,12 @@ class PlanarWorld(WorldBase):
         if self.hand is not None:
             raise InvalidParameter("add_hand: this world already has a hand")
         from planner.geometry import shapes
+        from robots.planar_hand import PlanarHand
 
+        if not isinstance(hand, PlanarHand):
+            raise InvalidParameter(
+                f"hand: expected a robots.planar_hand.PlanarHand, got {checks.shown(hand)}"
+            )
         q = checks.vector("q", q, 6, "rad")
         qd = np.zeros(6) if qd is None else checks.vector("qd", qd, 6, "rad/s")
         self.hand = HandModel(hand, self.gravity)
