@@ -150,6 +150,55 @@ class PlateFeature:
             return -m * (q - rho), -m * s / q, -m * rho * rho / q**3
         return _wire(s, h / 2, self.rounding)
 
+    def _across_curvature(self, s: float) -> float:
+        _, z1, z2 = self.profile(s)
+        return z2 / (1.0 + z1 * z1) ** 1.5
+
+    def _around_curvature(self, r: float) -> float:
+        _, z1, z2 = self.profile(r)
+        if r == 0.0:  # both curvatures tend to Z''(0) (Z'(0) = 0)
+            return z2
+        return max(z2 / (1.0 + z1 * z1) ** 1.5, z1 / (r * math.sqrt(1.0 + z1 * z1)))
+
+    def concave_radius(self) -> float:
+        """The smallest radius of curvature [m] of the feature's concave (valley) parts, alone
+        on a flat plate (``inf`` when it has none: a cusp). A sphere touches such a surface
+        at a single point, as the simulator models it (:mod:`planner.sim.spatial.closest`),
+        only while its radius is below this.
+
+        The graph's principal curvatures: across a straight feature
+        ``Z'' / (1 + Z'^2)^(3/2)`` (along it 0); about a bump, pit or a path's vertex the
+        radial one and the tangential ``Z' / (r sqrt(1 + Z'^2))``. Their largest positive
+        value over the profile is found on a fine grid and refined by a bounded scalar search
+        (closed forms: a ravine ``w^2 / h``, a pit ``w^2 / (2 h)``, a wire its fillets
+        ``rho``, a ridge ``w^2 e^(3/2) / (2 h)`` to first order in ``(h / w)^2``)."""
+
+        reach = 8.0 * self.width + 4.0 * (self.rounding + self.height)
+        revolved = self.kind in ("bump", "pit")
+        path = self.path
+        parts = []
+        if (path is None and not revolved) or (path is not None and len(path) > 1):
+            parts.append((self._across_curvature, -reach))  # a straight stretch
+        if revolved or path is not None:
+            parts.append((self._around_curvature, 0.0))  # about a centre or a path's vertex
+        best = max((_peak(kappa, lo, reach) for kappa, lo in parts), default=0.0)
+        return 1.0 / best if best > 0.0 else math.inf
+
+
+def _peak(kappa, lo: float, hi: float) -> float:
+    """The largest value of ``kappa`` over ``[lo, hi]``: a grid of 8001 points, then a
+    bounded scalar search between the best point's neighbours."""
+    from scipy.optimize import minimize_scalar
+
+    grid = np.linspace(lo, hi, 8001)
+    values = np.array([kappa(float(g)) for g in grid])
+    k = int(np.argmax(values))
+    a, b = grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)]
+    res = minimize_scalar(
+        lambda g: -kappa(g), bounds=(a, b), method="bounded", options={"xatol": 1e-12 * hi}
+    )
+    return max(float(values[k]), -float(res.fun))
+
 
 def _wire(s: float, R: float, rho: float) -> tuple[float, float, float]:
     """Profile of a wire of radius R on z = 0 with fillets of radius rho: (Z, Z', Z'')."""
@@ -273,6 +322,13 @@ class Plate:
             hxy += Z2 * c * s
             hyy += Z2 * s * s
         return h, hx, hy, hxx, hxy, hyy
+
+    def concave_radius(self) -> float:
+        """The smallest :meth:`PlateFeature.concave_radius` of the features [m] (``inf`` for
+        none): a sphere of a larger radius can touch the plate at two points, where the
+        simulator finds one. Each feature is taken alone; where features overlap their
+        curvatures add, which this does not see."""
+        return min((f.concave_radius() for f in self.features), default=math.inf)
 
     def height(self, x, y) -> np.ndarray:
         """Heights ``h(x, y)`` [m] over arrays (for plots and meshes)."""
