@@ -310,6 +310,13 @@ def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float 
                 goal = (su, sv)
             yield from move_to(ex, goal, cfg.speed)
             orient, turned, steady = -orient, False, 0
+            # the way back is no to-and-fro: the come-back test (and so the decision and
+            # the closing) measures the trace from here on, the other way (counted from the
+            # start, the return made travelled > 2.5 farthest on arrival, where the recent
+            # samples overlap the first ones: a decision stop with one end reached)
+            su, sv = goal
+            pu, pv = float(ex.est.centre[0]), float(ex.est.centre[1])
+            travelled, farthest, returned, near = 0.0, 0.0, False, None
             continue
         if farthest > 0.2 * r and travelled > max(2.5 * farthest, 0.5 * r):
             # back past where tracing began (the unsettled stretch before the first kept
