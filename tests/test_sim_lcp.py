@@ -83,6 +83,33 @@ def test_trivial_and_infeasible():
 def test_bad_shapes():
     with pytest.raises(InvalidParameter, match="shape"):
         solve_lcp(np.eye(3), np.ones(2))
+    # a 2-D q was a numba TypingError, a non-numeric M a numpy ValueError
+    with pytest.raises(
+        InvalidParameter, match=r"q: expected a vector of shape \(n,\), got shape \(2, 1\)"
+    ):
+        solve_lcp(np.eye(2), np.ones((2, 1)))
+    with pytest.raises(
+        InvalidParameter, match=r"M: expected an array of numbers of shape \(2, 2\), got 'abc'"
+    ):
+        solve_lcp("abc", np.ones(2))
+    with pytest.raises(InvalidParameter, match="q: expected an array of numbers"):
+        solve_lcp(np.eye(2), ["a", 1.0])
+
+
+@pytest.mark.parametrize("where", ["q", "M"])
+@pytest.mark.parametrize("bad", [np.nan, np.inf])
+def test_non_finite_problems_are_never_verified(where, bad):
+    """``solve_lcp(I, [nan, 1])`` returned ``z = [nan, 0]`` as LCP_OK: the residual's
+    ``max(bad, nan)`` dropped the NaN."""
+    M, q = np.eye(2), np.array([-1.0, 1.0])
+    if where == "q":
+        q[0] = bad
+    else:
+        M[0, 1] = bad
+    z, status, _ = solve_lcp(M, q)
+    assert status != LCP_OK
+    assert lcp_residual(M, q, z) == np.inf
+    assert lcp_residual(np.eye(2), [-1.0, 1.0], [np.nan, 0.0]) == np.inf
 
 
 def test_residual_measures_each_violation():

@@ -27,8 +27,12 @@ Python (correct, ~100x slower).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
+from planner.checks import shown
+from planner.errors import InvalidParameter
 from planner.jit import njit
 
 __all__ = [
@@ -161,6 +165,8 @@ def _residual(M, q, z):
         w = q[i]
         for j in range(n):
             w += M[i, j] * z[j]
+        if not (math.isfinite(w) and math.isfinite(z[i])):
+            return np.inf  # max() would drop a NaN: NaN in M, q or z is never verified
         bad = max(bad, -w)
         wz += w * z[i]
     return max(bad, abs(wz) / zmax) / scale
@@ -169,7 +175,8 @@ def _residual(M, q, z):
 def lcp_residual(M: np.ndarray, q: np.ndarray, z: np.ndarray) -> float:
     """Largest violation of ``z >= 0, w = M z + q >= 0, z.w = 0``, relative to ``max(1, |q|)``.
 
-    The complementarity gap ``|z.w|`` is divided by ``max(1, max z)``.
+    The complementarity gap ``|z.w|`` is divided by ``max(1, max z)``. A non-finite ``w`` or
+    ``z`` (NaN or inf in ``M``, ``q`` or ``z``) gives ``inf``: such an answer never passes.
     """
     M = np.ascontiguousarray(M, dtype=float)
     return float(_residual(M, np.ascontiguousarray(q, float), np.ascontiguousarray(z, float)))
@@ -218,11 +225,12 @@ def solve_lcp(M: np.ndarray, q: np.ndarray, max_iter: int | None = None, tol: fl
     or its answer fails the residual check (w >= -tol, |w.z| <= tol, relative to max|q|),
     it is rerun with up to eight other fixed positive covering vectors (deterministic) - a
     different complementary path, the standard remedy when roundoff in degenerate pivots
-    leads the first path astray. Every answer returned passed the residual check.
+    leads the first path astray. Every answer returned passed the residual check; a NaN or
+    an infinity in ``M`` or ``q`` fails it (status ``LCP_RAY``, never ``LCP_OK``).
 
     Args:
-        M: (n, n) matrix.
-        q: (n,) vector.
+        M: (n, n) matrix of numbers.
+        q: (n,) vector of numbers.
         max_iter: pivot limit per path (default ``50 n + 10``).
         tol: residual tolerance (relative to ``max(1, max|q|)``).
 
@@ -230,17 +238,31 @@ def solve_lcp(M: np.ndarray, q: np.ndarray, max_iter: int | None = None, tol: fl
         ``(z, status, pivots)``: the (n,) solution, ``LCP_OK`` (0), ``LCP_RAY`` (1: every
         path ended on a ray or failed the check) or ``LCP_MAX_ITER`` (2), and the pivot count
         of the last path.
-    """
-    M = np.ascontiguousarray(M, dtype=float)
-    q = np.ascontiguousarray(q, dtype=float)
-    n = q.shape[0]
-    if M.shape != (n, n):
-        from planner.errors import InvalidParameter
 
+    Raises:
+        InvalidParameter: ``q`` is not a vector of numbers, or ``M`` not a matching square
+            matrix of numbers.
+    """
+    q = _numbers("q", q, "(n,)")
+    if q.ndim != 1:
+        raise InvalidParameter(f"q: expected a vector of shape (n,), got shape {q.shape}")
+    n = q.shape[0]
+    M = _numbers("M", M, f"({n}, {n})")
+    if M.shape != (n, n):
         raise InvalidParameter(f"M must have shape ({n}, {n}) to match q, got {M.shape}")
     it = int(max_iter if max_iter is not None else 50 * n + 10)
     z, status, pivots = lemke_verified(M, q, COVERS, it, float(tol))
     return z, int(status), int(pivots)
+
+
+def _numbers(name: str, value: object, shape: str) -> np.ndarray:
+    """``value`` as a contiguous float array, or InvalidParameter naming ``name``."""
+    try:
+        return np.ascontiguousarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InvalidParameter(
+            f"{name}: expected an array of numbers of shape {shape}, got {shown(value)}"
+        ) from None
 
 
 COVERS = np.random.default_rng(20260101).uniform(0.5, 2.0, size=(8, 64))
