@@ -8,10 +8,41 @@ import numpy as np
 import pytest
 
 from planner.exploration.surface.modelling import THIN, feature_model, thin_samples
-from planner.exploration.surface.online import TURN, uncertain_turn
+from planner.exploration.surface.online import TURN, uncertain_turn, window_samples
 from planner.exploration.surface.program import OUTLINE_SHARE_OTHER, outline_rise
 
 R = 0.008
+
+
+@pytest.mark.parametrize("step_um", [10.0, 20.0, 30.0, 80.0])
+def test_window_spans_its_length_of_path_when_quantized_samples_repeat(step_um):
+    """A straight path at ``step_um`` per 1 kHz step, its positions quantized to 50 um (the
+    encoders): below 50 um per step most samples repeat and the median step is 0 - the
+    window must still hold ``window`` metres of path, sampled ``spacing`` apart."""
+    u = np.round(np.arange(5000) * step_um * 1e-6 / 5e-5) * 5e-5
+    uv = np.column_stack([u, np.zeros_like(u)])
+    if step_um < 25:
+        assert np.median(np.diff(u)) == 0.0  # what the old per-step estimate saw
+    window, spacing = 6 * R, R / 100
+    idx = window_samples(uv, window, spacing)
+    assert idx[-1] == len(u) - 1
+    assert np.all(np.diff(idx) > 0)
+    # the positions only take quantized values: each mark of the path moves by up to one
+    # quantum q to the next sample
+    q = 5e-5
+    span = u[-1] - u[idx[0]]
+    assert abs(span - window) <= spacing + q + 1e-12
+    gaps = np.diff(u[idx])
+    assert gaps.min() > 0
+    assert gaps.max() <= spacing + q + 1e-12
+    assert len(idx) >= window / (spacing + q)  # (the per-step median gave ~3 samples)
+
+
+def test_window_of_a_path_shorter_than_the_window_is_the_whole_path():
+    uv = np.column_stack([np.linspace(0, 0.01, 501), np.zeros(501)])
+    idx = window_samples(uv, 6 * R, R / 100)
+    assert idx[0] == 0 and idx[-1] == 500
+    assert np.diff(uv[idx, 0]).max() <= R / 100 + 1e-12
 
 
 @pytest.mark.parametrize("slope", [0.1, 0.2, 0.35])

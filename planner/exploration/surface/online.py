@@ -2,8 +2,9 @@
 
 While the finger searches, :class:`OnlineDetector` re-runs the detector of
 :mod:`planner.exploration.surface.detection_adapter` on the last ``window`` metres of the
-fingertip-centre path (subsampled to about ``r_f/100``). A macro feature (curvature features
-within ``r_f`` of each other, Definition 2) is reported once the finger is more than
+fingertip-centre path, subsampled to about ``r_f/100`` along the path
+(:func:`window_samples`). A macro feature (curvature features within ``r_f`` of each other,
+Definition 2) is reported once the finger is more than
 ``1.25 r_f`` past its last curvature feature, i.e. when the whole pattern has been crossed;
 the **latency** is the time from crossing the peak of that last feature to the report.
 Features inside the known area of already explored features are ignored, and so are
@@ -28,7 +29,16 @@ import numpy as np
 
 from planner.exploration.surface.detection_adapter import analyse_path, collapse_pattern
 
-__all__ = ["EDGE", "STRIDE", "TURN", "Detection", "OnlineDetector", "uncertain_turn"]
+__all__ = [
+    "EDGE",
+    "SPACING",
+    "STRIDE",
+    "TURN",
+    "Detection",
+    "OnlineDetector",
+    "uncertain_turn",
+    "window_samples",
+]
 
 #: margin at the ends of the analysed path where curvature features are not trusted [r_f]
 EDGE = 0.2
@@ -41,6 +51,8 @@ STRIDE = 0.125
 #: curvature of ``cos^2(60 deg)/r_f = 1/(4 r_f)``, its offset by ``r_f`` ``1/(5 r_f)``, which
 #: turns the path by 0.1 rad over ``r_f / 2``
 TURN = 0.1
+#: spacing of the samples handed to algorithm 3 along the path [r_f]
+SPACING = 0.01
 
 
 @dataclass(frozen=True)
@@ -101,13 +113,8 @@ class OnlineDetector:
             return None  # less than STRIDE r_f of new path since the last analysis
         self._last = here.copy()
         self.calls += 1
-        C = rec.centre[k0:k1]
-        step = np.hypot(*np.diff(C[-60:, :2], axis=0).T)
-        ds = max(float(np.median(step)), 1e-7)
-        n_win = min(k1 - k0, int(self.window / ds))
-        stride = max(1, int(round(self.r / 100 / ds)))
-        i0 = k1 - n_win
-        idx = np.arange(i0, k1, stride)
+        idx = window_samples(rec.centre[k0:k1, :2], self.window, SPACING * self.r) + k0
+        i0 = int(idx[0])
         a = analyse_path(rec.centre[idx], self.r)
         if not a.features:
             return self._uncertain(a, idx, k1, i0, flush)
@@ -169,6 +176,23 @@ class OnlineDetector:
         self.latencies.append(lat)
         pattern = "+" if sign > 0 else "-"
         return Detection(pts, np.array([sign]), pattern, k, k, i0, k1, rec.t[k1 - 1], lat)
+
+
+def window_samples(uv: np.ndarray, window: float, spacing: float) -> np.ndarray:
+    """Indices into ``uv`` (N, 2) [m] of the samples of its last ``window`` [m] of path,
+    about ``spacing`` [m] apart along the path (the last sample always kept).
+
+    The window and the subsampling are measured along the path's arclength, not in samples:
+    the quantized encoders repeat a centre for several 1 kHz steps at a low speed (44 % of
+    the steps at 0.02 m/s), so a spacing estimated per step - the median step was 0 there -
+    collapsed the window to a few samples.
+    """
+    s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(uv, axis=0).T))])
+    lo = int(np.searchsorted(s, s[-1] - window, side="left"))
+    marks = np.arange(s[-1], s[lo] - 0.5 * spacing, -spacing)[::-1]
+    idx = np.searchsorted(s, marks, side="left")
+    idx[-1] = len(s) - 1
+    return np.unique(idx)
 
 
 @dataclass(frozen=True)
