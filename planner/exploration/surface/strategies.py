@@ -16,10 +16,19 @@ __all__ = ["bug2", "raster", "random_walk", "segments"]
 
 
 def raster(region: np.ndarray, spacing: float, margin: float):
-    """Boustrophedon lines along ``u``, ``spacing`` [m] apart, ``margin`` [m] inside."""
+    """Boustrophedon lines along ``u``, at most ``spacing`` [m] apart, ``margin`` [m] inside.
+
+    The band ``v0 + margin .. v1 - margin`` (length ``L``) is covered so that every point
+    of it lies within ``spacing / 2`` of a line: one line in the middle when ``L <=
+    spacing``, else the fewest lines spread evenly from edge to edge at most ``spacing``
+    apart, ``ceil(L / spacing) + 1`` (``floor(L / spacing) + 1`` put them up to twice
+    ``spacing`` apart).
+    """
     (u0, u1), (v0, v1) = region
     u0, u1, v0, v1 = u0 + margin, u1 - margin, v0 + margin, v1 - margin
-    n = max(1, int(math.floor((v1 - v0) / spacing)) + 1)
+    # (1e-9: a band that is a whole number of spacings, up to rounding, gets no extra line)
+    lines = (v1 - v0) / spacing - 1e-9
+    n = 1 if lines <= 1.0 else int(math.ceil(lines)) + 1
     vs = np.linspace(v0, v1, n) if n > 1 else [0.5 * (v0 + v1)]
     for i, v in enumerate(vs):
         a, b = np.array([u0, v]), np.array([u1, v])
