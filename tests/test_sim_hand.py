@@ -48,6 +48,19 @@ def test_pinch_drops_with_an_event_below_the_friction_bound():
     assert ratio.size and np.allclose(ratio, 1.0, rtol=1e-9)  # mu f_n while sliding
 
 
+@pytest.mark.parametrize("gravity", [(0.0, -1.0), (-3.0, -1.0)])
+def test_pinch_under_a_given_gravity_holds_what_9_81_drops(gravity):
+    """The squeeze that drops the disc under 9.81 (above) holds it under a weaker or tilted
+    gravity: the scene's world and its fingertip tasks use the given vector (the
+    ``contact_sim`` scene presets ignored ``gravity`` until 2026-11-25)."""
+    world, ctrl, info = pinch_scene(squeeze=0.4, friction=1.0, gravity=gravity)
+    assert world.gravity == gravity and info["holds"]
+    assert info["weight"] == pytest.approx(0.1 * math.hypot(*gravity))
+    log = world.run(0.6, ctrl)
+    assert [e.kind for e in log.events] == ["contact_made", "contact_made"]
+    assert np.abs(log.poses["disc"][-1, :2] - log.poses["disc"][0, :2]).max() < 2e-4
+
+
 def test_hand_dynamics_equal_pinocchio():
     world, _, _ = pinch_scene()
     q = world.q + 0.1

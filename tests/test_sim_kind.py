@@ -147,3 +147,51 @@ def test_penetration_counts_pairs_and_scene_rules_name_the_scene(cli, tmp_path):
 
 
 SCENE = "scene:\n  preset: pinch\n"
+
+
+def test_scene_presets_apply_the_given_gravity_and_record_it(cli, tmp_path):
+    """``gravity: [0, -1]`` with the pinch preset ran under -9.81 (each fingertip carried
+    0.515 N of friction, about m g / 2 with g = 9.81) while scenario.yaml recorded [0, -1]."""
+    import numpy as np
+    import yaml
+
+    f = tmp_path / "pinch.yaml"
+    f.write_text((ROOT / "scenarios/pinch_hold.yaml").read_text() + "gravity: [0.0, -1.0]\n")
+    out = tmp_path / "run"
+    res = cli("run", str(f), "--no-plots", "--out", str(out))
+    assert res.returncode == 0, res.stderr
+    assert yaml.safe_load((out / "scenario.yaml").read_text())["gravity"] == [0.0, -1.0]
+    ft = np.load(out / "trajectory.npz")["tangential_force"][-1]
+    # the two fingertips carry the disc's weight m g = 0.1 N (0.98 N under 9.81)
+    assert np.abs(ft).sum() == pytest.approx(0.1, rel=0.3)
+
+
+def test_the_spatial_scene_takes_a_3_vector_and_refuses_a_2_vector(cli, tmp_path):
+    from planner.kinds.contact_sim import _build
+    from planner.scenario import load_scenario
+
+    f = tmp_path / "ridge.yaml"
+    ridge = (ROOT / "scenarios/ridge_slide_3gm.yaml").read_text()
+    f.write_text(ridge + "gravity: [0.0, -9.81]\n")
+    res = cli("validate", str(f))
+    assert res.returncode == 2
+    line = len(ridge.splitlines()) + 1
+    assert res.stderr.strip() == (
+        f"{f}:{line}: gravity: expected 3 items, got 2: "
+        "the ridge_3gm scene is spatial, (gx, gy, gz) [m/s^2]"
+    )
+    f.write_text(ridge + "gravity: [0.0, 0.0, -4.0]\n")
+    world = _build(load_scenario(f), quick=True)[0]
+    assert world.gravity.tolist() == [0.0, 0.0, -4.0]
+    f.write_text(ridge)  # the default is recorded as the spatial gravity the run uses
+    assert load_scenario(f).gravity == (0.0, 0.0, -9.81)
+
+
+def test_a_planar_world_refuses_a_3_vector_gravity(cli, tmp_path):
+    f = tmp_path / "s.yaml"
+    f.write_text(
+        OVERLAP.replace("pose: [0, 0.01, 0]", "pose: [0, 0.03, 0]") + "gravity: [0, 0, -9.81]\n"
+    )
+    res = cli("validate", str(f))
+    assert res.returncode == 2
+    assert res.stderr.strip() == f"{f}:12: gravity: expected 2 items, got 3"

@@ -5,7 +5,8 @@ with its controller preset. Keys (SI units, angles in degrees where the key says
 
     dt: 0.001                    # time step [s]
     duration: 2.0                # simulated time [s] (scenes: default = their own)
-    gravity: [0.0, -9.81]        # planar gravity [m/s^2]
+    gravity: [0.0, -9.81]        # [m/s^2]: (gx, gy) for planar worlds (the default), and
+                                 # (gx, gy, gz) for ridge_3gm (default [0, 0, -9.81])
     fixed:                       # fixed outlines (any catalogue profile)
       - name: incline
         profile: {type: plane, angle_deg: 20, length: 2.0}
@@ -82,7 +83,7 @@ class SceneSpec(StrictModel):
         import inspect
 
         fn = _builder(self.preset)
-        names = set(inspect.signature(fn).parameters) - {"dt", "seed", "sensors"}
+        names = set(inspect.signature(fn).parameters) - {"dt", "seed", "sensors", "gravity"}
         bad = sorted(set(self.params) - names)
         if bad:
             raise ValueError(
@@ -115,10 +116,32 @@ class Config(ScenarioBase):
     kind: Literal["contact_sim"]
     dt: float = Field(1e-3, gt=0, le=0.1, allow_inf_nan=False, description="time step [s]")
     duration: float | None = Field(None, gt=0, allow_inf_nan=False, description="[s]")
-    gravity: tuple[Real, Real] = (0.0, -9.81)
+    scene: SceneSpec | None = None
+    gravity: tuple[Real, ...] | None = Field(
+        None,
+        validate_default=True,
+        description="[m/s^2]: (gx, gy) planar (default (0, -9.81)); ridge_3gm: (gx, gy, gz)",
+    )
     fixed: list[FixedSpec] = Field(default_factory=list)
     bodies: list[BodySpec] = Field(default_factory=list)
-    scene: SceneSpec | None = None
+
+    @field_validator("gravity")
+    @classmethod
+    def _gravity_of_the_world(cls, gravity, info):
+        """The gravity the run uses, so that the saved scenario records it: (gx, gy) for a
+        custom world and the planar scenes, (gx, gy, gz) for the spatial ``ridge_3gm``; the
+        default when not given."""
+        if "scene" not in info.data:  # the scene is invalid (reported): nothing to check
+            return gravity
+        scene = info.data["scene"]
+        spatial = scene is not None and scene.preset == "ridge_3gm"
+        if gravity is None:
+            return (0.0, 0.0, -9.81) if spatial else (0.0, -9.81)
+        n = 3 if spatial else 2
+        if len(gravity) != n:
+            why = ": the ridge_3gm scene is spatial, (gx, gy, gz) [m/s^2]" if spatial else ""
+            raise ValueError(f"expected {n} items, got {len(gravity)}{why}")
+        return gravity
 
     @field_validator("bodies")
     @classmethod
@@ -184,9 +207,9 @@ def _build(cfg: Config, quick: bool):
     if cfg.scene.preset == "ridge_3gm":
         if quick:
             params["travel"] = min(params.get("travel", 0.03), 0.004)
-        sc = fn(dt=cfg.dt, seed=cfg.seed, **params)
+        sc = fn(dt=cfg.dt, seed=cfg.seed, gravity=cfg.gravity, **params)
         return sc.world, sc.controller, cfg.duration or sc.duration, sc
-    world, ctrl, info = fn(dt=cfg.dt, seed=cfg.seed, **params)
+    world, ctrl, info = fn(dt=cfg.dt, seed=cfg.seed, gravity=cfg.gravity, **params)
     T = cfg.duration or info.get("revolution_time", 2.0)
     return world, ctrl, T, info
 

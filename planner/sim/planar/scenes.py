@@ -80,11 +80,14 @@ def pinch_scene(
     dt: float = 1e-3,
     seed: int = 0,
     sensors: SensorSettings | None = None,
+    gravity=(0.0, -9.81),
 ) -> tuple[PlanarWorld, FingertipForceControl, dict]:
     """A disc held between two round fingertips by Jacobian-transpose force control.
 
     The fingertips squeeze the disc horizontally with ``squeeze`` [N] each and carry half its
-    weight each; the grasp holds by friction iff ``2 mu F > m g``. ``info``: ``holds``.
+    weight ``-m g / 2`` each (``gravity``: (2,) [m/s^2]); the grasp holds by friction iff
+    ``mu (F - m |g_x| / 2) > m |g_y| / 2`` (``2 mu F > m g`` under vertical gravity).
+    ``info``: ``holds``, ``squeeze`` [N], ``weight`` ``m |g|`` [N].
     """
     F = checks.positive("squeeze", squeeze, "N")
     mu = checks.nonnegative("friction", friction)
@@ -94,17 +97,18 @@ def pinch_scene(
     rt = hand.params.right.tip_radius
     xl, xr = np.array([-(R + rt), height]), np.array([R + rt, height])
     q = np.concatenate([_grip_q(hand, "left", xl), _grip_q(hand, "right", xr)])
-    world = PlanarWorld(dt=dt, seed=seed, sensors=sensors)
+    world = PlanarWorld(dt=dt, gravity=gravity, seed=seed, sensors=sensors)
     world.add_hand(hand, q)
     world.add_body(shapes.circle(R), (0.0, height, 0.0), m, friction=mu, name="disc")
-    g = -world.gravity[1]
-    w = 0.5 * m * g
+    gx, gy = world.gravity
+    wx, wy = -0.5 * m * gx, -0.5 * m * gy  # each fingertip's share of the weight [N]
     tasks = (
-        FingerTask("left", tuple(xl), (F, w)),
-        FingerTask("right", tuple(xr), (-F, w)),
+        FingerTask("left", tuple(xl), (F + wx, wy)),
+        FingerTask("right", tuple(xr), (-F + wx, wy)),
     )
     ctrl = FingertipForceControl(hand, tasks, q, gravity=world.gravity)
-    return world, ctrl, {"holds": 2 * mu * F > m * g, "squeeze": F, "weight": m * g}
+    holds = mu * (F - abs(wx)) > abs(wy)
+    return world, ctrl, {"holds": holds, "squeeze": F, "weight": m * math.hypot(gx, gy)}
 
 
 SPREAD_LEFT = (0.5, -0.3, -0.8)  # the left finger spread away from the palm [rad]
@@ -118,12 +122,13 @@ def palm_roll_scene(
     mass: float = 0.02,
     dt: float = 1e-3,
     seed: int = 0,
+    gravity=(0.0, -9.81),
 ) -> tuple[PlanarWorld, FingertipForceControl, dict]:
     """A disc on the palm rolled by the right round fingertip pressing down with ``force``
     [N] while its set point moves along +x at ``speed`` [m/s]; rolling on the palm and under
     the fingertip, the disc's centre moves at half that speed. One revolution moves the tip
-    by ``4 pi radius`` (the default fits the finger's reach). ``info``: ``radius``,
-    ``revolution_time`` [s]."""
+    by ``4 pi radius`` (the default fits the finger's reach). ``gravity``: (2,) [m/s^2].
+    ``info``: ``radius``, ``revolution_time`` [s]."""
     R = checks.positive("radius", radius, "m")
     Fn = checks.positive("force", force, "N")
     v = checks.positive("speed", speed, "m/s")
@@ -132,7 +137,7 @@ def palm_roll_scene(
     x0 = -2.0 * math.pi * R
     tip = np.array([x0, 2 * R + rt])
     q = np.concatenate([SPREAD_LEFT, _grip_q(hand, "right", tip)])
-    world = PlanarWorld(dt=dt, seed=seed)
+    world = PlanarWorld(dt=dt, gravity=gravity, seed=seed)
     world.add_hand(hand, q)
     world.add_body(shapes.circle(R), (x0, R, 0.0), mass, friction=friction, name="disc")
     task = FingerTask("right", tuple(tip), (0.0, -Fn), (v, 0.0), stiffness=300.0, damping=3.0)
@@ -171,10 +176,12 @@ def palm_hold_slide_scene(
     mass: float = 0.1,
     dt: float = 1e-3,
     seed: int = 0,
+    gravity=(0.0, -9.81),
 ) -> tuple[PlanarWorld, FingertipForceControl, dict]:
     """The full hand: the flat left pad presses a ball against the palm with ``force`` [N]
     while the right round fingertip, pressing with ``slide_force`` [N], slides along the
-    ball's top at ``slide_speed`` [m/s]. ``info``: ``radius``, the left pad's ``pad_point``."""
+    ball's top at ``slide_speed`` [m/s]. ``gravity``: (2,) [m/s^2]. ``info``: ``radius``, the
+    left pad's ``pad_point``."""
     R = checks.positive("radius", radius, "m")
     F = checks.positive("force", force, "N")
     Fs = checks.positive("slide_force", slide_force, "N")
@@ -184,7 +191,7 @@ def palm_hold_slide_scene(
     ql, lp = _pad_on_ball(hand, c, R)
     rp = c + (R + rt) * np.array([math.cos(1.2), math.sin(1.2)])
     q = np.concatenate([ql, _grip_q(hand, "right", rp)])
-    world = PlanarWorld(dt=dt, seed=seed)
+    world = PlanarWorld(dt=dt, gravity=gravity, seed=seed)
     world.add_hand(hand, q)
     world.add_body(shapes.circle(R), (0.0, R, 0.0), mass, friction=friction, name="ball")
     nl = (c - lp) / np.linalg.norm(c - lp)

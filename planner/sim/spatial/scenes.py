@@ -66,12 +66,14 @@ def ridge_slide_scene(
     seed: int = 0,
     travel: float = 0.03,
     sensors=None,
+    gravity=(0.0, 0.0, -9.81),
 ) -> RidgeScene:
     """The 3GM fingertip sliding across a Gaussian ridge (issue 15's benchmark scene).
 
     The plate ``z = z_p`` lies so that the tip touches it at the workspace centre; the ridge
     (``height`` [m], Gaussian ``width`` [m], running along ``y``) sits ``travel/2`` ahead of the
-    start along ``+x``; the tip slides at ``speed`` [m/s] for ``travel`` [m].
+    start along ``+x``; the tip slides at ``speed`` [m/s] for ``travel`` [m]. ``gravity``: (3,)
+    in the WCS [m/s²] (the controller compensates the finger's weight under it).
 
     Returns:
         a :class:`RidgeScene` (``scene.world.run(scene.duration, scene.controller)``).
@@ -89,7 +91,7 @@ def ridge_slide_scene(
     bump = float(np.max(Plate((ridge,)).height(xs, 0.0)))  # highest point under the tip
     z_plate = float(start[2]) - tip_radius - bump - 1e-4  # the tip starts 0.1 mm above
     plate = Plate((ridge,), base=z_plate, name="ridge_plate")
-    world = SpatialWorld(dt=dt, seed=seed, sensors=sensors)
+    world = SpatialWorld(dt=dt, gravity=gravity, seed=seed, sensors=sensors)
     surface = world.add_surface(plate, friction=friction, name="plate")
     finger = world.add_finger(gm, theta, tip_radius=tip_radius)
     ctrl = TipForceVelocityController(
