@@ -20,6 +20,14 @@ LINE = re.compile(r"^(?P<file>[^:]+):(?P<line>\d+): (?P<key>[A-Za-z0-9_.\[\]()]+
         # field rules do not repeat their key
         ("region: [[-0.25, 0.25], [-0.02, 0.02]]\n", "region", "the point (-250.0, -20.0) mm"),
         ("strategy: bug2\ngoal: [0.45, 0.0]\n", "goal", "the point (450.0, 0.0) mm"),
+        # audit finding 7: these ran into a numpy MemoryError traceback (exit 1)
+        ("line_spacing: 1.0e-12\n", "line_spacing", "expected >= 0.05 r_f = 0.40 mm"),
+        (
+            "tip_radius: 0.012\nline_spacing: 5.0e-4\n",
+            "line_spacing",
+            "expected >= 0.05 r_f = 0.60",
+        ),
+        ("duration: 1.0e7\n", "duration", "expected at most 600 s (the recorder"),
     ],
 )
 def test_error_is_one_line_at_its_key(tmp_path, extra, key, start):

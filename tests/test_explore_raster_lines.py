@@ -1,4 +1,5 @@
-"""The raster strategy's lines (thesis §4.2): never farther apart than ``line_spacing``."""
+"""The raster strategy's lines (thesis §4.2): never farther apart than ``line_spacing``,
+which (with the run's duration) is bounded so the raster and the record fit in memory."""
 
 from __future__ import annotations
 
@@ -7,7 +8,14 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from planner.errors import InvalidParameter
 from planner.exploration import explore_surface
+from planner.exploration.surface.result import (
+    MAX_DURATION,
+    MIN_LINE_SPACING,
+    check_duration,
+    check_line_spacing,
+)
 from planner.exploration.surface.strategies import raster
 from planner.sim.spatial.plate import Plate, PlateFeature
 
@@ -72,3 +80,24 @@ def test_ridge_plate_with_a_12_mm_fingertip_is_found():
     res = explore_surface(Plate((ridge,)), speed=0.03, tip_radius=0.012, duration=60)
     assert res.status == "ok"
     assert [f.kind for f in res.features] == ["ridge"]
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"line_spacing": 1e-12}, r"^line_spacing: expected >= 0.05 r_f = 0.40 mm.*got 1e-12 m"),
+        ({"line_spacing": 3.9e-4}, r"^line_spacing: expected >= 0.05 r_f = 0.40 mm"),
+        ({"duration": 1e7}, r"^duration: expected at most 600 s \(the recorder.*got 10000000.0 s"),
+        ({"duration": 600.5}, r"^duration: expected at most 600 s"),
+    ],
+)
+def test_a_raster_or_a_record_too_large_is_refused(kwargs, match):
+    """Audit finding 7: these asked numpy for 3e10 raster lines or 1e10 recorder rows."""
+    plate = Plate((PlateFeature("bump", 0.002, 0.003),))
+    with pytest.raises(InvalidParameter, match=match):
+        explore_surface(plate, **kwargs)
+
+
+def test_the_bounds_themselves_are_accepted():
+    assert check_line_spacing(MIN_LINE_SPACING * R, R) == MIN_LINE_SPACING * R
+    assert check_duration(MAX_DURATION) == MAX_DURATION

@@ -15,14 +15,14 @@ Keys (SI units)::
     strategy: raster             # raster | random_walk | bug2
     identify: flow_chart         # flow_chart (crossings, Fig. 4.7 extended) | raster
     control: open_loop           # normal force: open_loop (eq. 4.12) | closed_loop | qp
-    line_spacing: null           # raster line spacing [m] (default 1.5 r_f)
+    line_spacing: null           # largest raster line spacing [m] (1.5 r_f; >= 0.05 r_f)
     goal: null                   # bug2 goal [u, v] in the plate frame [m]
     tip_radius: 0.008            # fingertip radius r_f [m]
     normal_force: 0.3            # desired normal force (eq. 4.12) [N]
     speed: 0.03                  # search speed [m/s]
     trace_speed: 0.012           # tracing speed [m/s]
     friction: 0.1                # fingertip-plate friction (graphite, §4.3.3) [-]
-    duration: 60.0               # longest simulated time [s]
+    duration: 60.0               # longest simulated time [s] (at most 600)
     quick_duration: 0.6          # simulated time of --quick [s]
 
 Bad input (exit 2): a region or goal the fingertip cannot reach, a normal force beyond the
@@ -126,13 +126,35 @@ class Config(ScenarioBase):
         "sensed normal force, torque-limit QP)",
     )
     line_spacing: float | None = Field(
-        None, gt=0, le=0.1, description="raster line spacing [m] (default 1.5 r_f)"
+        None,
+        gt=0,
+        le=0.1,
+        description="largest raster line spacing [m] (default 1.5 r_f, at least 0.05 r_f)",
     )
     speed: float = Field(0.03, gt=0, le=0.1, description="search speed [m/s]")
     trace_speed: float = Field(0.012, gt=0, le=0.1, description="tracing speed [m/s]")
     friction: float = Field(0.1, ge=0, le=2, description="fingertip-plate friction [-]")
-    duration: float = Field(60.0, gt=0, le=3600, description="longest simulated time [s]")
+    duration: float = Field(
+        60.0, gt=0, description="longest simulated time [s] (at most 600: every step is kept)"
+    )
     quick_duration: float = Field(0.6, gt=0, le=60, description="simulated time of --quick [s]")
+
+    @field_validator("line_spacing")
+    @classmethod
+    def _line_spacing(cls, v, info: ValidationInfo):
+        from planner.exploration.surface.result import check_line_spacing
+
+        if v is not None and "tip_radius" in info.data:
+            _invalid_as_value_error(check_line_spacing, v, info.data["tip_radius"])
+        return v
+
+    @field_validator("duration")
+    @classmethod
+    def _duration(cls, v):
+        from planner.exploration.surface.result import check_duration
+
+        _invalid_as_value_error(check_duration, v)
+        return v
 
     @field_validator("region")
     @classmethod
@@ -163,6 +185,17 @@ class Config(ScenarioBase):
             )
         _reach(self.plate, self.tip_radius, self.region, None, self.normal_force)
         return self
+
+
+def _invalid_as_value_error(check, *args) -> None:
+    """Run a library check; its InvalidParameter as the ValueError a field validator
+    raises (the message starts with the key; the framework drops the repeated key)."""
+    from planner.errors import InvalidParameter
+
+    try:
+        check(*args)
+    except InvalidParameter as exc:
+        raise ValueError(str(exc)) from None
 
 
 def _reach(plate, tip_radius, region, goal, normal_force) -> None:

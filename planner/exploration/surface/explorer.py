@@ -32,6 +32,7 @@ from planner.exploration.surface.result import (
     ExplorationResult,
     ExplorationSettings,
     ExploredFeature,
+    check_duration,
 )
 from planner.exploration.surface.runtime import PHASES, ExplorerController
 from planner.exploration.surface.spacing import spacing_warnings
@@ -116,7 +117,9 @@ def explore_surface(
         normal_force: desired normal force [N] (eq. 4.12).
         speed: search speed [m/s].
         seed: seed of the simulator's sensor noise and of the random walk (an integer >= 0).
-        duration: longest simulated time [s] (default 120 s).
+        duration: longest simulated time [s] (default 120 s, at most
+            :data:`~planner.exploration.surface.result.MAX_DURATION`: every control step is
+            recorded).
         tilt: tilt of the plate about the WCS y axis [rad].
         goal: (2,) bug-2 goal in the plate frame [m].
         sensors: :class:`planner.sim.SensorSettings` (default: the world's).
@@ -156,7 +159,7 @@ def explore_surface(
         control=control,
     )
     reg = region_box(((-0.02, 0.02), (-0.02, 0.02)) if region is None else region)
-    dur = 120.0 if duration is None else checks.positive("duration", duration, "s")
+    dur = 120.0 if duration is None else check_duration(duration)
     if not hasattr(surface, "features"):
         raise InvalidParameter(
             f"surface: expected a planner.sim.spatial.Plate, got {type(surface).__name__}"

@@ -9,9 +9,58 @@ import numpy as np
 
 from planner import checks
 
-__all__ = ["ExplorationResult", "ExplorationSettings", "ExploredFeature", "STRATEGIES"]
+__all__ = [
+    "MAX_DURATION",
+    "MIN_LINE_SPACING",
+    "STRATEGIES",
+    "ExplorationResult",
+    "ExplorationSettings",
+    "ExploredFeature",
+    "check_duration",
+    "check_line_spacing",
+]
 
 STRATEGIES = ("raster", "random_walk", "bug2")
+#: smallest raster line spacing [r_f]: 0.4 mm for the 8 mm fingertip, under three times the
+#: tracer's lateral accuracy (0.15 mm); closer lines cover nothing their neighbours do not,
+#: and a spacing of 1e-12 m asked numpy for 3e10 lines (MemoryError)
+MIN_LINE_SPACING = 0.05
+#: longest simulated run [s]: the explorer's recorder and the simulator's log keep every
+#: 1 kHz control step (about 1.1 kB each, allocated up front): 0.66 GB for 600 s
+MAX_DURATION = 600.0
+#: bytes kept per control step (recorder + log), for the messages
+_STEP_BYTES = 1.1e3
+
+
+def check_line_spacing(spacing: object, tip_radius: float) -> float:
+    """``spacing`` [m] as a float >= :data:`MIN_LINE_SPACING` ``tip_radius`` (raise
+    InvalidParameter naming ``line_spacing`` otherwise)."""
+    from planner.errors import InvalidParameter
+
+    s = checks.positive("line_spacing", spacing, "m")
+    least = MIN_LINE_SPACING * tip_radius
+    if s < least:
+        raise InvalidParameter(
+            f"line_spacing: expected >= {MIN_LINE_SPACING:g} r_f = {least * 1e3:.2f} mm "
+            f"(closer raster lines cover nothing their neighbours do not), got {s!r} m"
+        )
+    return s
+
+
+def check_duration(duration: object) -> float:
+    """``duration`` [s] as a float in (0, :data:`MAX_DURATION`] (raise InvalidParameter
+    naming ``duration`` otherwise)."""
+    from planner.errors import InvalidParameter
+
+    d = checks.positive("duration", duration, "s")
+    if d > MAX_DURATION:
+        raise InvalidParameter(
+            f"duration: expected at most {MAX_DURATION:g} s (the recorder and the log keep "
+            f"every 1 kHz control step, about {_STEP_BYTES / 1e3:.1f} kB each, allocated up "
+            f"front: {MAX_DURATION * 1e3 * _STEP_BYTES / 1e9:.2f} GB at that bound), got "
+            f"{d!r} s"
+        )
+    return d
 
 
 @dataclass(frozen=True)
@@ -24,7 +73,8 @@ class ExplorationSettings:
         normal_force: desired normal force f_des of eq. 4.12 [N].
         speed: sliding speed while searching [m/s].
         trace_speed: sliding speed while tracing a boundary [m/s].
-        line_spacing: distance between raster lines [m] (default 1.5 r_f).
+        line_spacing: largest distance between raster lines [m] (default 1.5 r_f; at least
+            :data:`MIN_LINE_SPACING` r_f).
         boundary_rise: the traced outline is where the fingertip centre is this much above
             (below, for pits and ravines) the plate level [m] (see
             :mod:`~planner.exploration.surface.tracing`).
@@ -66,7 +116,7 @@ class ExplorationSettings:
         checks.in_range("trace_speed", self.trace_speed, 1e-4, 0.2, "m/s")
         if self.line_spacing is None:
             object.__setattr__(self, "line_spacing", 1.5 * r)
-        checks.positive("line_spacing", self.line_spacing, "m")
+        check_line_spacing(self.line_spacing, r)
         checks.in_range("boundary_rise", self.boundary_rise, 1e-5, 5e-3, "m")
         checks.positive("detect_every", self.detect_every, "s")
         if self.window is None:
