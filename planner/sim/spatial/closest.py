@@ -22,6 +22,14 @@ concave regions (``r < 1/|k|`` of every concave principal curvature): the foot p
 unique and the contact a single point. Where this fails (a sphere wider than a groove) the
 iteration is damped and still returns the nearest local foot, but a second contact point in
 the groove is not reported (one contact per sphere and surface; a documented limit).
+:meth:`planner.sim.spatial.plate.Plate.concave_radius` is that bound for a plate: the 3GM
+ridge slide rides the exact offset surface with a tip 3 % below it and sinks into a flank
+with one 7 % above (``tests/test_sim_spatial_plate_curvature.py``). The bundled ``explore``
+plates are narrower than their 8 mm tip (concave radii 2-3 mm): on ``feature_plate`` the
+tip crossing the 2 mm ravine kept its foot on one rim while the other rim came nearer, and
+sank up to 0.87 mm into it on about 0.5 % of the steps of 20 s (measured 2026-11-25 against
+the nearest sample of a 0.1 mm grid under the tip; ``log.gap`` shows 0 there). A second
+contact per sphere, or a global check of the foot, is not done.
 All queries work in the surface frame; :class:`PlacedSurface` maps to and from the WCS.
 """
 
