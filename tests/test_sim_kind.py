@@ -83,7 +83,10 @@ def test_bad_input_exits_2_with_key_paths(cli, tmp_path):
     assert not (tmp_path / "o").exists()
     f.write_text(OVERLAP)
     res = cli("validate", str(f))
-    assert res.returncode == 2 and "bodies:" in res.stderr and "penetration" in res.stderr
+    assert res.stderr.strip() == (
+        f"{f}:8: bodies[0]: 1 pair starts in penetration, 'floor' and 'b' overlapping by "
+        "0.01 m; move the bodies apart"
+    )
     f.write_text(OVERLAP.replace("pose: [0, 0.01, 0]", "pose: [0, 0.03, 0]"))
     assert cli("validate", str(f)).returncode == 0
 
@@ -103,13 +106,19 @@ def test_every_bad_scene_param_is_reported_at_its_key(cli, tmp_path):
     )
     res = cli("validate", str(f))
     assert res.returncode == 2 and "Traceback" not in res.stderr
+    # -1 said ">= 0" while 0 was then refused with "must be > 0" (until 2026-11-25)
     assert res.stderr.splitlines() == [
-        f"{f}:6: scene.params.squeeze: Input should be greater than or equal to 0",
+        f"{f}:6: scene.params.squeeze: Input should be greater than 0",
         f"{f}:8: scene.params.radius: Input should be a finite number",
     ]
     f.write_text("name: s\nkind: contact_sim\nscene:\n  preset: pinch\n  params: {mass: 0}\n")
     res = cli("validate", str(f))
-    assert res.stderr.strip() == f"{f}:5: scene.params.mass: must be > 0, got 0"
+    assert res.stderr.strip() == f"{f}:5: scene.params.mass: Input should be greater than 0"
+    f.write_text("name: s\nkind: contact_sim\nscene:\n  preset: pinch\n  params: {friction: -1}\n")
+    res = cli("validate", str(f))
+    assert res.stderr.strip() == (
+        f"{f}:5: scene.params.friction: Input should be greater than or equal to 0"
+    )
     res = cli("validate", str(f), "--set", "scene.params.mass=0.1", "--set", "scene.params.x=1")
     assert res.returncode == 2
     assert "scene.params: unknown parameter x of the pinch scene; valid: friction," in res.stderr
@@ -195,3 +204,53 @@ def test_a_planar_world_refuses_a_3_vector_gravity(cli, tmp_path):
     res = cli("validate", str(f))
     assert res.returncode == 2
     assert res.stderr.strip() == f"{f}:12: gravity: expected 2 items, got 3"
+
+
+BODIES = """name: bodies
+kind: contact_sim
+duration: 1.0
+fixed:
+  - name: floor
+    profile: {type: plane, length: 1.0}
+  - name: floor
+    profile: {type: plane, length: 1.0}
+bodies:
+  - name: floor
+    profile: {type: circle, radius: 0.01}
+    pose: [0, 0.05, 0]
+    mass: 1
+  - name: lid
+    profile: {type: plane, length: 0.02}
+    pose: [0.5, 0.05, 0]
+    mass: 1
+"""
+
+
+def test_body_problems_are_reported_at_the_body_s_key(cli, tmp_path):
+    """A duplicate name, an open profile and a start in penetration were all reported at
+    ``bodies`` (the line of the list), not at the body's own key."""
+    f = tmp_path / "s.yaml"
+    f.write_text(BODIES)
+    res = cli("validate", str(f))
+    assert res.returncode == 2
+    assert res.stderr.splitlines() == [
+        f"{f}:7: fixed[1].name: 'floor' is already the name of fixed[0]"
+    ]
+    f.write_text(
+        BODIES.replace("  - name: floor\n    profile: {type: plane, length: 1.0}\n", "", 1)
+    )
+    res = cli("validate", str(f))
+    assert res.stderr.splitlines() == [
+        f"{f}:8: bodies[0].name: 'floor' is already the name of fixed[0]",
+        f"{f}:13: bodies[1].profile: a free body needs a closed profile, got an open 'plane'",
+    ]
+    two = OVERLAP.replace("pose: [0, 0.01, 0]", "pose: [0, 0.03, 0]") + (
+        "  - name: c\n    profile: {type: circle, radius: 0.02}\n"
+        "    pose: [0.01, 0.03, 0]\n    mass: 1\n"
+    )
+    f.write_text(two)
+    res = cli("validate", str(f))
+    assert res.stderr.strip() == (
+        f"{f}:12: bodies[1]: 1 pair starts in penetration, 'b' and 'c' overlapping by "
+        "0.03 m; move the bodies apart"
+    )

@@ -31,10 +31,11 @@ centre-path error against the exact offset surface. Plots: trajectories, contact
 
 from __future__ import annotations
 
+from functools import cache
 from typing import Annotated, Any, Literal
 
 import numpy as np
-from pydantic import Field, field_validator, model_validator
+from pydantic import BaseModel, Field, create_model, field_validator, model_validator
 
 from planner.kinds._profiles import ProfileSpec, build_profile
 from planner.results import Event, RunResult
@@ -70,30 +71,75 @@ class SceneSpec(StrictModel):
     """A named verification scene of :mod:`planner.sim` with its controller preset.
 
     ``params`` are keyword arguments of the preset's scene builder, in its units; each must
-    be finite and > 0 (``friction`` >= 0). A negative or non-finite value is reported at its
-    own key, all of them at once."""
+    be finite and > 0 (``friction`` >= 0). A value out of range or not finite is reported at
+    its own key, all of them at once."""
 
     preset: Literal["pinch", "palm_roll", "hold_slide", "ridge_3gm"]
-    params: dict[str, Annotated[float, Field(ge=0, allow_inf_nan=False)]] = Field(
-        default_factory=dict
-    )
+    params: dict[str, Any] = Field(default_factory=dict)
 
-    @model_validator(mode="after")
-    def _params(self):
-        import inspect
-
-        fn = _builder(self.preset)
-        names = set(inspect.signature(fn).parameters) - {"dt", "seed", "sensors", "gravity"}
-        bad = sorted(set(self.params) - names)
+    @field_validator("params")
+    @classmethod
+    def _params(cls, params, info):
+        preset = info.data.get("preset")
+        if preset is None:  # an unknown preset is reported at its own key
+            return params
+        model = _params_model(preset)
+        names = sorted(model.model_fields)
+        bad = sorted(set(params) - set(names))
         if bad:
             raise ValueError(
                 f"params: unknown {'parameter' if len(bad) == 1 else 'parameters'} "
-                f"{', '.join(bad)} of the {self.preset} scene; valid: {', '.join(sorted(names))}"
+                f"{', '.join(bad)} of the {preset} scene; valid: {', '.join(names)}"
             )
-        zero = [k for k, v in self.params.items() if v == 0 and k != "friction"]
-        if zero:
-            raise ValueError(f"params.{zero[0]}: must be > 0, got 0")
-        return self
+        # its errors are located at scene.params.<name>
+        return model.model_validate(params).model_dump(exclude_unset=True)
+
+
+#: scene builder arguments that are not scene parameters (given by other keys)
+_NOT_PARAMS = frozenset({"dt", "seed", "sensors", "gravity"})
+
+
+@cache
+def _params_model(preset: str) -> type[BaseModel]:
+    """The model of a preset's ``params``: every builder argument a finite float, > 0
+    (``friction`` >= 0)."""
+    import inspect
+
+    fields: dict[str, Any] = {}
+    for name in inspect.signature(_builder(preset)).parameters:
+        if name not in _NOT_PARAMS:
+            bound = {"ge": 0} if name == "friction" else {"gt": 0}
+            fields[name] = (float, Field(0.0, allow_inf_nan=False, **bound))
+    return create_model(f"{preset}_params", __config__=StrictModel.model_config, **fields)
+
+
+def _taken_names(items, key: str, names: dict[str, str]) -> list[tuple[tuple, str]]:
+    """``((i, "name"), message)`` of every item of ``items`` (the list at ``key``) whose name
+    is in ``names`` (name -> key path of its owner; the items' names are added)."""
+    errors = []
+    for i, item in enumerate(items):
+        if item.name in names:
+            errors.append(((i, "name"), f"{item.name!r} is already the name of {names[item.name]}"))
+        else:
+            names[item.name] = f"{key}[{i}]"
+    return errors
+
+
+def _raise_at(errors: list[tuple[tuple, str]]) -> None:
+    """Raise every ``(location, message)`` at once, each at its location inside the field
+    being validated (a list item's key: ``bodies[0].name``), not at the field."""
+    if errors:
+        from pydantic_core import InitErrorDetails, PydanticCustomError, ValidationError
+
+        details = [
+            InitErrorDetails(
+                type=PydanticCustomError("value_error", "{message}", {"message": msg}),
+                loc=loc,
+                input=None,
+            )
+            for loc, msg in errors
+        ]
+        raise ValidationError.from_exception_data("contact_sim", details)
 
 
 def _builder(preset: str):
@@ -143,12 +189,28 @@ class Config(ScenarioBase):
             raise ValueError(f"expected {n} items, got {len(gravity)}{why}")
         return gravity
 
+    @field_validator("fixed")
+    @classmethod
+    def _fixed_names(cls, fixed):
+        _raise_at(_taken_names(fixed, "fixed", {}))
+        return fixed
+
     @field_validator("bodies")
     @classmethod
-    def _no_initial_penetration(cls, bodies, info):
+    def _bodies_fit(cls, bodies, info):
+        """Each body's name is free, its profile closed, and no body starts in penetration:
+        each problem reported at its body's key (``bodies[i].name``, ``bodies[i].profile``,
+        ``bodies[i]``)."""
         fixed = info.data.get("fixed")
         if fixed is None or not bodies:
             return bodies
+        names = {f.name: f"fixed[{i}]" for i, f in enumerate(fixed)}
+        errors = _taken_names(bodies, "bodies", names)
+        for i, b in enumerate(bodies):
+            if not build_profile(b.profile).closed:
+                msg = f"a free body needs a closed profile, got an open {b.profile.type!r}"
+                errors.append(((i, "profile"), msg))
+        _raise_at(errors)
         from planner.errors import HapexError
 
         try:
@@ -158,10 +220,17 @@ class Config(ScenarioBase):
         over = world.penetrations(1e-9)
         if over:
             a, b, gap = over[0]
-            raise ValueError(
-                f"{len(over)} {'pair starts' if len(over) == 1 else 'pairs start'} in "
-                f"penetration, {'' if len(over) == 1 else 'the deepest '}{a!r} and {b!r} "
-                f"overlapping by {-gap:.3g} m; move the bodies apart"
+            index = {body.name: i for i, body in enumerate(bodies)}
+            at = max(index[n] for n in (a, b) if n in index)  # the later body of the pair
+            _raise_at(
+                [
+                    (
+                        (at,),
+                        f"{len(over)} {'pair starts' if len(over) == 1 else 'pairs start'} in "
+                        f"penetration, {'' if len(over) == 1 else 'the deepest '}{a!r} and "
+                        f"{b!r} overlapping by {-gap:.3g} m; move the bodies apart",
+                    )
+                ]
             )
         return bodies
 
