@@ -17,7 +17,7 @@ def test_incline_box_runs_static(cli, tmp_path):
     result = json.loads((out / "result.json").read_text())
     assert result["status"] == "ok"
     m = result["metrics"]
-    assert max(abs(v) for v in m["box.displacement_m"][:2]) <= 1e-9
+    assert max(abs(v) for v in m["box.displacement_m"]) <= 1e-9
     assert m["max_penetration_m"] <= 1e-6
     assert (out / "plots" / "trajectories.png").exists()
     assert (out / "trajectory.npz").exists()
@@ -39,7 +39,7 @@ def test_sliding_box_override_matches_closed_form(cli, tmp_path):
     )
     assert res.returncode == 0, res.stderr
     m = json.loads((out / "result.json").read_text())["metrics"]
-    a = math.hypot(*m["box.mean_acceleration"][:2])
+    a = math.hypot(*m["box.mean_acceleration_m_s2"])
     g, al = 9.81, math.radians(20)
     assert a == pytest.approx(g * (math.sin(al) - 0.1 * math.cos(al)), rel=5e-3)
 
@@ -254,3 +254,37 @@ def test_body_problems_are_reported_at_the_body_s_key(cli, tmp_path):
         f"{f}:12: bodies[1]: 1 pair starts in penetration, 'b' and 'c' overlapping by "
         "0.03 m; move the bodies apart"
     )
+
+
+def test_metrics_keep_metres_and_radians_apart(cli, tmp_path):
+    """``disc.displacement_m`` had the turned angle [rad] as its third item (55.98 for the
+    rolling disc); rolling without slip, the arclength equals r times the angle turned."""
+    out = tmp_path / "run"
+    res = cli(
+        "run", str(ROOT / "scenarios/rolling_disc.yaml"), "--quick", "--no-plots", "--out", str(out)
+    )
+    assert res.returncode == 0, res.stderr
+    m = json.loads((out / "result.json").read_text())["metrics"]
+    assert len(m["disc.displacement_m"]) == 2 and len(m["disc.final_velocity_m_s"]) == 2
+    s = math.hypot(*m["disc.displacement_m"])
+    assert s > 0.05 and m["disc.rotation_rad"] * 0.02 == pytest.approx(s, rel=1e-6)
+    v = math.hypot(*m["disc.final_velocity_m_s"])
+    assert m["disc.final_angular_velocity_rad_s"] * 0.02 == pytest.approx(v, rel=1e-6)
+    a = math.hypot(*m["disc.mean_acceleration_m_s2"])
+    assert a == pytest.approx(2 / 3 * 9.81 * math.sin(math.radians(20)), rel=1e-3)
+    assert m["disc.mean_angular_acceleration_rad_s2"] * 0.02 == pytest.approx(a, rel=1e-6)
+    units = ("_m", "_rad", "_s", "_m_s", "_rad_s", "_m_s2", "_rad_s2", "_n")
+    body_keys = [k for k in m if k.startswith("disc.")]
+    assert len(body_keys) == 6 and all(k.endswith(units) for k in body_keys)
+
+
+def test_spatial_rotation_is_the_angle_between_the_quaternions():
+    import numpy as np
+
+    from planner.kinds.contact_sim import _rotation_rad
+
+    a = 0.3
+    p0 = np.array([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0])
+    p1 = np.array([1.0, 2.0, 3.0, math.cos(a / 2), 0.0, 0.0, math.sin(a / 2)])
+    assert _rotation_rad(p0, p1) == pytest.approx(a, rel=1e-12)
+    assert _rotation_rad(p0, np.concatenate([p1[:3], -p1[3:]])) == pytest.approx(a, rel=1e-12)

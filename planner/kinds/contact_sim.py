@@ -24,7 +24,9 @@ with its controller preset. Keys (SI units, angles in degrees where the key says
       preset: pinch              # pinch | palm_roll | hold_slide | ridge_3gm
       params: {squeeze: 1.96}    # keyword arguments of the scene builder
 
-Metrics: per body its displacement, mean acceleration and final velocity; the largest
+Metrics (the unit ends each key): per body ``<body>.displacement_m`` and
+``<body>.rotation_rad``, ``final_velocity_m_s`` / ``final_angular_velocity_rad_s`` and
+``mean_acceleration_m_s2`` / ``mean_angular_acceleration_rad_s2``; the largest
 penetration; the integrated slip of every contact pair; the events; for ``ridge_3gm`` the
 centre-path error against the exact offset surface. Plots: trajectories, contact forces, slip.
 """
@@ -283,15 +285,39 @@ def _build(cfg: Config, quick: bool):
     return world, ctrl, T, info
 
 
+def _rotation_rad(p0: np.ndarray, p1: np.ndarray) -> float | list[float]:
+    """The rotation from pose ``p0`` to ``p1``: planar (x, y, angle) poses: the signed angle
+    turned [rad] (every turn counted: the logged angle is continuous); spatial poses (7,):
+    the angle of the relative rotation of their wxyz quaternions, in [0, pi] [rad]."""
+    if len(p0) == 3:
+        return float(p1[2] - p0[2])
+    return float(2.0 * np.arccos(min(1.0, abs(float(np.dot(p0[3:], p1[3:]))))))
+
+
+def _split(x: np.ndarray, d: int) -> tuple[list[float], float | list[float]]:
+    """A velocity-like row as its linear part (d,) and its angular part (a float in the
+    plane, d = 2; a (3,) list in space, d = 3)."""
+    return x[:d].tolist(), (float(x[d]) if d == 2 else x[d:].tolist())
+
+
 def _metrics(world, log) -> dict[str, Any]:
+    """Run metrics; the unit ends every key's name (m, rad, m_s, rad_s2 ...). Per body:
+    the displacement of its frame origin [m] and its rotation [rad], the final and the mean
+    accelerations, linear and angular, each under its own key."""
     T = float(log.t[-1]) if len(log.t) > 1 else 0.0
     out: dict[str, Any] = {"duration_s": T, "steps": len(log.t) - 1}
     for name, p in log.poses.items():
         v = log.velocities[name]
-        out[f"{name}.displacement_m"] = (p[-1] - p[0]).tolist()
-        out[f"{name}.final_velocity"] = v[-1].tolist()
+        d = 2 if p.shape[1] == 3 else 3  # planar (x, y, angle) / spatial (xyz, wxyz)
+        out[f"{name}.displacement_m"] = (p[-1, :d] - p[0, :d]).tolist()
+        out[f"{name}.rotation_rad"] = _rotation_rad(p[0], p[-1])
+        lin, ang = _split(v[-1], d)
+        out[f"{name}.final_velocity_m_s"] = lin
+        out[f"{name}.final_angular_velocity_rad_s"] = ang
         if T > 0:
-            out[f"{name}.mean_acceleration"] = ((v[-1] - v[0]) / T).tolist()
+            lin, ang = _split((v[-1] - v[0]) / T, d)
+            out[f"{name}.mean_acceleration_m_s2"] = lin
+            out[f"{name}.mean_angular_acceleration_rad_s2"] = ang
     gaps = log.gap[np.isfinite(log.gap)]
     out["max_penetration_m"] = max(0.0, -float(gaps.min())) if gaps.size else 0.0
     slips = {}
