@@ -3,6 +3,12 @@
 Found features are matched to true ones by the distance from the found centre to the true
 skeleton (within ``2.5 r_f``).
 
+**Type accuracy** is the number of true features with a matched detection of the right
+type (each counted once) over the number of matched detections: a feature reported twice
+(say as a step and as a ridge, or as a step twice) adds a detection, never a second correct
+one, so the accuracy stays in [0, 1] and a duplicate lowers it. ``duplicate_detections``
+counts the matched detections beyond the first of each true feature.
+
 **Boundary deviation** is the distance of every traced boundary sample (a fingertip centre)
 to the true outline (:func:`planner.exploration.surface.plates.truth_features`): the level
 line of the *traced* surface - the offset by ``r_f`` of the plate, which is all the centre
@@ -33,7 +39,7 @@ import math
 
 import numpy as np
 
-__all__ = ["exploration_metrics", "match_features"]
+__all__ = ["exploration_metrics", "match_features", "type_accuracy"]
 
 
 def _skel_geom(points: np.ndarray):
@@ -108,6 +114,18 @@ def _pseudo_hausdorff(found: np.ndarray, truth) -> float:
     return float(shapely.hausdorff_distance(shapely.MultiPoint(found), clipped))
 
 
+def type_accuracy(kinds, match, truth) -> tuple[float, int]:
+    """``(accuracy, duplicates)`` of the found features' ``kinds`` matched (``match``: the
+    index into ``truth`` of each, None when unmatched) to the true features ``truth`` (each
+    with a ``.kind``), as defined in the module doc: the true features with a matched
+    detection of their type over the matched detections (nan without any), and the matched
+    detections beyond the first of each true feature."""
+    pairs = [(k, j) for k, j in zip(kinds, match, strict=True) if j is not None]
+    right = {j for k, j in pairs if k == truth[j].kind}
+    duplicates = len(pairs) - len({j for _, j in pairs})
+    return (len(right) / len(pairs) if pairs else float("nan")), duplicates
+
+
 def exploration_metrics(result, plate, region, tip_radius: float, normal_force: float) -> dict:
     """All scalar metrics of one exploration (JSON-serialisable dict)."""
     import shapely
@@ -117,12 +135,12 @@ def exploration_metrics(result, plate, region, tip_radius: float, normal_force: 
     truth = truth_features(plate, region, tip_radius, result.settings.boundary_rise)
     match = match_features(result, truth, tip_radius)
     found_true = {j for j in match if j is not None}
-    correct, devs, dmax, closures, haus = 0, [], 0.0, [], []
+    accuracy, duplicates = type_accuracy([f.kind for f in result.features], match, truth)
+    devs, dmax, closures, haus = [], 0.0, [], []
     for f, j in zip(result.features, match, strict=True):
         if j is None:
             continue
         t = truth_features(plate, region, tip_radius, _rises(plate, j, f.rise))[j]
-        correct += f.kind == t.kind
         if len(f.boundary) and t.outline:
             outline = shapely.MultiLineString([ln for ln in t.outline if len(ln) >= 2])
             d = shapely.distance(shapely.points(f.boundary), outline)
@@ -146,7 +164,8 @@ def exploration_metrics(result, plate, region, tip_radius: float, normal_force: 
         "features_present": len(truth),
         "features_found": len(found_true),
         "false_detections": sum(j is None for j in match),
-        "type_accuracy": correct / len(found_true) if found_true else float("nan"),
+        "duplicate_detections": duplicates,
+        "type_accuracy": accuracy,
         "boundary_deviation_mean_mm": float(dev.mean() * 1e3) if dev.size else float("nan"),
         "boundary_deviation_max_mm": dmax * 1e3 if dev.size else float("nan"),
         "boundary_deviation_own_level_mm": own,

@@ -44,6 +44,9 @@ class FeatureRecord:
     centre: np.ndarray
     across: np.ndarray
     sides: list = field(default_factory=list)  # recorder index arrays, one per traced side
+    # recorder index arrays of every step on the outline while tracing (trace phase), kept
+    # or not: where the finger went along the feature, for its known area
+    traced: list = field(default_factory=list)
     closed: bool = False
     ends: int = 0  # ends of the feature reached along its length (0-2)
     detected_at: float = 0.0
@@ -167,8 +170,10 @@ def trace_feature(ex, cfg, rec_f: FeatureRecord, region, half: float):
         if outline is None:
             rec_f.reasons.append("outline not found")
             continue
+        k0 = ex.rec.n
         res = yield from trace_boundary(ex, cfg, region, outline)
         rec_f.sides.append(res.samples)
+        rec_f.traced.append(k0 + np.flatnonzero(ex.rec.phase[k0 : ex.rec.n] == PHASE["trace"]))
         rec_f.closed = rec_f.closed or res.closed
         # both sides' outlines run between the same two ends of the feature: the feature's
         # ends reached are the most one side reached (0-2), not their sum
@@ -186,10 +191,14 @@ def remember(ex, state: ProgramState, rec_f: FeatureRecord, r: float) -> None:
 
 def traced_area(ex, rec_f: FeatureRecord, grow: float):
     """The hull of the traced centres of ``rec_f`` (its centre alone when nothing was
-    traced) grown by ``grow`` [m], a shapely geometry in the plate frame."""
+    traced) grown by ``grow`` [m], a shapely geometry in the plate frame.
+
+    The centres are every step of the trace on the outline (:attr:`FeatureRecord.traced`),
+    not only the kept boundary samples: a step traced from end to end kept 9 samples at
+    one end, and the search met it again 20 mm farther on and traced it twice."""
     import shapely
 
-    pts = [ex.rec.centre[s, :2] for s in rec_f.sides if len(s)]
+    pts = [ex.rec.centre[s, :2] for s in [*rec_f.sides, *rec_f.traced] if len(s)]
     geo = shapely.MultiPoint(np.vstack(pts)) if pts else shapely.Point(*rec_f.centre)
     return geo.convex_hull.buffer(grow)
 
