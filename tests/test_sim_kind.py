@@ -55,7 +55,7 @@ fixed:
 bodies:
   - name: b
     profile: {type: circle, radius: 0.02}
-    pose: [0, 0.05, 0]
+    position: [0, 0.05]
     mass: -1
 """
 
@@ -68,7 +68,7 @@ fixed:
 bodies:
   - name: b
     profile: {type: circle, radius: 0.02}
-    pose: [0, 0.01, 0]
+    position: [0, 0.01]
     mass: 1
 """
 
@@ -87,7 +87,7 @@ def test_bad_input_exits_2_with_key_paths(cli, tmp_path):
         f"{f}:8: bodies[0]: 1 pair starts in penetration, 'floor' and 'b' overlapping by "
         "0.01 m; move the bodies apart"
     )
-    f.write_text(OVERLAP.replace("pose: [0, 0.01, 0]", "pose: [0, 0.03, 0]"))
+    f.write_text(OVERLAP.replace("position: [0, 0.01]", "position: [0, 0.03]"))
     assert cli("validate", str(f)).returncode == 0
 
 
@@ -126,14 +126,14 @@ def test_every_bad_scene_param_is_reported_at_its_key(cli, tmp_path):
 
 def test_a_short_tuple_is_too_few_items_not_a_missing_key(cli, tmp_path):
     f = tmp_path / "s.yaml"
-    f.write_text(OVERLAP.replace("pose: [0, 0.01, 0]", "pose: [0, 0.03]") + "gravity: [0.0]\n")
+    f.write_text(OVERLAP.replace("position: [0, 0.01]", "position: [0.03]") + "gravity: [0.0]\n")
     res = cli("validate", str(f))
     assert res.returncode == 2
     assert res.stderr.splitlines() == [
-        f"{f}:10: bodies[0].pose: expected 3 items, got 2",
+        f"{f}:10: bodies[0].position: expected 2 items, got 1",
         f"{f}:12: gravity: expected 2 items, got 1",
     ]
-    f.write_text(OVERLAP.replace("pose: [0, 0.01, 0]", "pose: [0, 0.03, 0]"))
+    f.write_text(OVERLAP.replace("position: [0, 0.01]", "position: [0, 0.03]"))
     res = cli("run", str(f), "--out", str(tmp_path / "o"), "--set", "bodies.0.velocity=[0.5]")
     assert res.returncode == 2 and not (tmp_path / "o").exists()
     assert res.stderr.strip().endswith("bodies[0].velocity: expected 3 items, got 1")
@@ -144,13 +144,13 @@ def test_penetration_counts_pairs_and_scene_rules_name_the_scene(cli, tmp_path):
     box = "  - name: b\n    profile: {type: rounded_rectangle, width: 0.02, height: 0.01}\n"
     f.write_text(
         OVERLAP.replace("  - name: b\n    profile: {type: circle, radius: 0.02}\n", box).replace(
-            "pose: [0, 0.01, 0]", "pose: [0, 0.004, 0]"
+            "position: [0, 0.01]", "position: [0, 0.004]"
         )
     )
     res = cli("validate", str(f))
     # a box sunk flat into the floor touches it at two points: still one pair
     assert res.returncode == 2 and "1 pair starts in penetration, 'floor' and 'b'" in res.stderr
-    f.write_text(OVERLAP.replace("pose: [0, 0.01, 0]", "pose: [0, 0.03, 0]") + SCENE)
+    f.write_text(OVERLAP.replace("position: [0, 0.01]", "position: [0, 0.03]") + SCENE)
     res = cli("validate", str(f))
     assert res.stderr.strip() == f"{f}:12: scene: give either a scene or fixed/bodies, not both"
 
@@ -199,7 +199,7 @@ def test_the_spatial_scene_takes_a_3_vector_and_refuses_a_2_vector(cli, tmp_path
 def test_a_planar_world_refuses_a_3_vector_gravity(cli, tmp_path):
     f = tmp_path / "s.yaml"
     f.write_text(
-        OVERLAP.replace("pose: [0, 0.01, 0]", "pose: [0, 0.03, 0]") + "gravity: [0, 0, -9.81]\n"
+        OVERLAP.replace("position: [0, 0.01]", "position: [0, 0.03]") + "gravity: [0, 0, -9.81]\n"
     )
     res = cli("validate", str(f))
     assert res.returncode == 2
@@ -217,11 +217,11 @@ fixed:
 bodies:
   - name: floor
     profile: {type: circle, radius: 0.01}
-    pose: [0, 0.05, 0]
+    position: [0, 0.05]
     mass: 1
   - name: lid
     profile: {type: plane, length: 0.02}
-    pose: [0.5, 0.05, 0]
+    position: [0.5, 0.05]
     mass: 1
 """
 
@@ -244,9 +244,9 @@ def test_body_problems_are_reported_at_the_body_s_key(cli, tmp_path):
         f"{f}:8: bodies[0].name: 'floor' is already the name of fixed[0]",
         f"{f}:13: bodies[1].profile: a free body needs a closed profile, got an open 'plane'",
     ]
-    two = OVERLAP.replace("pose: [0, 0.01, 0]", "pose: [0, 0.03, 0]") + (
+    two = OVERLAP.replace("position: [0, 0.01]", "position: [0, 0.03]") + (
         "  - name: c\n    profile: {type: circle, radius: 0.02}\n"
-        "    pose: [0.01, 0.03, 0]\n    mass: 1\n"
+        "    position: [0.01, 0.03]\n    mass: 1\n"
     )
     f.write_text(two)
     res = cli("validate", str(f))
@@ -288,3 +288,21 @@ def test_spatial_rotation_is_the_angle_between_the_quaternions():
     p1 = np.array([1.0, 2.0, 3.0, math.cos(a / 2), 0.0, 0.0, math.sin(a / 2)])
     assert _rotation_rad(p0, p1) == pytest.approx(a, rel=1e-12)
     assert _rotation_rad(p0, np.concatenate([p1[:3], -p1[3:]])) == pytest.approx(a, rel=1e-12)
+
+
+def test_the_angle_key_says_degrees_and_the_old_pose_key_is_refused_with_its_fix(cli, tmp_path):
+    """``pose: [x, y, angle]`` took degrees without saying so (DESIGN.md: a key that takes
+    degrees says so in its name); it is replaced by ``position`` [m] and ``angle_deg``."""
+    from planner.kinds.contact_sim import _build
+    from planner.scenario import load_scenario
+
+    world = _build(load_scenario(ROOT / "scenarios/incline_box.yaml"), quick=True)[0]
+    assert world.pose("box")[2] == pytest.approx(math.radians(20.0), rel=1e-15)
+    f = tmp_path / "s.yaml"
+    f.write_text(OVERLAP.replace("position: [0, 0.01]", "pose: [0, 0.03, 90]"))
+    res = cli("validate", str(f))
+    assert res.returncode == 2
+    assert res.stderr.strip() == (
+        f"{f}:10: bodies[0].pose: replaced by position: [0, 0.03] and angle_deg: 90 "
+        "(pose took its angle in degrees)"
+    )

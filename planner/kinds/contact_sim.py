@@ -1,7 +1,8 @@
 """Scenario kind ``contact_sim``: a verification scene of the contact simulator (issue 15).
 
 Either a custom planar world (fixed outlines + free bodies, no controller) or a named scene
-with its controller preset. Keys (SI units, angles in degrees where the key says so)::
+with its controller preset. Keys (SI units; angles in degrees only where the key ends in
+``_deg``)::
 
     dt: 0.001                    # time step [s]
     duration: 2.0                # simulated time [s] (scenes: default = their own)
@@ -10,12 +11,14 @@ with its controller preset. Keys (SI units, angles in degrees where the key says
     fixed:                       # fixed outlines (any catalogue profile)
       - name: incline
         profile: {type: plane, angle_deg: 20, length: 2.0}
-        pose: [0.0, 0.0, 0.0]    # x [m], y [m], angle [deg]
+        position: [0.0, 0.0]     # x, y of the profile's frame [m]
+        angle_deg: 0.0           # its rotation [deg]
         friction: 0.5
     bodies:                      # free rigid bodies (closed profiles)
       - name: box
         profile: {type: rounded_rectangle, width: 0.02, height: 0.01}
-        pose: [0.0, 0.005, 0.0]  # x [m], y [m], angle [deg]
+        position: [0.0, 0.005]   # x, y of the profile's frame [m]
+        angle_deg: 0.0           # its rotation [deg]
         mass: 0.1                # [kg]
         inertia: null            # [kg m^2] (default: uniform density)
         velocity: [0, 0, 0]      # vx, vy [m/s], omega [rad/s]
@@ -48,21 +51,40 @@ Real = Annotated[float, Field(allow_inf_nan=False)]
 SCENES = ("pinch", "palm_roll", "hold_slide", "ridge_3gm")
 
 
-class FixedSpec(StrictModel):
+class _Placed(StrictModel):
+    """An outline placed by ``position`` [m] and ``angle_deg`` [deg] (until 2026-11-25 one
+    key ``pose: [x, y, angle]`` whose angle was in degrees, which its name did not say: it is
+    refused with the two keys that replace it)."""
+
+    @model_validator(mode="before")
+    @classmethod
+    def _pose_replaced(cls, data):
+        if isinstance(data, dict) and "pose" in data:
+            p = data["pose"]
+            fix = "position: [x, y] [m] and angle_deg: angle [deg]"
+            if isinstance(p, (list, tuple)) and len(p) == 3:
+                fix = f"position: [{p[0]}, {p[1]}] and angle_deg: {p[2]}"
+            _raise_at([(("pose",), f"replaced by {fix} (pose took its angle in degrees)")])
+        return data
+
+
+class FixedSpec(_Placed):
     """A fixed outline."""
 
     name: str = Field(..., pattern=r"^[A-Za-z0-9_.-]+$")
     profile: ProfileSpec
-    pose: tuple[Real, Real, Real] = Field((0.0, 0.0, 0.0), description="x, y [m], angle [deg]")
+    position: tuple[Real, Real] = Field((0.0, 0.0), description="x, y of the profile [m]")
+    angle_deg: Real = Field(0.0, description="rotation of the profile [deg]")
     friction: float = Field(0.5, ge=0, allow_inf_nan=False, description="Coulomb mu [-]")
 
 
-class BodySpec(StrictModel):
+class BodySpec(_Placed):
     """A free rigid body."""
 
     name: str = Field(..., pattern=r"^[A-Za-z0-9_.-]+$")
     profile: ProfileSpec
-    pose: tuple[Real, Real, Real] = Field(..., description="x, y [m], angle [deg]")
+    position: tuple[Real, Real] = Field(..., description="x, y of the profile's frame [m]")
+    angle_deg: Real = Field(0.0, description="rotation of the profile [deg]")
     mass: float = Field(..., gt=0, allow_inf_nan=False, description="[kg]")
     inertia: float | None = Field(None, gt=0, allow_inf_nan=False, description="[kg m^2]")
     velocity: tuple[Real, Real, Real] = Field((0.0, 0.0, 0.0), description="[m/s, rad/s]")
@@ -252,13 +274,12 @@ def _custom_world(fixed, bodies, dt, gravity, seed):
 
     world = PlanarWorld(dt=dt, gravity=gravity, seed=seed)
     for f in fixed:
-        x, y, a = f.pose
-        world.add_fixed(build_profile(f.profile), (x, y, np.deg2rad(a)), f.friction, f.name)
+        pose = (*f.position, np.deg2rad(f.angle_deg))
+        world.add_fixed(build_profile(f.profile), pose, f.friction, f.name)
     for b in bodies:
-        x, y, a = b.pose
         world.add_body(
             build_profile(b.profile),
-            (x, y, np.deg2rad(a)),
+            (*b.position, np.deg2rad(b.angle_deg)),
             b.mass,
             b.inertia,
             b.velocity,
