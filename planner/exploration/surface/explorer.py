@@ -217,14 +217,6 @@ def _warm_up(ex, scratch_world) -> None:
     scratch_world().run(0.002)
 
 
-def _refine(dec, boundary: np.ndarray, closed: bool):
-    """After tracing, compare the outline's shape with the kind
-    (:func:`~planner.exploration.surface.identify.refine_with_outline`)."""
-    from planner.exploration.surface.identify import refine_with_outline
-
-    return refine_with_outline(dec, boundary, closed)
-
-
 def _result(ex, state, log, cfg, T, wall, cpu=float("nan"), warnings=()) -> ExplorationResult:
     rec = ex.rec
     n = rec.n
@@ -232,7 +224,7 @@ def _result(ex, state, log, cfg, T, wall, cpu=float("nan"), warnings=()) -> Expl
     for f in state.features:
         sides = [rec.centre[s, :2] for s in f.sides if len(s)]
         boundary = np.vstack(sides) if sides else np.zeros((0, 2))
-        dec = _refine(f.decision, boundary, f.closed)
+        dec = f.decision  # refined by the traced outline (program.relabel)
         feats.append(
             ExploredFeature(
                 kind=dec.kind,

@@ -79,7 +79,13 @@ def time_series(result, normal_force: float, title: str = ""):
     axs[2].set_yticklabels(result.phases, fontsize=7)
     axs[2].set_xlabel("time [s]")
     for e in result.events:
-        if e.kind in ("feature_detected", "feature_identified", "end_reached", "stopped"):
+        if e.kind in (
+            "feature_detected",
+            "feature_identified",
+            "feature_relabelled",
+            "end_reached",
+            "stopped",
+        ):
             for ax in axs:
                 ax.axvline(e.t, color="tab:red", lw=0.5, alpha=0.6)
     fig.suptitle(title or "exploration: time series")

@@ -30,6 +30,7 @@ __all__ = [
     "ProgramState",
     "exploration_program",
     "outline_rise",
+    "relabel",
     "remember",
     "trace_feature",
     "traced_area",
@@ -183,6 +184,28 @@ def trace_feature(ex, cfg, rec_f: FeatureRecord, region, half: float):
             break
 
 
+def relabel(ex, rec_f: FeatureRecord) -> None:
+    """After tracing, the outline's shape refines the kind
+    (:func:`~planner.exploration.surface.identify.refine_with_outline`); a changed kind is a
+    ``feature_relabelled`` event (old and new kind, confidence and the cue), so the events
+    and the result's kind agree."""
+    from planner.exploration.surface.identify import refine_with_outline
+
+    sides = [ex.rec.centre[s, :2] for s in rec_f.sides if len(s)]
+    boundary = np.vstack(sides) if sides else np.zeros((0, 2))
+    old = rec_f.decision
+    new = refine_with_outline(old, boundary, rec_f.closed)
+    if new.kind != old.kind:
+        cue = new.path[-1] if new.path else ""
+        ex.event(
+            "feature_relabelled",
+            f"{old.kind} ({old.confidence:.2f}) -> {new.kind} ({new.confidence:.2f}): {cue}",
+            kind=new.kind,
+            was=old.kind,
+        )
+    rec_f.decision = new
+
+
 def remember(ex, state: ProgramState, rec_f: FeatureRecord, r: float) -> None:
     """Add the area of the traced feature ``rec_f`` (:func:`traced_area` grown by ``1.5 r``
     [m]) to the areas the search skips (``state.known``)."""
@@ -233,6 +256,7 @@ def exploration_program(ex, cfg, region: np.ndarray, rng, state: ProgramState):
             ex.event("feature_identified", f"{dec.kind} ({dec.confidence:.2f})", kind=dec.kind)
             if dec.kind != "unknown":
                 yield from trace_feature(ex, cfg, rec_f, region, half)
+            relabel(ex, rec_f)
             state.features.append(rec_f)
             remember(ex, state, rec_f, r)
             ex.feature = -1

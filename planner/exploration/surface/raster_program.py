@@ -20,6 +20,7 @@ from planner.exploration.surface.motions import approach, sweep
 from planner.exploration.surface.program import (
     FeatureRecord,
     outline_rise,
+    relabel,
     remember,
     trace_feature,
 )
@@ -68,6 +69,7 @@ def raster_program(ex, cfg, region: np.ndarray, rng, state):
         rec_f.rise = outline_rise(dec.kind, rf.relief, cfg.boundary_rise)
         rec_f.reasons.append(f"raster match: elongation {rf.elongation:.1f}, lines {rf.lines}")
         yield from trace_feature(ex, cfg, rec_f, region, half)
+        relabel(ex, rec_f)
         state.features.append(rec_f)
         remember(ex, state, rec_f, r)
         ex.feature = -1
