@@ -44,3 +44,39 @@ def test_error_is_one_line_at_its_key(tmp_path, extra, key, start):
     assert not m["msg"].startswith(f"{key}:"), lines[0]
     line = int(m["line"])
     assert f.read_text().splitlines()[line - 1].startswith(f"{key}:")
+
+
+@pytest.mark.parametrize(
+    ("feature", "key", "start"),
+    [
+        # audit finding 8: these were reported at region's line as "region: path: ..."
+        (
+            "    - kind: ridge\n      height: 0.002\n      path:\n        - [0.0, 0.0]\n"
+            "        - [0.0, 0.0]\n",
+            "path",
+            "consecutive points must differ",
+        ),
+        (
+            "    - kind: wire\n      height: 0.002\n      rounding: 0.0001\n",
+            "rounding",
+            "expected >= the wire radius 0.001 m",
+        ),
+    ],
+)
+def test_plate_feature_error_is_at_its_key(tmp_path, feature, key, start):
+    f = tmp_path / "x.yaml"
+    text = (
+        "name: x\nkind: explore\nplate:\n  features:\n    - kind: bump\n      height: 0.002\n"
+        + feature
+        + "region: [[-0.02, 0.02], [-0.02, 0.02]]\n"
+    )
+    f.write_text(text)
+    proc = run_cli("validate", str(f))
+    assert proc.returncode == 2, proc.stderr
+    lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
+    assert len(lines) == 1, proc.stderr
+    m = LINE.match(lines[0])
+    assert m, lines[0]
+    assert m["key"] == f"plate.features[1].{key}", lines[0]
+    assert m["msg"].startswith(start), lines[0]
+    assert text.splitlines()[int(m["line"]) - 1].strip().startswith(f"{key}:")
