@@ -348,3 +348,24 @@ def test_a_corner_far_behind_a_pad_is_not_pushed_out_through_its_face(compiled):
     assert e0 == pytest.approx(0.078, abs=1e-3)
     assert e1 <= bound + 1e-6
     assert abs(w) < 60.0  # [rad/s] (235 pushed out through the face)
+
+
+def test_a_hand_outside_its_joint_limits_is_refused_naming_the_joint():
+    """``add_hand`` accepted q = 3 rad on every joint (the audit of issue 15)."""
+    from planner.errors import InvalidParameter
+
+    hand = PlanarHand()
+    lim = hand.joint_limits
+    with pytest.raises(
+        InvalidParameter, match=r"q\[0\]: joint left_j1 starts at 3 rad.* \(6 joint"
+    ):
+        PlanarWorld().add_hand(hand, np.full(6, 3.0))
+    q = hand.neutral()
+    q[4] = lim[4, 0] - 0.01
+    with pytest.raises(
+        InvalidParameter,
+        match=rf"q\[4\]: joint right_j2 .* limits \[{lim[4, 0]:.6g}, {lim[4, 1]:.6g}\]",
+    ):
+        PlanarWorld().add_hand(hand, q)
+    q[4] = lim[4, 0]  # on the limit: accepted
+    assert PlanarWorld().add_hand(hand, q) == "hand"

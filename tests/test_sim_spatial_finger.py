@@ -296,3 +296,17 @@ def test_fingertip_pressed_into_a_corner_holds_two_contacts():
     assert np.linalg.norm(log.slip_velocity[1:, :2], axis=2).max() <= 1e-10
     x = log.poses["finger"][:, :3]
     assert np.abs(x[1:] - x[-1]).max() <= 1e-12  # no creep
+
+
+@pytest.mark.parametrize("k, delta", [(0, 5.0), (1, -3.0), (2, 4.0)])
+def test_a_start_outside_the_joint_limits_is_refused_naming_the_joint(k, delta):
+    """``add_finger`` accepted θ1 = 5 rad (the audit of issue 15); at a limit it is fine."""
+    from planner.errors import InvalidParameter
+
+    th = np.array(GM.center_theta, float)
+    th[k] = GM.joint_limits[k, 0 if delta < 0 else 1] + delta
+    lo, hi = GM.joint_limits[k]
+    with pytest.raises(InvalidParameter, match=rf"theta\[{k}\]: joint theta{k + 1} starts at .* "
+                       rf"outside its limits \[{lo:.6g}, {hi:.6g}\] rad"):  # fmt: skip
+        SpatialWorld().add_finger(GM, th)
+    assert SpatialWorld().add_finger(GM, GM.center_theta) == "finger"

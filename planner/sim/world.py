@@ -28,7 +28,33 @@ from planner.sim.events import SimEvent
 from planner.sim.log import SimLog
 from planner.sim.loop import run as _run
 
-__all__ = ["WorldBase", "joint_torques"]
+__all__ = ["WorldBase", "check_joint_limits", "joint_torques"]
+
+#: how far a joint angle may lie outside its limits at a world's start [rad] (round-off of
+#: an inverse kinematics that stops on a limit; as ``within_limits`` of the robots)
+LIMIT_TOLERANCE = 1e-9
+
+
+def check_joint_limits(name: str, q: np.ndarray, limits: np.ndarray, joints) -> None:
+    """Refuse a start with a joint outside its limits.
+
+    Args:
+        name: the argument (``q``, ``theta``).
+        q: (n,) joint angles [rad].
+        limits: (n, 2) lower/upper limits [rad].
+        joints: (n,) joint names, for the message.
+
+    Raises:
+        InvalidParameter: naming the first joint outside, its angle and its limits.
+    """
+    lo, hi = limits[:, 0], limits[:, 1]
+    out = (q < lo - LIMIT_TOLERANCE) | (q > hi + LIMIT_TOLERANCE)
+    if out.any():
+        k = int(np.argmax(out))
+        raise InvalidParameter(
+            f"{name}[{k}]: joint {joints[k]} starts at {q[k]:.6g} rad, outside its limits "
+            f"[{lo[k]:.6g}, {hi[k]:.6g}] rad ({int(out.sum())} joint(s) outside)"
+        )
 
 
 def joint_torques(tau: object, n: int, what: str) -> np.ndarray:

@@ -30,11 +30,12 @@ from planner.sim.planar.records import contact_records
 from planner.sim.planar.sensing import observe as _observe
 from planner.sim.planar.stepper import StepResult, step, step_fast
 from planner.sim.records import Contact
-from planner.sim.world import WorldBase, joint_torques
+from planner.sim.world import WorldBase, check_joint_limits, joint_torques
 
 __all__ = ["PlanarWorld"]
 
 FINGER_NAMES = ("left", "right")
+JOINT_NAMES = tuple(f"{f}_j{k}" for f in FINGER_NAMES for k in (1, 2, 3))
 
 
 class PlanarWorld(WorldBase):
@@ -215,7 +216,8 @@ class PlanarWorld(WorldBase):
     def add_hand(
         self, hand, q, qd=None, name: str = "hand", palm: bool = True, pad_depth=PAD_DEPTH
     ) -> str:
-        """Add the planar two-finger hand with joint angles ``q`` (6,) [rad].
+        """Add the planar two-finger hand with joint angles ``q`` (6,) [rad] within its joint
+        limits (``hand.joint_limits``; InvalidParameter naming the joint otherwise).
 
         Its fingertips become bodies ``<name>.left`` and ``<name>.right``; with ``palm`` the
         palm segment becomes the fixed outline ``<name>.palm`` (y = 0, facing +y).
@@ -233,6 +235,7 @@ class PlanarWorld(WorldBase):
                 f"hand: expected a robots.planar_hand.PlanarHand, got {checks.shown(hand)}"
             )
         q = checks.vector("q", q, 6, "rad")
+        check_joint_limits("q", q, hand.joint_limits, JOINT_NAMES)
         qd = np.zeros(6) if qd is None else checks.vector("qd", qd, 6, "rad/s")
         self.hand = HandModel(hand, self.gravity)
         self.q, self.qd = q.copy(), qd.copy()

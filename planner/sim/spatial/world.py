@@ -75,7 +75,7 @@ from planner.sim.spatial.sensing import (
 )
 from planner.sim.spatial.step_kernel import FALLBACK
 from planner.sim.spatial.stepping import step_body
-from planner.sim.world import WorldBase, joint_torques
+from planner.sim.world import WorldBase, check_joint_limits, joint_torques
 
 __all__ = ["SpatialWorld"]
 
@@ -204,7 +204,8 @@ class SpatialWorld(WorldBase):
         larger of the tip's and the surface's).
 
         Raises:
-            InvalidParameter: a second finger, or a start in penetration.
+            InvalidParameter: a second finger, a motor angle outside
+                ``three_gm.joint_limits``, or a start in penetration.
             SingularConfiguration: the loop cannot close at ``theta``.
         """
         from robots.three_gm import ThreeGM
@@ -214,6 +215,7 @@ class SpatialWorld(WorldBase):
         if not isinstance(three_gm, ThreeGM):
             raise InvalidParameter(f"three_gm: expected a ThreeGM, got {type(three_gm).__name__}")
         th = checks.vector("theta", theta, 3, "rad")
+        check_joint_limits("theta", th, three_gm.joint_limits, ("theta1", "theta2", "theta3"))
         thd = checks.vector("theta_dot", theta_dot, 3, "rad/s")
         r = checks.positive("tip_radius", tip_radius, "m")
         mu = None if friction is None else checks.nonnegative("friction", friction)
