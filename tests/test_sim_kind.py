@@ -290,19 +290,34 @@ def test_spatial_rotation_is_the_angle_between_the_quaternions():
     assert _rotation_rad(p0, np.concatenate([p1[:3], -p1[3:]])) == pytest.approx(a, rel=1e-12)
 
 
-def test_the_angle_key_says_degrees_and_the_old_pose_key_is_refused_with_its_fix(cli, tmp_path):
+def test_the_angle_key_says_degrees_and_the_old_pose_key_keeps_its_meaning(cli, tmp_path):
     """``pose: [x, y, angle]`` took degrees without saying so (DESIGN.md: a key that takes
-    degrees says so in its name); it is replaced by ``position`` [m] and ``angle_deg``."""
+    degrees says so in its name); ``position`` [m] and ``angle_deg`` replace it, and older
+    files that give ``pose`` keep their placements (degrees) - beside a new key it is
+    refused."""
     from planner.kinds.contact_sim import _build
     from planner.scenario import load_scenario
 
     world = _build(load_scenario(ROOT / "scenarios/incline_box.yaml"), quick=True)[0]
     assert world.pose("box")[2] == pytest.approx(math.radians(20.0), rel=1e-15)
-    f = tmp_path / "s.yaml"
-    f.write_text(OVERLAP.replace("position: [0, 0.01]", "pose: [0, 0.03, 90]"))
-    res = cli("validate", str(f))
+    old = tmp_path / "old.yaml"
+    old.write_text(OVERLAP.replace("position: [0, 0.01]", "pose: [0, 0.03, 90]"))
+    now = tmp_path / "now.yaml"
+    now.write_text(OVERLAP.replace("position: [0, 0.01]", "position: [0, 0.03]\n    angle_deg: 90"))
+    a, b = (_build(load_scenario(f), quick=True)[0] for f in (old, now))
+    assert list(a.pose("b")) == list(b.pose("b"))
+    assert a.pose("b")[2] == pytest.approx(math.pi / 2, rel=1e-15)
+    both = tmp_path / "both.yaml"
+    both.write_text(OVERLAP.replace("position: [0, 0.01]", "pose: [0, 0.03, 90]\n    angle_deg: 9"))
+    res = cli("validate", str(both))
     assert res.returncode == 2
-    assert res.stderr.strip() == (
-        f"{f}:10: bodies[0].pose: replaced by position: [0, 0.03] and angle_deg: 90 "
-        "(pose took its angle in degrees)"
+    assert (
+        res.stderr.strip() == f"{both}:10: bodies[0].pose: give either pose or angle_deg, not both"
+    )
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(OVERLAP.replace("position: [0, 0.01]", "pose: [0, 0.03]"))
+    res = cli("validate", str(bad))
+    assert (
+        res.returncode == 2
+        and f"{bad}:10: bodies[0].pose: expected [x, y, angle in degrees]" in res.stderr
     )

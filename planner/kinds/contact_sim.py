@@ -52,20 +52,25 @@ SCENES = ("pinch", "palm_roll", "hold_slide", "ridge_3gm")
 
 
 class _Placed(StrictModel):
-    """An outline placed by ``position`` [m] and ``angle_deg`` [deg] (until 2026-11-25 one
-    key ``pose: [x, y, angle]`` whose angle was in degrees, which its name did not say: it is
-    refused with the two keys that replace it)."""
+    """An outline placed by ``position`` [m] and ``angle_deg`` [deg]. The key these replace,
+    ``pose: [x, y, angle]`` (until 2026-11-25; its angle in degrees, which its name did not
+    say), is still read with that meaning, so older files keep their placements; given
+    beside either new key it is refused."""
 
     @model_validator(mode="before")
     @classmethod
-    def _pose_replaced(cls, data):
-        if isinstance(data, dict) and "pose" in data:
-            p = data["pose"]
-            fix = "position: [x, y] [m] and angle_deg: angle [deg]"
-            if isinstance(p, (list, tuple)) and len(p) == 3:
-                fix = f"position: [{p[0]}, {p[1]}] and angle_deg: {p[2]}"
-            _raise_at([(("pose",), f"replaced by {fix} (pose took its angle in degrees)")])
-        return data
+    def _pose_read(cls, data):
+        if not (isinstance(data, dict) and "pose" in data):
+            return data
+        p = data["pose"]
+        both = [k for k in ("position", "angle_deg") if k in data]
+        if both:
+            _raise_at([(("pose",), f"give either pose or {' and '.join(both)}, not both")])
+        if not (isinstance(p, (list, tuple)) and len(p) == 3):
+            _raise_at([(("pose",), f"expected [x, y, angle in degrees], got {p!r} (or use "
+                                   "position: [x, y] [m] and angle_deg)")])  # fmt: skip
+        out = {k: v for k, v in data.items() if k != "pose"}
+        return {**out, "position": [p[0], p[1]], "angle_deg": p[2]}
 
 
 class FixedSpec(_Placed):
