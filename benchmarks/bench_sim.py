@@ -105,29 +105,12 @@ def _hapex_run(build, duration, python_controller=False, reps=REPS):
         "steps_per_s": steps / wall,
         "real_time_factor": log.t[-1] / wall,
         "cpu_real_time_factor": log.t[-1] / cpu,
-        "penetration_m": _left_overlap(build()[0], log),
+        # the deepest overlap of the logged states, as MuJoCo's rows measure theirs (the log's
+        # gap is measured after the next step's projection: planar/stepper.py, Limits)
+        "penetration_m": float(world.logged_overlap(log).max(initial=0.0)),
         "status": log.status + (f" ({log.reason})" if log.reason else ""),
     }
     return world, info, log, row
-
-
-def _left_overlap(world, log) -> float:
-    """The deepest overlap [m] of the states a run's steps left, as logged (0 when none).
-
-    The log's ``gap`` is measured at the start of each step, after the position projection
-    has removed what the step before left beyond the world's ``projection_tolerance``
-    (``planner/sim/planar/stepper.py``, Limits): it cannot show that overlap. Here every
-    logged pose is put back into a fresh ``world`` of the same scene and its penetrations are
-    measured, as MuJoCo's rows measure theirs (the contact distance of each state)."""
-    deepest = 0.0
-    for k in range(len(log.t)):
-        for body, poses in log.poses.items():
-            world.set_state(body, pose=poses[k])
-        if world.hand is not None:
-            world.q = np.array(log.q[k], float)
-        over = world.penetrations(0.0)
-        deepest = max(deepest, -over[0][2] if over else 0.0)
-    return deepest
 
 
 def _mj_rollout(world, ctrl, duration, settings, bodies):

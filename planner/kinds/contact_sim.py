@@ -346,6 +346,11 @@ def _metrics(world, log) -> dict[str, Any]:
             out[f"{name}.mean_angular_acceleration_rad_s2"] = ang
     gaps = log.gap[np.isfinite(log.gap)]
     out["max_penetration_m"] = max(0.0, -float(gaps.min())) if gaps.size else 0.0
+    if hasattr(world, "logged_overlap"):  # planar: what the steps left (the gap is measured
+        # after the next step's projection removed it; stepper.py, Limits)
+        out["max_penetration_m"] = max(
+            out["max_penetration_m"], float(world.logged_overlap(log).max(initial=0.0))
+        )
     slips = {}
     for k, pair in enumerate(log.pairs):
         s = log.slip_velocity[log.contact_pair == k]

@@ -469,6 +469,31 @@ class PlanarWorld(WorldBase):
         pairs = sorted(deepest.items(), key=lambda kv: kv[1])
         return [(self.bodies[i].name, self.bodies[j].name, gap) for (i, j), gap in pairs]
 
+    def logged_overlap(self, log) -> np.ndarray:
+        """(T,) the deepest overlap [m] of any two bodies in each state ``log`` (a run of
+        this world) recorded, 0 where none touch too deep. A step can leave more than the
+        log's ``gap`` shows: that gap is measured at the start of the next step, after its
+        projection (``planner/sim/planar/stepper.py``, Limits). The world's state is
+        restored afterwards."""
+        from planner.sim.planar.stepper import find_contacts
+
+        saved = (self._x.copy(), self._v.copy(), self.q.copy(), self.qd.copy())
+        cache = (self._last, self._records)
+        free = [b for b in self.bodies if b.kind == FREE]
+        out = np.zeros(len(log.t))
+        try:
+            for k in range(len(log.t)):
+                for b in free:
+                    self._x[b.index] = log.poses[b.name][k]
+                if self.hand is not None:
+                    self.q = np.array(log.q[k], float)
+                gaps = [c[2] for c in find_contacts(self, 0.0)]
+                out[k] = max(0.0, -min(gaps, default=0.0))
+        finally:
+            self._x, self._v, self.q, self.qd = saved
+            self._last, self._records = cache
+        return out
+
     # ------------------------------------------------------------------ sensing
     def observe(self, oracle: bool = False) -> Observation:
         """Sensor readings now (encoders, fingertip gauges, tactile images of flat pads)."""

@@ -1,4 +1,5 @@
-"""benchmarks/bench_sim.py: its penetration column measures the states the steps leave.
+"""PlanarWorld.logged_overlap (bench_sim's penetration column, contact_sim's
+max_penetration_m): the overlap of the states the steps leave.
 
 The log's ``gap`` is measured at the start of a step, after the position projection removed
 what the step before left beyond ``projection_tolerance``; a contact point running fast
@@ -12,7 +13,6 @@ import math
 
 import numpy as np
 import pytest
-from conftest import benchmark_module
 
 from planner.geometry import shapes
 from planner.sim import PlanarWorld
@@ -28,13 +28,13 @@ def _rocking_ellipse() -> PlanarWorld:
     return world
 
 
-def test_the_penetration_column_is_the_overlap_the_steps_leave():
+def test_the_logged_overlap_is_what_the_steps_leave():
     """A 30 x 10 mm ellipse released tilted rolls onto its flat side: the contact point runs
     along the 90 mm radius of curvature at omega * rho and each step leaves an overlap of
     (h omega rho)^2 / (2 rho), 12 um at the fastest; the log's gap shows < 0.1 um."""
     world = _rocking_ellipse()
     log = world.run(0.5)
-    left = benchmark_module("bench_sim")._left_overlap(_rocking_ellipse(), log)
+    left = float(world.logged_overlap(log).max())
     assert -np.nanmin(log.gap) <= world.projection_tolerance
     omega, angle = np.abs(log.velocities["e"][:, 2]), log.poses["e"][:, 2]
     # the outline point touching the floor has the body-frame normal angle -pi/2 - angle;
