@@ -11,6 +11,17 @@ HEAD = "name: x\nkind: explore\nplate:\n  features: []\n"
 LINE = re.compile(r"^(?P<file>[^:]+):(?P<line>\d+): (?P<key>[A-Za-z0-9_.\[\]()]+): (?P<msg>.+)$")
 
 
+def _the_one_error(f):
+    """``validate`` of ``f``: exit 2 and one stderr line ``FILE:LINE: key: message``, matched."""
+    proc = run_cli("validate", str(f))
+    assert proc.returncode == 2, proc.stderr
+    lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
+    assert len(lines) == 1, proc.stderr
+    m = LINE.match(lines[0])
+    assert m, lines[0]
+    return m, lines
+
+
 @pytest.mark.parametrize(
     ("extra", "key", "start"),
     [
@@ -33,12 +44,7 @@ LINE = re.compile(r"^(?P<file>[^:]+):(?P<line>\d+): (?P<key>[A-Za-z0-9_.\[\]()]+
 def test_error_is_one_line_at_its_key(tmp_path, extra, key, start):
     f = tmp_path / "x.yaml"
     f.write_text(HEAD + extra)
-    proc = run_cli("validate", str(f))
-    assert proc.returncode == 2, proc.stderr
-    lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
-    assert len(lines) == 1, proc.stderr
-    m = LINE.match(lines[0])
-    assert m, lines[0]
+    m, lines = _the_one_error(f)
     assert m["file"].endswith("x.yaml") and m["key"] == key, lines[0]
     assert m["msg"].startswith(start), lines[0]
     assert not m["msg"].startswith(f"{key}:"), lines[0]
@@ -71,12 +77,7 @@ def test_plate_feature_error_is_at_its_key(tmp_path, feature, key, start):
         + "region: [[-0.02, 0.02], [-0.02, 0.02]]\n"
     )
     f.write_text(text)
-    proc = run_cli("validate", str(f))
-    assert proc.returncode == 2, proc.stderr
-    lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
-    assert len(lines) == 1, proc.stderr
-    m = LINE.match(lines[0])
-    assert m, lines[0]
+    m, lines = _the_one_error(f)
     assert m["key"] == f"plate.features[1].{key}", lines[0]
     assert m["msg"].startswith(start), lines[0]
     assert text.splitlines()[int(m["line"]) - 1].strip().startswith(f"{key}:")
