@@ -299,8 +299,13 @@ def _error_loc(err: Mapping[str, Any], data: Any) -> tuple:
         head = _message(err).split(": ", 1)[0]
         parts = tuple(head.split("."))
         cur = data
-        for p in loc:  # the validator's model inside the document
-            cur = cur.get(p) if isinstance(cur, dict) else None
+        for p in loc:  # the validator's model inside the document (list items too)
+            if isinstance(cur, dict):
+                cur = cur.get(p)
+            elif isinstance(cur, list) and isinstance(p, int) and 0 <= p < len(cur):
+                cur = cur[p]
+            else:
+                cur = None
         if head and " " not in head and isinstance(cur, dict) and parts[0] in cur:
             return loc + parts
     return loc

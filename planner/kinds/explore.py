@@ -60,18 +60,11 @@ class FeatureSpec(StrictModel):
     def _path(self):
         if self.path is not None and self.kind == "step":
             raise ValueError("a step has no skeleton path; use position and across_deg")
-        # the feature's remaining checks here (located at plate.features[i]): raised later,
-        # inside the reach check, they were blamed on region
+        # the feature's own checks here, each located at the key its message starts with
+        # (plate.features[i].rounding); raised later, inside the reach check, they were
+        # blamed on region
         _invalid_as_value_error(self.build)
         return self
-
-    @field_validator("rounding", "path")
-    @classmethod
-    def _feature_key(cls, v, info: ValidationInfo):
-        """The plate feature's own check of this key (a wire's rounding below its radius,
-        a repeated path point), at this key's line: plate.features[i].<key>."""
-        _feature_check(info.field_name, v, info.data)
-        return v
 
     def build(self):
         from planner.sim.spatial.plate import PlateFeature
@@ -196,32 +189,6 @@ class Config(ScenarioBase):
             )
         _reach(self.plate, self.tip_radius, self.region, None, self.normal_force)
         return self
-
-
-def _feature_check(key: str, value, data: dict) -> None:
-    """Build the PlateFeature from the keys validated so far (``data``) and ``key``'s
-    ``value``; a ValueError when its check of ``key`` fails (its message starts with
-    ``key: ``; other keys' checks are left to the feature's model rule)."""
-    from planner.errors import InvalidParameter
-    from planner.sim.spatial.plate import PlateFeature
-
-    need = ("kind", "height", "width", "position", "across_deg")
-    if any(k not in data for k in need):
-        return  # an earlier key is already reported
-    keys = {"rounding": data.get("rounding"), "path": None, key: value}
-    try:
-        PlateFeature(
-            data["kind"],
-            data["height"],
-            data["width"],
-            data["position"],
-            math.radians(data["across_deg"]),
-            keys["rounding"],
-            path=None if keys["path"] is None else tuple(keys["path"]),
-        )
-    except InvalidParameter as exc:
-        if str(exc).startswith(f"{key}: "):
-            raise ValueError(str(exc)) from None
 
 
 def _invalid_as_value_error(check, *args) -> None:

@@ -26,7 +26,11 @@ from planner.exploration.surface.placement import (
     to_world,
 )
 from planner.exploration.surface.plates import plate_height
-from planner.exploration.surface.program import ProgramState, exploration_program
+from planner.exploration.surface.program import (
+    ProgramState,
+    exploration_program,
+    traced_sides,
+)
 from planner.exploration.surface.raster_program import raster_program
 from planner.exploration.surface.result import (
     ExplorationResult,
@@ -222,8 +226,7 @@ def _result(ex, state, log, cfg, T, wall, cpu=float("nan"), warnings=()) -> Expl
     n = rec.n
     feats = []
     for f in state.features:
-        sides = [rec.centre[s, :2] for s in f.sides if len(s)]
-        boundary = np.vstack(sides) if sides else np.zeros((0, 2))
+        sides, boundary = traced_sides(rec, f)
         dec = f.decision  # refined by the traced outline (program.relabel)
         feats.append(
             ExploredFeature(

@@ -34,6 +34,7 @@ __all__ = [
     "remember",
     "trace_feature",
     "traced_area",
+    "traced_sides",
 ]
 
 
@@ -184,6 +185,13 @@ def trace_feature(ex, cfg, rec_f: FeatureRecord, region, half: float):
             break
 
 
+def traced_sides(rec, rec_f: FeatureRecord) -> tuple[list[np.ndarray], np.ndarray]:
+    """The kept boundary samples of ``rec_f`` in the recorder ``rec``: one (N_i, 2) array
+    of fingertip centres [m, plate frame] per traced side, and all of them stacked (N, 2)."""
+    sides = [rec.centre[s, :2] for s in rec_f.sides if len(s)]
+    return sides, (np.vstack(sides) if sides else np.zeros((0, 2)))
+
+
 def relabel(ex, rec_f: FeatureRecord) -> None:
     """After tracing, the outline's shape refines the kind
     (:func:`~planner.exploration.surface.identify.refine_with_outline`); a changed kind is a
@@ -191,8 +199,7 @@ def relabel(ex, rec_f: FeatureRecord) -> None:
     and the result's kind agree."""
     from planner.exploration.surface.identify import refine_with_outline
 
-    sides = [ex.rec.centre[s, :2] for s in rec_f.sides if len(s)]
-    boundary = np.vstack(sides) if sides else np.zeros((0, 2))
+    _, boundary = traced_sides(ex.rec, rec_f)
     old = rec_f.decision
     new = refine_with_outline(old, boundary, rec_f.closed)
     if new.kind != old.kind:
