@@ -46,15 +46,6 @@ def test_boundary_samples_are_recorded_while_their_feature_is_explored(run):
             assert np.any((t > times[i]) & (t < times[i + 1])), (i, f.kind, p, t)
 
 
-_LINE_ON_RIDGE = pytest.mark.xfail(
-    strict=True,
-    reason="with the raster lines at most 12 mm apart (5 lines, not 4) the line v = 21 mm "
-    "runs along the short ridge (it is 14 deg off the line's direction): the crossings read "
-    "a bump (along 13.4 mm vs 9.6 mm across) and it is reported as a second bump",
-)
-
-
-@_LINE_ON_RIDGE
 def test_the_bump_is_traced_closed_around_its_position(run):
     bumps = [f for f in run.features if np.hypot(*(f.centre - BUMP.position)) < 3e-3]
     assert len(bumps) == 1
@@ -69,7 +60,6 @@ def test_no_trace_sample_near_the_plate_origin(run):
     assert np.hypot(*run.path[trace, :2].T).min() > 5e-3
 
 
-@_LINE_ON_RIDGE
 def test_a_ridge_whose_outline_begins_outside_the_region_is_still_traced(run):
     """The trace begins beyond the region's end margin (the ridge's far flank lies past the
     region's edge): an end counts only farther out than that, so the ridge is traced - it

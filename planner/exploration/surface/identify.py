@@ -54,6 +54,7 @@ import numpy as np
 __all__ = [
     "KINDS",
     "PREDICTIONS",
+    "END_FRACTION",
     "Crossing",
     "TypeDecision",
     "crossing_axis",
@@ -79,6 +80,9 @@ PREDICTIONS = {
     "cusp": ("up", False, False, True, "flat"),
 }
 P_CUE, P_FEET = 0.9, 0.75
+#: share of a crossing's samples at each end whose heights are its end levels (the plate on
+#: either side: :func:`level_change`, :func:`relief`, :func:`feature_width`) [-]
+END_FRACTION = 0.15
 
 
 @dataclass(frozen=True)
@@ -241,14 +245,14 @@ def _ends(s: np.ndarray, w: np.ndarray, fraction: float):
     return k, (np.mean(s[:k]), np.mean(w[:k])), (np.mean(s[-k:]), np.mean(w[-k:]))
 
 
-def level_change(w: np.ndarray, fraction: float = 0.15) -> float:
+def level_change(w: np.ndarray, fraction: float = END_FRACTION) -> float:
     """Mean height of the last ``fraction`` of a crossing minus that of the first [m]."""
     w = np.asarray(w, float)
     k = max(1, int(len(w) * fraction))
     return float(np.mean(w[-k:]) - np.mean(w[:k]))
 
 
-def relief(s: np.ndarray, w: np.ndarray, fraction: float = 0.15) -> float:
+def relief(s: np.ndarray, w: np.ndarray, fraction: float = END_FRACTION) -> float:
     """Rise above minus dip below the line through the crossing's end levels [m].
 
     Args:
@@ -262,7 +266,7 @@ def relief(s: np.ndarray, w: np.ndarray, fraction: float = 0.15) -> float:
     return float(d.max() + d.min())
 
 
-def feature_width(s: np.ndarray, w: np.ndarray, fraction: float = 0.15) -> float:
+def feature_width(s: np.ndarray, w: np.ndarray, fraction: float = END_FRACTION) -> float:
     """Length [m] of the part of a crossing departing from the end-level line by more than
     half of its largest departure (the full width at half maximum of the relief)."""
     s, w = np.asarray(s, float), np.asarray(w, float)
@@ -274,7 +278,7 @@ def feature_width(s: np.ndarray, w: np.ndarray, fraction: float = 0.15) -> float
     return float(s[on[-1]] - s[on[0]])
 
 
-def end_slopes(s: np.ndarray, w: np.ndarray, fraction: float = 0.15) -> tuple[float, float]:
+def end_slopes(s: np.ndarray, w: np.ndarray, fraction: float = END_FRACTION) -> tuple[float, float]:
     """Slopes of the centre path over the first and last ``fraction`` of the crossing, each
     taken going away from the middle (negative: the plate falls away) [-]."""
     s, w = np.asarray(s, float), np.asarray(w, float)

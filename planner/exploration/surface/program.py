@@ -14,12 +14,13 @@ a ``goal_not_reached`` event and the distance in the reason.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from planner.exploration.surface.identify import Crossing, evidence, identify
-from planner.exploration.surface.motions import approach, sweep
+from planner.exploration.surface.identify import END_FRACTION, Crossing, evidence, identify
+from planner.exploration.surface.motions import approach, move_to, sweep
 from planner.exploration.surface.online import OnlineDetector
 from planner.exploration.surface.runtime import PHASE
 from planner.exploration.surface.strategies import segments
@@ -86,14 +87,77 @@ def _axis_from_search(ex, det, r: float) -> np.ndarray:
 
 
 def _crossing(ex, cfg, c, v, half, role):
-    """Sweep ``c - half v -> c + half v``; returns the evidence, the analysis and the
-    recorder range."""
-    k0, k1, _ = yield from sweep(ex, c - half * v, c + half * v, cfg.speed, role)
+    """Sweep ``c - half v -> c + half v``, each end run out onto a plane
+    (:func:`_run_out`); returns the evidence, the analysis and the recorder range."""
+    a, limit = c - half * v, RUN_OUT * cfg.tip_radius
+    yield from move_to(ex, a, cfg.speed)
+    if float(np.hypot(*ex.est.normal[:2])) > LEVEL_TILT:  # the start rests on the feature
+        k = ex.rec.n
+        a = yield from _run_out(ex, cfg, a, -v, limit, k, 0.0, END_FRACTION * 2 * half)
+    k0, k1, _ = yield from sweep(ex, a, c + half * v, cfg.speed, role)
+    if k1 - k0 >= 20:
+        yield from _run_out(ex, cfg, c, v, limit, k0, END_FRACTION, 0.0)
+        k1 = ex.rec.n
     rec = ex.rec
     if k1 - k0 < 20:
         return Crossing("", role), None, (k0, k1)
-    ev, a, _ = evidence(rec.centre[k0:k1], rec.normal[k0:k1], cfg.tip_radius, role)
-    return ev, a, (k0, k1)
+    ev, an, _ = evidence(rec.centre[k0:k1], rec.normal[k0:k1], cfg.tip_radius, role)
+    return ev, an, (k0, k1)
+
+
+#: a contact tilted less than this (sine of the normal's tilt) rests on the bare plate [-]
+LEVEL_TILT = math.sin(math.radians(5.0))
+#: the contact normals over an end of a crossing lie on a plane (the bare plate, a step's
+#: level, a cusp's flank) when none is farther than this from their mean [rad]; a ball
+#: rolling over a narrow crest turns its normal by 1 / r_f per metre (0.6 rad over the 5
+#: mm end of a 32 mm crossing for r_f = 8 mm), the filtered OWTS normal scatters by 0.01
+PLANE_SPREAD = 0.05
+#: a crossing runs out at most this many r_f past each planned end [-]: a ball of radius
+#: r_f touches a feature no farther than r_f from it
+RUN_OUT = 3.0
+
+
+def _on_plane(rec, k_from: int, share: float, least: float) -> bool:
+    """Whether the last ``max(share * arclength, least)`` [m] of the recorder rows from
+    ``k_from`` on were travelled with the contact on a plane (:data:`PLANE_SPREAD`); False
+    while less than that has been travelled."""
+    P, N = rec.centre[k_from : rec.n, :2], rec.normal[k_from : rec.n]
+    if len(P) < 2:
+        return False
+    s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(P, axis=0).T))])
+    length = max(share * s[-1], least)
+    if s[-1] < length or length <= 0.0:
+        return False
+    m = N[s >= s[-1] - length]
+    mean = m.mean(axis=0)
+    mean /= np.linalg.norm(mean)
+    return bool(np.arccos(np.clip(m @ mean, -1.0, 1.0)).max() < PLANE_SPREAD)
+
+
+def _run_out(ex, cfg, p, d, limit: float, k_from: int, share: float, least: float):
+    """Slide on along the line through ``p`` (2,) [m] in the direction ``d`` (2,) until the
+    end of the path recorded from ``k_from`` lies on a plane (:func:`_on_plane` with
+    ``share`` and ``least``) or ``limit`` [m] has been travelled; returns where it stopped
+    (2,) [m].
+
+    A crossing's end levels are read on the plate next to the feature (§4.4.1, Fig. 4.7: a
+    step changes level, a ridge comes back down): an end where the ball still rests on the
+    feature (its contact normal turning as it rolls over the crest) reads a level change
+    that is none. A crossing from outside a sharply bent ridge across its apex ended 2.5 mm
+    from the far arm's crest, 1.7 mm up (``scenarios/curved_ridge.yaml``: a "step")."""
+    from planner.exploration.surface.motions import GAIN
+
+    d = np.asarray(d, float) / np.linalg.norm(d)
+    du, dv, pu, pv = float(d[0]), float(d[1]), float(p[0]), float(p[1])
+    start, speed, i = ex.est.uv.copy(), float(cfg.speed), 0
+    while float(np.hypot(*(ex.est.uv - start))) < limit:
+        if i % 20 == 0 and _on_plane(ex.rec, k_from, share, least):
+            break
+        cu, cv = float(ex.est.centre[0]), float(ex.est.centre[1])
+        e = GAIN * ((cu - pu) * -dv + (cv - pv) * du)
+        yield speed * du + e * dv, speed * dv - e * du
+        i += 1
+    return ex.est.uv.copy()
 
 
 def _peak(ex, k0: int, k1: int) -> np.ndarray:
@@ -103,6 +167,25 @@ def _peak(ex, k0: int, k1: int) -> np.ndarray:
     w0, w1 = P[:n, 2].mean(), P[-n:, 2].mean()
     base = np.linspace(w0, w1, len(P))
     return P[int(np.argmax(np.abs(P[:, 2] - base))), :2].copy()
+
+
+def _met_at(ex, det, r: float) -> np.ndarray:
+    """(2,) where the search met the feature of ``det`` [m]: at the sample of its window
+    (:func:`_axis_from_search`'s range) whose centre departs most from the line through
+    the window's ends, the contact point when the centre is raised there, the centre when
+    it is sunken. On a raised feature the centre is highest with the contact on its top,
+    and the centre lies ``r_f`` times the tilt's sine beside the contact; a ball narrower
+    features are sunken into (a pit, a ravine) straddles them, its centre over their axis.
+    A search line 1.6 mm beside a 1 mm bump (w 1.8 mm) had its curvature features' middle
+    2.8 mm from the top and the across crossing through it missed the bump ("unknown")."""
+    k0, k1 = max(det.k_start, det.k_first - 400), min(det.k_end, det.k_last + 400)
+    if k1 - k0 < 20:
+        return np.asarray(det.centre, float)
+    P = ex.rec.centre[k0:k1]
+    n = max(2, len(P) // 7)
+    dev = P[:, 2] - np.linspace(P[:n, 2].mean(), P[-n:, 2].mean(), len(P))
+    i = int(np.argmax(np.abs(dev)))
+    return (ex.rec.contact[k0 + i, :2] if dev[i] > 0 else P[i, :2]).copy()
 
 
 def _extent(ex, k0: int, k1: int, c, across, r: float) -> float:
@@ -117,18 +200,27 @@ def _extent(ex, k0: int, k1: int, c, across, r: float) -> float:
 
 def identify_feature(ex, cfg, det, search_ev):
     """Across and along crossings of a detection; returns the decision, centre, across, the
-    half-width of the feature along ``across`` [m] and the across crossing's relief [m]."""
+    half-width of the feature along ``across`` [m] and the across crossing's relief [m].
+
+    The centre is where the across crossing peaks; for a bump or a pit (a point-like
+    medial axis) also where the along crossing, at right angles through that point, peaks:
+    the across direction comes from the search's contact normals, and an across crossing
+    along it passed 3.4 mm beside the top of a 3 mm wide bump met 3 mm off its centre
+    (reported 4.6 mm off; the along crossing runs over the top)."""
     r = cfg.tip_radius
     across = _axis_from_search(ex, det, r)
-    c = det.centre
+    c = _met_at(ex, det, r)
     half = max(float(np.ptp(det.points, axis=0).max()) / 2, 0.5 * r) + 1.5 * r
-    ev1, a1, (k0, k1) = yield from _crossing(ex, cfg, c, across, half, "across")
+    ev1, _, (k0, k1) = yield from _crossing(ex, cfg, c, across, half, "across")
     if k1 - k0 > 20:
         c = _peak(ex, k0, k1)
     width = _extent(ex, k0, k1, c, across, r) if k1 - k0 > 20 else half
     axis = np.array([-across[1], across[0]])
-    ev2, _, _ = yield from _crossing(ex, cfg, c, axis, half, "along")
-    return identify([search_ev, ev1, ev2]), c, across, min(width, half), abs(ev1.relief)
+    ev2, _, (k2, k3) = yield from _crossing(ex, cfg, c, axis, half, "along")
+    dec = identify([search_ev, ev1, ev2])
+    if dec.kind in ("bump", "pit") and k3 - k2 > 20:
+        c = c + float((_peak(ex, k2, k3) - c) @ axis) * axis
+    return dec, c, across, min(width, half), abs(ev1.relief)
 
 
 #: the side of the plate each identified kind stands out to (+1 raised, -1 sunken)
