@@ -12,16 +12,23 @@ counts the matched detections beyond the first of each true feature.
 **Boundary deviation** is the distance of every traced boundary sample (a fingertip centre)
 to the true outline (:func:`planner.exploration.surface.plates.truth_features`): the level
 line of the *traced* surface - the offset by ``r_f`` of the plate, which is all the centre
-of a round fingertip can follow (§3.2.1) - at the feature's outline level above the
-asymptotic plate (the nominal surface of §4.4.2, the plate without the feature). Centre
-samples are thus compared with a line the centre can reach, offset already applied on the
-truth side (comparing them with the object's own outline would charge every sample with
-up to ``r_f`` the tracer cannot remove). The level is the explorer's (its fraction of the
-feature's relief, ``rise``); where the feature sits is the plate's. A bump or pit whose
-tails still lift the plate at the region's border puts the plate level the explorer can see
-off the asymptotic one: that part is the explorer's error and stays in this number. The
-``own level`` diagnostic scores the samples against the level line they actually followed
-(the tracing error alone).
+of a round fingertip can follow (§3.2.1) - at the feature's outline level above the plate
+level next to the feature, its foot (:func:`~planner.exploration.surface.plates.
+foot_levels`: the plane of travel before the feature is met, §4.4.2; where the traced
+surface's tilt falls to 5 deg going out from the flank). Centre samples are thus compared
+with a line the centre can reach, offset already applied on the truth side (comparing them
+with the object's own outline would charge every sample with up to ``r_f`` the tracer
+cannot remove). The level is the explorer's (its fraction of the feature's relief,
+``rise``); where the feature sits and where its foot is are the plate's.
+
+The level used to be taken above the *asymptotic* plate (the plate without the feature), a
+line no explorer can find from inside a region: a bump's or pit's tails fall
+off as ``1/s^2`` (a 4 mm pit 5 mm wide still lowers the plate by 0.24 mm 20 mm away), so
+the level line ``rise`` off that plate lies on tails of slope 0.02-0.1, where every 0.01 mm
+of plate level moves it by 0.1-0.5 mm, and the tracer, reading the plate next to the
+feature, was charged 1-4 mm for pits (the benchmark's 1.6 mm pit row) while following its
+own level line to 0.1-0.2 mm. The ``own level`` diagnostic scores the samples against the
+level line they actually followed (the tracing error alone).
 
 **Skeleton error** is the Hausdorff distance between the found skeleton and the true one
 (the true one clipped to the traced extent for open features, which are traced only inside
@@ -183,10 +190,9 @@ def exploration_metrics(result, plate, region, tip_radius: float, normal_force: 
 def _own_level_deviation(result, plate, region, tip_radius: float, match) -> float:
     """Mean distance [mm] of the boundary samples of bumps, pits, ridges and ravines to the
     true outline *at the level the tracer followed* (the median centre height of its
-    samples), not ``rise`` off the plate's asymptotic level: a diagnostic that separates
-    the tracing error from the choice of the level (the plate level next to a feature with
-    long tails, which the region never reaches, is not the asymptotic one); nan without
-    such features."""
+    samples), not ``rise`` off the feature's foot: a diagnostic that separates the tracing
+    error from the choice of the level (the foot read by the tracer); nan without such
+    features."""
     import shapely
 
     from planner.exploration.surface.plates import truth_features
@@ -202,7 +208,7 @@ def _own_level_deviation(result, plate, region, tip_radius: float, match) -> flo
         rise = sign * (float(np.nanmedian(z)) - tip_radius - float(plate.base))
         if not rise > 0:
             continue
-        t = truth_features(plate, region, tip_radius, _rises(plate, j, rise))[j]
+        t = truth_features(plate, region, tip_radius, _rises(plate, j, rise), foot_tilt=None)[j]
         lines = [ln for ln in t.outline if len(ln) >= 2]
         if lines:
             d = shapely.distance(shapely.points(f.boundary), shapely.MultiLineString(lines))

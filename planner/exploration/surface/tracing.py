@@ -11,6 +11,10 @@ ravine) the plate level where it started, so the outline traced is a level line 
 surface, and the feature's skeleton (the medial axis is shared by the offset curves) is
 unchanged. Samples far from that level (re-approach after losing the feature) are dropped.
 
+The plate level is read where the finger meets the feature's foot (:func:`find_outline`,
+:func:`~planner.exploration.surface.plates.foot_levels`): the true outline of the metrics is
+the same level line.
+
 Tracing ends when the loop closes, when both ends of an open feature are reached (the contact
 leaves the region: the finger returns to the start and traces the other way), or when the
 decision parameter of §4.5.2 turns negative: ``D = w_info g - w_cost t/T`` with ``g`` the share
@@ -29,6 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from planner.exploration.surface.motions import move_to
+from planner.exploration.surface.plates import FOOT_TILT
 from planner.exploration.surface.runtime import PHASE
 
 __all__ = [
@@ -74,7 +79,9 @@ class Outline:
 
 
 def plate_level(ex, local: float, rise: float, ends: int = 40, sense: int = 0) -> float:
-    """The plate level [m] (centre height on the bare plate) next to the feature.
+    """The plate level [m] (centre height on the bare plate) next to the feature, when
+    :func:`find_outline` cannot read it at the feature's foot (the finger still tilted
+    after backing out).
 
     ``local`` [m] is the height where the approach starts, a few millimetres from the
     feature: on the long tails of a wide bump or pit it is off the plate by a good part of
@@ -118,8 +125,17 @@ def find_outline(
     crest: bool = False,
     sense: int = 0,
 ):
-    """Slide from ``start`` along ``inward`` until the centre leaves the plate level by
-    ``boundary_rise``; returns an :class:`Outline` or None (not met within ``limit`` [m]).
+    """Slide from ``start`` along ``inward`` over the feature's foot until the centre leaves
+    the plate level there by ``rise`` (default ``boundary_rise``); returns an
+    :class:`Outline` or None (not met within ``limit`` [m]).
+
+    The plate level is the centre's height at the feature's foot
+    (:func:`~planner.exploration.surface.plates.foot_levels`, the plate level of the true
+    outline; §4.4.2, "the plane of travel before the feature was encountered"): where the
+    contact tilt rises past :data:`~planner.exploration.surface.plates.FOOT_TILT`, the tilt
+    and the height filtered alike (:class:`_FootFilter`). When the start already rests on
+    the flank (tilted past it) the finger first backs out by up to ``r_f``; when it is
+    still tilted there (a plate crowded with features) the level is :func:`plate_level`'s.
 
     Once the contact is tilted (on the feature's flank) the finger slides along the slope
     (up a raised feature, down a sunken one: the sense that agrees with ``inward``), so it
@@ -132,15 +148,23 @@ def find_outline(
     yield from move_to(ex, start, cfg.speed)
     ex.phase = PHASE["reapproach"]
     inward = np.asarray(inward, float) / np.linalg.norm(inward)
-    ref = []
+    ref, tilts = [], []
     for _ in range(30):  # the plate level here
         ref.append(ex.est.centre[2])
+        tilts.append(ex.est.tilt)
         yield np.zeros(2)
     rise = cfg.boundary_rise if rise is None else rise
-    w0 = plate_level(ex, float(np.mean(ref)), rise, sense=sense)
+    foot = _FootFilter(ex, float(np.mean(tilts)), float(np.mean(ref)))
+    if foot.tilt > FOOT_TILT:  # on the flank already: back out onto the plate
+        p1 = ex.est.uv.copy()
+        while foot.tilt > FOOT_TILT and float(np.hypot(*(ex.est.uv - p1))) < cfg.tip_radius:
+            yield -cfg.trace_speed * inward
+            foot.update(ex)
+    # the plate level: None until the foot is met (the finger rests on the plate here)
+    w0 = plate_level(ex, float(np.mean(ref)), rise, sense=sense) if foot.tilt > FOOT_TILT else None
     p0 = ex.est.uv.copy()
     heading = inward
-    while abs(ex.est.centre[2] - w0) < rise:
+    while w0 is None or abs(ex.est.centre[2] - w0) < rise:
         if float(np.hypot(*(ex.est.uv - p0))) > limit:
             return None
         n = ex.est.normal
@@ -149,8 +173,42 @@ def find_outline(
             g = np.array([n[0], n[1]]) / tilt
             heading = g if float(g @ inward) > 0 else -g
         yield cfg.trace_speed * heading
+        if w0 is None:
+            w0 = foot.update(ex)
     sigma = 1.0 if ex.est.centre[2] > w0 else -1.0
     return Outline(w0 + sigma * rise, sigma, heading, rise)
+
+
+class _FootFilter:
+    """The contact tilt and the centre height low-pass filtered alike, and where the tilt
+    rises past :data:`~planner.exploration.surface.plates.FOOT_TILT` (the feature's foot).
+
+    The estimate's normal is already filtered by the hybrid law (eq. 4.2, weight ``alpha``
+    a servo step); the height goes through the same filter first, then both through
+    :data:`SMOOTH` steps, so the two lag alike and the height read at the crossing is the
+    one at the foot (with the height unfiltered the foot of a 3 mm step's upper side was
+    read 0.05 mm low, on the flank).
+
+    Attributes:
+        tilt: the filtered tilt [-]; height: the filtered centre height [m].
+    """
+
+    def __init__(self, ex, tilt: float, height: float) -> None:
+        settings = getattr(ex.ctl, "settings", None)
+        self.alpha = float(getattr(settings, "alpha", 1.0))
+        self.tilt, self.height, self._z = tilt, height, height
+
+    def update(self, ex) -> float | None:
+        """Filter the current estimate in; the height at the foot [m] (interpolated to the
+        crossing) when the tilt has just risen past ``FOOT_TILT``, else None."""
+        self._z += self.alpha * (float(ex.est.centre[2]) - self._z)
+        t_new = self.tilt + (ex.est.tilt - self.tilt) / SMOOTH
+        w_new = self.height + (self._z - self.height) / SMOOTH
+        crossed = self.tilt <= FOOT_TILT < t_new
+        a = (FOOT_TILT - self.tilt) / max(t_new - self.tilt, 1e-12)
+        at = self.height + a * (w_new - self.height)
+        self.tilt, self.height = t_new, w_new
+        return at if crossed else None
 
 
 def find_crest(ex, cfg, start, inward, limit: float, rise: float | None = None):
@@ -250,11 +308,11 @@ def trace_boundary(ex, cfg, region: np.ndarray, outline: Outline, orient: float 
     iu, iv = float(outline.inward[0]), float(outline.inward[1])  # towards the feature
     sig, level, lost_err = float(outline.sigma), float(outline.level), 2.0 * outline.rise
     speed, trace_time = float(cfg.trace_speed), float(cfg.trace_time)
-    m = 0.25 * r  # the region, shrunk by the margin at which an end is reached [m]
-    u0, u1 = float(region[0, 0]) + m, float(region[0, 1]) - m
-    v0, v1 = float(region[1, 0]) + m, float(region[1, 1]) - m
-    # an end is reached where the outline *leaves* the shrunk region: when tracing begins
-    # outside it (a feature next to the region's edge), only farther out than that by r / 10
+    # an end is reached where the outline *leaves* the region (an outline inside it, however
+    # near its edge, is followed round: a closed one is closed); when tracing begins outside
+    # it (a feature next to the region's edge), only farther out than that by r / 10
+    u0, u1 = float(region[0, 0]), float(region[0, 1])
+    v0, v1 = float(region[1, 0]), float(region[1, 1])
     beyond0 = max(u0 - su, su - u1, v0 - sv, sv - v1, 0.0)
     out_limit = beyond0 + 0.1 * r if beyond0 > 0.0 else 0.0
     ends, travelled, farthest = 0, 0.0, 0.0
