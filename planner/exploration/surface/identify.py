@@ -388,9 +388,10 @@ OPEN_KINDS = ("step",)
 def _closed_kind(decision: TypeDecision) -> TypeDecision:
     """The decision given that its traced outline closed: the posterior conditioned on a
     closed outline (the :data:`OPEN_KINDS` dropped, the other kinds' scores renormalised),
-    its most probable kind and confidence. A sharply bent ridge's across crossing can run
-    over both arms of the bend and read a level change ("step"), while its outline closes
-    around it (``scenarios/curved_ridge.yaml``)."""
+    its most probable kind and confidence. A crossing that ends on a feature's flank reads a
+    level change ("step") while the outline closes around the feature: the across crossing
+    of ``scenarios/curved_ridge.yaml`` did, over both arms of the bend, until crossings ran
+    out onto a plane (``program._run_out``)."""
     from dataclasses import replace
 
     rest = {k: v for k, v in decision.scores.items() if k not in OPEN_KINDS}

@@ -247,8 +247,27 @@ def outline_rise(kind: str, relief: float, least: float) -> float:
     return max(least, share * abs(relief))
 
 
+#: the finger rests this long where the crest search of a cusp starts [s]: it lags the
+#: desired position of eq. 4.9 and runs on past the start in the direction it came from.
+#: The crest search (``tracing.find_crest``) stops once the centre has come down by half the
+#: rise from the highest it met, taking that for the far flank; on a cusp's flank, reached
+#: downhill from the raster's last line, the run-on lowered the centre that much at once,
+#: and a level line 10 mm down the flank was traced (audit finding 6). The outline search
+#: of the other kinds reads the plate level over its first 30 steps and needs no rest.
+SETTLE_TIME = 0.1
+
+
+def _come_to_rest(ex, cfg, p):
+    """Slide to ``p`` (2,) [m] and hold still there for :data:`SETTLE_TIME` (phase "move":
+    the finger stays in contact)."""
+    yield from move_to(ex, p, cfg.speed)
+    for _ in range(max(1, round(SETTLE_TIME * ex.ctl.settings.rate))):
+        yield np.zeros(2)
+
+
 def trace_feature(ex, cfg, rec_f: FeatureRecord, region, half: float):
-    """Trace one side (closed or open), then the other side of an open ridge or ravine."""
+    """Trace one side (closed or open), then the other side of an open ridge or ravine (a
+    cusp's crest searched for from rest: :data:`SETTLE_TIME`)."""
     sides_todo = [1.0]
     kind = rec_f.decision.kind
     if kind in ("ridge", "ravine"):
@@ -258,6 +277,8 @@ def trace_feature(ex, cfg, rec_f: FeatureRecord, region, half: float):
         inward = -side * rec_f.across
         limit = 2 * half + cfg.tip_radius
         sense = SENSE.get(kind, 0)
+        if kind == "cusp":
+            yield from _come_to_rest(ex, cfg, start)
         outline = yield from find_outline(
             ex, cfg, start, inward, limit, rec_f.rise, crest=kind == "cusp", sense=sense
         )
