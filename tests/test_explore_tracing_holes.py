@@ -58,17 +58,14 @@ def test_lost_steps_and_stray_runs_are_not_filled():
 
 @pytest.mark.xfail(
     strict=True,
-    reason="two causes. (1) identification: with the default line spacing the raster's 4th "
-    "line meets the V's apex first and the crossings read a step (relabelled a ravine once its "
-    "outline closes; see test_explore.py::test_sharply_bent_ridge_is_a_ridge_not_a_step). (2) "
-    "the simulator, not the tracer: with line_spacing=0.016 (a closed ridge, boundary 0.11-0.13 "
-    "mm off the true outline) the skeleton is 1.05 mm off the crest (2.4-4 mm as the trace "
-    "varies). Inside the V's bend the ball rests on both arms, but the SpatialWorld plate "
-    "contact is one closest point, so past the true inner corner of the outline the ball sinks "
-    "into the other arm (centre 0.12 mm below the resting height 0.7 mm past the corner, 0.75 "
-    "mm 2.7 mm past it): the level "
-    "line it traces on the simulated surface runs 2.7 mm straight on into the feature, kept "
-    "as settled samples, and the medial axis bends towards that tongue",
+    reason="the simulator, not the tracer: identified a closed ridge (boundary 0.16 mm off the "
+    "true outline), its skeleton is 1.29 mm off the crest (1.05-4 mm as the trace varies; with "
+    "line_spacing=0.016 too). Inside the V's bend the ball rests on both arms, but the "
+    "SpatialWorld plate contact is one closest point, so past the true inner corner of the "
+    "outline the ball sinks into the other arm (centre 0.12 mm below the resting height 0.7 mm "
+    "past the corner, 0.75 mm 2.7 mm past it): the level line it traces on the simulated "
+    "surface runs 2.7 mm straight on into the feature, kept as settled samples, and the medial "
+    "axis bends towards that tongue",
 )
 def test_curved_ridge_skeleton_follows_the_crest_around_the_bend():
     """scenarios/curved_ridge.yaml (Fig. 4.13): the decision parameter stops the tracing
