@@ -22,6 +22,7 @@ from planner.errors import InvalidParameter
 
 __all__ = [
     "batch",
+    "boolean",
     "choice",
     "in_range",
     "integer",
@@ -130,6 +131,14 @@ def integer(name: str, value: object, minimum: int | None = None) -> int:
     if not math.isfinite(f) or f != int(f) or (minimum is not None and f < minimum):
         raise InvalidParameter(f"{name}: expected {expected}, got {shown(value)}")
     return int(f)
+
+
+def boolean(name: str, value: object) -> bool:
+    """Return ``value`` if it is a ``bool`` (numpy's too); anything else is refused (a string
+    such as "false" would read as True)."""
+    if not isinstance(value, bool | np.bool_):
+        raise InvalidParameter(f"{name}: expected true or false, got {shown(value)}")
+    return bool(value)
 
 
 def choice(name: str, value: object, choices: Iterable[object]) -> object:

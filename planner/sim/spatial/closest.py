@@ -18,18 +18,18 @@ penetration). ``c`` lies on the offset surface ``S + r n`` exactly when ``g = 0`
   ``(u, v)`` with CasADi's exact gradient and Hessian of ``D``.
 
 The Hessian is positive definite as long as the sphere is inside the focal distance of
-concave regions (``r < 1/|k|`` of every concave principal curvature): the foot point is then
-unique and the contact a single point. Where this fails (a sphere wider than a groove) the
-iteration is damped and still returns the nearest local foot, but a second contact point in
-the groove is not reported (one contact per sphere and surface; a documented limit).
-:meth:`planner.sim.spatial.plate.Plate.concave_radius` is that bound for a plate: the 3GM
-ridge slide rides the exact offset surface with a tip 3 % below it and sinks into a flank
-with one 7 % above (``tests/test_sim_spatial_plate_curvature.py``). The bundled ``explore``
-plates are narrower than their 8 mm tip (concave radii 2-3 mm): on ``feature_plate`` the
-tip crossing the 2 mm ravine kept its foot on one rim while the other rim came nearer, and
-sank up to 0.87 mm into it on about 0.5 % of the steps of 20 s (measured 2026-11-25 against
-the nearest sample of a 0.1 mm grid under the tip; ``log.gap`` shows 0 there). A second
-contact per sphere, or a global check of the foot, is not done.
+concave regions (``r < 1/|k|`` of every concave principal curvature,
+:meth:`planner.sim.spatial.plate.Plate.concave_radius`): the foot point is then unique and the
+contact a single point. A sphere wider than a groove touches it at several points (both rims
+of a ravine, a pit's rim, the foot and the edge of a step); the Newton above tracks one of
+them. On a :class:`Plate`, :meth:`PlacedSurface.other_feet` finds the others
+(:func:`planner.sim.spatial.kernel.plate_other_feet`: a sampled search under the sphere, then
+Newton), the step solves all of them together and projects onto their common offset surface:
+the 8 mm 3GM tip crossing feature_plate's 2 mm ravine rides the grey dilation of the profile
+to 1e-17 m, where with one contact it sank 0.87 mm into the far rim
+(``tests/test_sim_spatial_two_feet.py``). Two feet closer than the search's grid step are
+seen as one (a sphere just beyond a flank's focal distance). Height fields and parametric
+surfaces keep one contact per sphere and surface (a documented limit).
 All queries work in the surface frame; :class:`PlacedSurface` maps to and from the WCS.
 """
 
@@ -151,9 +151,38 @@ class _PlateQuery:
     def __init__(self, plate: Plate) -> None:
         self.hd = plate.height_derivatives
         self.height = plate.height
+        self.plate = plate
+        self.packed = None  # (F, P, base) of the compiled kernels, packed on first use
 
     def foot(self, c: np.ndarray, hint):
         return _graph_foot(self.hd, self.height, c, hint)
+
+    def _pack(self):
+        if self.packed is None:
+            from planner.sim.spatial.kernel import pack_plate
+
+            self.packed = (*pack_plate(self.plate), float(self.plate.base))
+        return self.packed
+
+    def others(self, c: np.ndarray, radius: float, reach: float, primary) -> list:
+        """Rows ``(x, y, h, n_x, n_y, n_z, distance)`` of the other feet within ``reach``
+        (:func:`planner.sim.spatial.kernel.plate_other_feet`)."""
+        from planner.sim.spatial.kernel import MAX_OTHER_FEET, plate_other_feet
+
+        F, P, base = self._pack()
+        out = np.empty((MAX_OTHER_FEET, 7))
+        cx, cy, cz = (float(v) for v in c)
+        n = plate_other_feet(F, P, base, cx, cy, cz, radius, reach, *primary, out)
+        return list(out[:n])
+
+    def local(self, c: np.ndarray, hint):
+        """The foot Newton reaches from ``hint`` alone (no global restart): a second contact
+        stays on its own rim while the sphere is projected."""
+        from planner.sim.spatial.kernel import plate_foot
+
+        F, P, base = self._pack()
+        x, y, h, nx, ny, nz, _, _ = plate_foot(F, P, base, *(float(v) for v in c), *hint)
+        return np.array([x, y, h]), np.array([nx, ny, nz]), (x, y)
 
 
 class _HeightFieldQuery:
@@ -259,10 +288,32 @@ class PlacedSurface:
         p, n, h = self.query.foot(c, hint)
         if h is None and not isinstance(self.query, _PlaneQuery):
             return None
+        return self._to_wcs(c, p, n, h)
+
+    def _to_wcs(self, c: np.ndarray, p: np.ndarray, n: np.ndarray, hint) -> Foot:
+        """The :class:`Foot` of the surface-frame centre ``c``, point ``p`` and normal ``n``."""
         dist = float((c - p) @ n)
         if not self.identity:
             p, n = self.R @ p + self.t, self.R @ n
-        return Foot(p, n, dist, h)
+        return Foot(p, n, dist, hint)
+
+    def other_feet(self, center: np.ndarray, radius: float, reach: float, primary: Foot):
+        """The sphere's other contact points: feet of ``center`` (3,) [m, WCS] besides
+        ``primary`` whose gap to the sphere of ``radius`` [m] is at most ``reach`` [m] (a
+        sphere wider than a groove touches both rims). Plates only
+        (:func:`planner.sim.spatial.kernel.plate_other_feet`); other surfaces: none (one
+        contact per sphere, the documented limit of the module)."""
+        if not isinstance(self.query, _PlateQuery):
+            return []
+        c = center if self.identity else self.R.T @ (center - self.t)
+        rows = self.query.others(c, radius, reach, primary.hint)
+        return [self._to_wcs(c, r[:3], r[3:6], (float(r[0]), float(r[1]))) for r in rows]
+
+    def local_foot(self, center: np.ndarray, hint) -> Foot:
+        """Foot of ``center`` by Newton from ``hint`` only (a foot of :meth:`other_feet`)."""
+        c = center if self.identity else self.R.T @ (center - self.t)
+        p, n, h = self.query.local(c, hint)
+        return self._to_wcs(c, p, n, h)
 
 
 def placed(surface, pose=None) -> PlacedSurface:

@@ -28,10 +28,11 @@ class FingerKernel:
     Args:
         name: the surface's handle; placed: its :class:`.closest.PlacedSurface`; mu: μ.
         finger: the :class:`.bodies.FingerBody` (its state vector is stepped in place).
-        dt: time step [s].
+        dt: time step [s]; all_contacts: look for the tip's other contacts (the
+            world's setting; several found: the step falls back to the general path).
     """
 
-    def __init__(self, name, placed, mu, finger, dt) -> None:
+    def __init__(self, name, placed, mu, finger, dt, all_contacts=False) -> None:
         from planner.sim.spatial.sensing import FULL_INTENSITY_FORCE, SAMPLE_RATE
 
         s = placed.surface
@@ -58,6 +59,7 @@ class FingerKernel:
             FULL_INTENSITY_FORCE,
             sk.SINGULAR_SIN,
         )
+        prm[sk.P_ALL] = 1.0 if all_contacts else 0.0
         self.prm = prm
         self.dyn, self.kin = finger.fn, finger.kin
         _check_layout(self.dyn, self.kin)
@@ -94,7 +96,7 @@ def fast_plate(world) -> FingerKernel | None:
         return None
     mu = mu if f.friction is None else max(mu, f.friction)
     f.x[sk.HINT_OK] = 0.0  # the warm start of the foot belongs to the previous surface
-    return FingerKernel(name, placed, mu, f, world.dt)
+    return FingerKernel(name, placed, mu, f, world.dt, world.all_contacts)
 
 
 class KernelContact(Contact):

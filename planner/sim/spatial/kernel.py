@@ -34,8 +34,16 @@ __all__ = [
     "pack_plate",
     "plate_eval",
     "plate_foot",
+    "plate_other_feet",
     "plate_seed",
 ]
+
+#: most feet besides the primary one that :func:`plate_other_feet` reports
+MAX_OTHER_FEET = 3
+#: grid samples per side of :func:`plate_other_feet`'s search under the sphere
+OTHER_FEET_GRID = 11
+#: feet nearer each other than this are one foot [m]
+FOOT_SEPARATION = 1e-6
 
 _KINDS = {"ridge": 0, "ravine": 1, "step": 2, "bump": 3, "pit": 4, "cusp": 5, "wire": 6}
 
@@ -137,8 +145,16 @@ def _path(kind, h, w, rho, P, first, count, x, y):
 @_jit
 def plate_eval(F, P, base, x, y):
     """``(h, h_x, h_y, h_xx, h_xy, h_yy)`` of the packed plate ``(F, P)`` at ``(x, y)``."""
+    return plate_eval_some(F, P, base, None, F.shape[0], x, y)
+
+
+@_jit
+def plate_eval_some(F, P, base, idx, n, x, y):
+    """:func:`plate_eval` over the features ``idx[:n]`` alone (``idx`` None: the first ``n``)
+    added to ``base``."""
     h, hx, hy, hxx, hxy, hyy = base, 0.0, 0.0, 0.0, 0.0, 0.0
-    for i in range(F.shape[0]):
+    for j in range(n):
+        i = j if idx is None else idx[j]
         kind = int(F[i, 0])
         count = int(F[i, 9])
         if count > 0 or kind == 3 or kind == 4:
@@ -216,6 +232,147 @@ def plate_seed(F, P, base, cx, cy, cz):
             if d2 < best:
                 best, bx, by = d2, x, y
     return bx, by
+
+
+@_jit
+def _support_distance(F, P, i, x, y):
+    """Horizontal distance [m] from ``(x, y)`` to feature ``i``'s crest: its path (polyline or
+    point), its centre (bump, pit) or its crest line."""
+    kind, count = int(F[i, 0]), int(F[i, 9])
+    if count == 0:
+        if kind == 3 or kind == 4:
+            return math.hypot(x - F[i, 3], y - F[i, 4])
+        return abs((x - F[i, 3]) * F[i, 5] + (y - F[i, 4]) * F[i, 6])
+    first = int(F[i, 8])
+    best = math.hypot(x - P[first, 0], y - P[first, 1])
+    for j in range(first, first + count - 1):
+        ax, ay, ex, ey = P[j, 0], P[j, 1], P[j + 1, 0] - P[j, 0], P[j + 1, 1] - P[j, 1]
+        t = min(max(((x - ax) * ex + (y - ay) * ey) / (ex * ex + ey * ey), 0.0), 1.0)
+        best = min(best, math.hypot(x - ax - t * ex, y - ay - t * ey))
+    return best
+
+
+@_jit
+def _influence(F, i):
+    """Distance [m] from feature ``i``'s crest beyond which its profile is flat to the
+    other-feet search: 5 w for the Gaussian and tanh profiles (a 4e-6 / 9e-5 fraction of the
+    height left), 8 w for the Lorentzian bump and pit (1/65 of the height, curvature
+    ~1e-4 h/w²), the wire's exact edge 2 sqrt(h ρ / 2); a cusp's flanks never flatten."""
+    kind, w = int(F[i, 0]), F[i, 2]
+    if kind <= 2:
+        return 5.0 * w
+    if kind <= 4:
+        return 8.0 * w
+    if kind == 5:
+        return np.inf
+    return 2.0 * math.sqrt(0.5 * F[i, 1] * F[i, 7])
+
+
+@_jit
+def plate_top(F, base):
+    """Upper bound of the packed plate's height [m]: the base plus every raised feature's
+    height (ridge, step, bump, wire; ravines, pits and cusps only go down)."""
+    top = base
+    for i in range(F.shape[0]):
+        kind = int(F[i, 0])
+        if kind == 0 or kind == 2 or kind == 3 or kind == 6:
+            top += F[i, 1]
+    return top
+
+
+@_jit
+def plate_other_feet(F, P, base, cx, cy, cz, r, reach, fx, fy, out):
+    """The sphere's other contacts: local feet of ``(cx, cy, cz)`` on the packed plate (plate
+    frame) within ``reach`` [m] of the sphere of radius ``r`` [m], other than the foot
+    ``(fx, fy)`` the warm Newton tracks. Returns their number ``n``; ``out[:n]`` holds rows
+    ``(x, y, h, n_x, n_y, n_z, distance)`` as :func:`plate_foot`.
+
+    Where the sphere is wider than a groove (``r`` above the plate's concave radius, or two
+    features closer than the sphere), the distance to the plate has several local minima
+    and each within reach is a contact point (thesis §4.2.1's fingertip bridging a ravine
+    touches both rims). The search looks only at the features whose profile is not flat
+    within the disc where the sphere's lower cap can reach the plate's top (:func:`plate_top`,
+    :func:`_influence`; none: one foot, nothing sampled). It samples the distance ``d`` from
+    the centre on an ``OTHER_FEET_GRID``² grid over that disc (the other features' height at
+    the centre added), starts a Newton (:func:`plate_foot`) at every discrete local minimum
+    of ``d`` no farther than ``reach`` plus three grid steps, and keeps a converged foot
+    within reach and more than :data:`FOOT_SEPARATION` from ``(fx, fy)`` and from the feet
+    already found (at most ``out.shape[0]``). Two feet closer than about two grid steps (a
+    fifth of the disc's diameter) can share one sampled minimum: the search's resolution. A
+    sphere just beyond the focal distance of a concave flank touches it at two such close
+    points (the 3GM ridge slide with a tip 7 % over the concave radius still sinks 2.5 um)."""
+    if F.shape[0] == 0:
+        return 0
+    clear = cz - plate_top(F, base) - reach
+    if clear >= r:
+        return 0
+    rho = r if clear <= 0.0 else math.sqrt(r * r - clear * clear)
+    near = np.empty(F.shape[0], np.int64)
+    m = 0
+    for i in range(F.shape[0]):
+        if _support_distance(F, P, i, cx, cy) - _influence(F, i) < rho:
+            near[m] = i
+            m += 1
+    if m == 0:  # flat under the sphere: one foot
+        return 0
+    top = base  # the near features' top: a smaller disc, a finer grid
+    for j in range(m):
+        kind = int(F[near[j], 0])
+        if kind == 0 or kind == 2 or kind == 3 or kind == 6:
+            top += F[near[j], 1]
+    # the features out of reach are constant under the sphere to the search: their height at
+    # the centre joins the base
+    level = (
+        base + plate_eval(F, P, base, cx, cy)[0] - plate_eval_some(F, P, base, near, m, cx, cy)[0]
+    )
+    clear = cz - (top + level - base) - reach
+    if clear >= r:
+        return 0
+    if clear > 0.0:
+        rho = min(rho, math.sqrt(r * r - clear * clear))
+    k = OTHER_FEET_GRID
+    step = 2.0 * rho / (k - 1)
+    D = np.empty((k, k))
+    for i in range(k):
+        y = cy - rho + step * i
+        for j in range(k):
+            x = cx - rho + step * j
+            q2 = (x - cx) ** 2 + (y - cy) ** 2
+            if q2 > rho * rho * (1.0 + 1e-12):
+                D[i, j] = np.inf
+            else:
+                z = plate_eval_some(F, P, level, near, m, x, y)[0]
+                D[i, j] = math.sqrt(q2 + (z - cz) ** 2)
+    n = 0
+    for i in range(k):
+        for j in range(k):
+            d = D[i, j]
+            if not d - r <= reach + 3.0 * step:
+                continue
+            low = True
+            for a in range(max(i - 1, 0), min(i + 2, k)):
+                for b in range(max(j - 1, 0), min(j + 2, k)):
+                    if D[a, b] < d:
+                        low = False
+            if not low:
+                continue
+            x0, y0 = cx - rho + step * j, cy - rho + step * i
+            qx, qy, qz, nx, ny, nz, dist, done = plate_foot(F, P, base, cx, cy, cz, x0, y0)
+            if not done or dist - r > reach:
+                continue
+            if math.hypot(qx - fx, qy - fy) <= FOOT_SEPARATION:
+                continue
+            new = True
+            for m in range(n):
+                if math.hypot(qx - out[m, 0], qy - out[m, 1]) <= FOOT_SEPARATION:
+                    new = False
+            if new:
+                out[n, 0], out[n, 1], out[n, 2] = qx, qy, qz
+                out[n, 3], out[n, 4], out[n, 5], out[n, 6] = nx, ny, nz, dist
+                n += 1
+                if n == out.shape[0]:
+                    return n
+    return n
 
 
 @_jit

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from planner import checks
+from planner.errors import InvalidParameter
 from planner.sim.spatial.plate import Plate, PlateFeature
 from planner.sim.spatial.tip_controller import TipForceVelocityController
 from planner.sim.spatial.world import SpatialWorld
@@ -67,13 +68,17 @@ def ridge_slide_scene(
     travel: float = 0.03,
     sensors=None,
     gravity=(0.0, 0.0, -9.81),
+    kind: str = "ridge",
+    all_contacts: bool = False,
 ) -> RidgeScene:
     """The 3GM fingertip sliding across a Gaussian ridge (issue 15's benchmark scene).
 
     The plate ``z = z_p`` lies so that the tip touches it at the workspace centre; the ridge
     (``height`` [m], Gaussian ``width`` [m], running along ``y``) sits ``travel/2`` ahead of the
     start along ``+x``; the tip slides at ``speed`` [m/s] for ``travel`` [m]. ``gravity``: (3,)
-    in the WCS [m/s²] (the controller compensates the finger's weight under it).
+    in the WCS [m/s²] (the controller compensates the finger's weight under it). ``kind``:
+    ``"ridge"``, or ``"ravine"`` for the same profile sunk into the plate (a tip wider than
+    the ravine bridges it on both rims: ``all_contacts`` True, see :class:`SpatialWorld`).
 
     Returns:
         a :class:`RidgeScene` (``scene.world.run(scene.duration, scene.controller)``).
@@ -86,12 +91,16 @@ def ridge_slide_scene(
     centre = gm.workspace_center
     start = centre - np.array([travel / 2, 0.0, 0.0])
     theta = gm.inverse_kinematics(start)
-    ridge = PlateFeature("ridge", ridge_height, ridge_width, position=(float(centre[0]), 0.0))
+    if kind not in ("ridge", "ravine"):
+        raise InvalidParameter(f"kind: expected 'ridge' or 'ravine', got {checks.shown(kind)}")
+    ridge = PlateFeature(kind, ridge_height, ridge_width, position=(float(centre[0]), 0.0))
     xs = np.linspace(start[0] - tip_radius, start[0] + tip_radius, 201)
     bump = float(np.max(Plate((ridge,)).height(xs, 0.0)))  # highest point under the tip
     z_plate = float(start[2]) - tip_radius - bump - 1e-4  # the tip starts 0.1 mm above
     plate = Plate((ridge,), base=z_plate, name="ridge_plate")
-    world = SpatialWorld(dt=dt, gravity=gravity, seed=seed, sensors=sensors)
+    world = SpatialWorld(
+        dt=dt, gravity=gravity, seed=seed, sensors=sensors, all_contacts=all_contacts
+    )
     surface = world.add_surface(plate, friction=friction, name="plate")
     finger = world.add_finger(gm, theta, tip_radius=tip_radius)
     ctrl = TipForceVelocityController(

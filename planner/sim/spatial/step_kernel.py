@@ -24,8 +24,9 @@ path stays the reference; the tests compare both on random states):
 The state lives in one float vector (layout: the ``TH``... constants below) that
 :class:`planner.sim.spatial.bodies.FingerBody` exposes as attributes. Return codes: a
 bitmask (bits 0-2: joint ``i`` held at a limit, bit 3: the contact carried force), or
-``FALLBACK`` (the sliding Newton found no valid root: nothing was changed, the caller runs
-the general path), ``SINGULAR_START`` (the loop cannot close at ``θ``; nothing changed) or
+``FALLBACK`` (the sliding Newton found no valid root, or the tip touches the plate at more than
+one point, :func:`.kernel.plate_other_feet`: nothing was changed, the caller runs the general
+path), ``SINGULAR_START`` (the loop cannot close at ``θ``; nothing changed) or
 ``SINGULAR_END`` (at ``θ⁺``; the angles were advanced, as in the general path).
 """
 
@@ -41,7 +42,13 @@ from numba.extending import intrinsic
 from planner.jit import njit
 from planner.sim.spatial.closest import FOOT_SLACK
 from planner.sim.spatial.cone_kernel import cone_impulse
-from planner.sim.spatial.kernel import plate_eval, plate_foot, plate_seed
+from planner.sim.spatial.kernel import (
+    MAX_OTHER_FEET,
+    plate_eval,
+    plate_foot,
+    plate_other_feet,
+    plate_seed,
+)
 
 __all__ = ["FALLBACK", "SINGULAR_END", "SINGULAR_START", "STATE_SIZE", "finger_step"]
 
@@ -51,8 +58,8 @@ ACT, FN, PT, NRM, FT, SLIP, GAP, LIM, SIN = 40, 41, 42, 45, 48, 51, 54, 55, 58
 STATE_SIZE = 60
 # parameter vector layout
 P_H, P_MU, P_R, P_BASE, P_ROT, P_T, P_LIM, P_TAU = 0, 1, 2, 3, 4, 13, 16, 22
-P_RATE, P_FULL, P_SIN = 25, 26, 27
-PARAM_SIZE = 28
+P_RATE, P_FULL, P_SIN, P_ALL = 25, 26, 27, 28
+PARAM_SIZE = 29
 #: |sin(γ2 - γ1)| below which the 3GM is singular (links l3, l4 aligned) [-]; ``prm[P_SIN]``
 SINGULAR_SIN = 1e-6
 # buffers of the generated functions (inputs, then outputs; matrices column-major)
@@ -109,6 +116,21 @@ def _foot(F, P, base, prm, x, cx, cy, cz, out):
         out[i] = R[3 * i] * fx + R[3 * i + 1] * fy + R[3 * i + 2] * fz + t[i]
         out[3 + i] = R[3 * i] * nx + R[3 * i + 1] * ny + R[3 * i + 2] * nz
     return dist
+
+
+@njit(cache=True)
+def _other_feet(F, P, base, prm, x, reach) -> int:
+    """How many other feet of the tip's centre :func:`.kernel.plate_other_feet` finds within
+    ``reach`` [m] besides the one :func:`_foot` left in the hint (a sphere wider than a
+    groove touches both rims: the general path solves those contacts together)."""
+    R = prm[P_ROT : P_ROT + 9]
+    t = prm[P_T : P_T + 3]
+    d0, d1, d2 = x[C] - t[0], x[C + 1] - t[1], x[C + 2] - t[2]
+    px = R[0] * d0 + R[3] * d1 + R[6] * d2
+    py = R[1] * d0 + R[4] * d1 + R[7] * d2
+    pz = R[2] * d0 + R[5] * d1 + R[8] * d2
+    out = np.empty((MAX_OTHER_FEET, 7))
+    return plate_other_feet(F, P, base, px, py, pz, prm[P_R], reach, x[HINT], x[HINT + 1], out)
 
 
 @njit(cache=True)
@@ -281,7 +303,10 @@ def finger_step(x, tau_in, t_end, prm, F, P, dyn, dp, kin, kp, rows, times, ost)
     foot = np.empty(6)
     dist = _foot(F, P, prm[P_BASE], prm, x, x[C], x[C + 1], x[C + 2], foot)
     gap = dist - r
-    has_c = gap <= 2.0 * h * vmax * 0.2 + _MARGIN
+    reach = 2.0 * h * vmax * 0.2 + _MARGIN
+    has_c = gap <= reach
+    if prm[P_ALL] != 0.0 and _other_feet(F, P, prm[P_BASE], prm, x, reach) > 0:
+        return FALLBACK  # several contacts: the general path (nothing changed but the hint)
     Jc = np.zeros((3, 3))
     MJt = np.zeros((3, 3))
     W = np.zeros((3, 3))

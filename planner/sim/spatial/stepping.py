@@ -25,6 +25,17 @@ class _Candidate:
     foot: object
     gap: float
     C: np.ndarray  # (3, 3) rows n, t1, t2
+    other: bool = False  # a second foot on the same surface (re-found from its own hint)
+
+    def refresh(self, world, body):
+        """The foot at the body's current centre (None: it left a bounded surface)."""
+        if self.other:
+            return self.placed.local_foot(body.center, self.foot.hint)
+        key = (body.name, self.surface)
+        foot = self.placed.foot(body.center, world._hints.get(key))
+        if foot is not None:
+            world._hints[key] = foot.hint
+        return foot
 
 
 def _frame(n: np.ndarray) -> np.ndarray:
@@ -49,17 +60,25 @@ def _candidates(world, body, nu_free) -> list[_Candidate]:
             world._hints.pop(key, None)
             continue
         world._hints[key] = foot.hint
-        gap = foot.distance - body.radius
-        if gap > reach:
-            continue
         mu = mu_s if body.friction is None else max(mu_s, body.friction)
-        out.append(_Candidate(sname, placed, mu, foot, gap, _frame(foot.normal)))
+        gap = foot.distance - body.radius
+        if gap <= reach:
+            out.append(_Candidate(sname, placed, mu, foot, gap, _frame(foot.normal)))
+        if not world.all_contacts:
+            continue
+        for other in placed.other_feet(body.center, body.radius, reach, foot):
+            g = other.distance - body.radius
+            out.append(_Candidate(sname, placed, mu, other, g, _frame(other.normal), True))
     return out
 
 
 def _project(world, body, active: list[_Candidate], minv=None) -> list[float]:
     """Project the centre onto the offset surfaces of the active contacts; final gaps.
-    ``minv``: the finger's inverse mass conditioned on its held joints (default M_r⁻¹)."""
+    ``minv``: the finger's inverse mass conditioned on its held joints (default M_r⁻¹).
+    Several contacts on one surface (a sphere bridging a groove) are projected together
+    (:func:`_project_together`); otherwise one contact after the other."""
+    if any(c.other for c in active):
+        return _project_together(body, active, world, minv)
     gaps = [c.gap for c in active]
     for _ in range(20):
         worst = 0.0
@@ -90,10 +109,45 @@ def _project(world, body, active: list[_Candidate], minv=None) -> list[float]:
     return gaps
 
 
+def _project_together(body, active: list[_Candidate], world, minv=None) -> list[float]:
+    """Gauss-Newton onto the intersection of the active contacts' offset surfaces: the
+    smallest correction in the metric ``M⁻¹`` (``minv``) that closes every gap to first
+    order, ``Δq = -M⁻¹Jₙᵀ (Jₙ M⁻¹ Jₙᵀ)⁺ g`` (a sphere: ``Δx = -Nᵀ (N Nᵀ)⁺ g``), repeated
+    until every ``|g| <= 1e-12 m``; the final gaps."""
+    gaps = [c.gap for c in active]
+    for _ in range(20):
+        rows, g = [], []
+        for i, c in enumerate(active):
+            foot = c.refresh(world, body)
+            if foot is None:
+                continue
+            c.foot = foot
+            gaps[i] = foot.distance - body.radius
+            rows.append(foot.normal)
+            g.append(gaps[i])
+        if not g or max(abs(v) for v in g) <= _PROJ_TOL:
+            break
+        N, g = np.array(rows), np.array(g)
+        if body.minv is None or np.ndim(body.minv) == 1:  # sphere: translate
+            body.project(-N.T @ (np.linalg.pinv(N @ N.T) @ g))
+            continue
+        Jn = N @ body.centre_jacobian()
+        MJ = (body.minv if minv is None else minv) @ Jn.T
+        A = Jn @ MJ
+        if not np.trace(A) > 0.0:  # every joint held: nothing can move
+            break
+        body.project(None, -MJ @ (np.linalg.pinv(A, rcond=1e-12) @ g))
+    return gaps
+
+
 def _unpenetrate(world, body, idle: list[_Candidate], minv=None) -> None:
     """Project candidates that did not carry force but end the step penetrating."""
     for c in idle:
-        foot = c.placed.foot(body.center, world._hints.get((body.name, c.surface)))
+        foot = (
+            c.refresh(world, body)
+            if c.other
+            else c.placed.foot(body.center, world._hints.get((body.name, c.surface)))
+        )
         if foot is not None and foot.distance - body.radius < -_PROJ_TOL:
             c.gap = foot.distance - body.radius
             _project(world, body, [c], minv)

@@ -89,14 +89,25 @@ class SpatialWorld(WorldBase):
         seed: seed of the world's generator (the only source of sensor noise).
         sensors: sensor models (None: defaults; the 3GM's encoder resolution of App. C.2.1
             and an ideal-geometry :class:`~robots.sensors.OWTS` of the tip's radius).
+        all_contacts: find every point where a sphere touches a :class:`Plate` (a groove
+            narrower than the sphere is touched on both rims, a step at its foot and edge;
+            :meth:`.closest.PlacedSurface.other_feet`) and solve them together. False: one
+            contact per sphere and surface, the one the warm Newton tracks: exact while the
+            sphere is narrower than every groove (``Plate.concave_radius``), else it can sink
+            into the far rim (0.87 mm for the 8 mm tip across a 2 mm ravine). True costs a
+            search under the sphere near features and runs the steps with several contacts
+            through the general (Python) path.
     """
 
     pose_size = 7
     velocity_size = 6
     contact_dim = 3
 
-    def __init__(self, dt=1e-3, gravity=(0.0, 0.0, -9.81), seed=0, sensors=None) -> None:
+    def __init__(
+        self, dt=1e-3, gravity=(0.0, 0.0, -9.81), seed=0, sensors=None, all_contacts=False
+    ) -> None:
         self.dt = checks.positive("dt", dt, "s")
+        self.all_contacts = checks.boolean("all_contacts", all_contacts)
         self.gravity = checks.vector("gravity", gravity, 3, "m/s^2")
         self.seed = checks.integer("seed", seed, 0)
         self.rng = np.random.default_rng(self.seed)
