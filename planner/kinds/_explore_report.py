@@ -36,6 +36,7 @@ def report(config, ctx):
             friction=config.friction,
             identify=config.identify,
             control=config.control,
+            all_contacts=config.all_contacts,
             **({} if config.line_spacing is None else {"line_spacing": config.line_spacing}),
         )
     with ctx.timer("metrics"):

@@ -16,6 +16,7 @@ Keys (SI units)::
     identify: flow_chart         # flow_chart (crossings, Fig. 4.7 extended) | raster
     control: open_loop           # normal force: open_loop (eq. 4.12) | closed_loop | qp
     line_spacing: null           # largest raster line spacing [m] (1.5 r_f; >= 0.05 r_f)
+    all_contacts: false          # simulate every tip-plate contact (both rims of a groove)
     goal: null                   # bug2 goal [u, v] in the plate frame [m]
     tip_radius: 0.008            # fingertip radius r_f [m]
     normal_force: 0.3            # desired normal force (eq. 4.12) [N]
@@ -134,6 +135,11 @@ class Config(ScenarioBase):
         gt=0,
         le=0.1,
         description="largest raster line spacing [m] (default 1.5 r_f, at least 0.05 r_f)",
+    )
+    all_contacts: bool = Field(
+        False,
+        description="simulate every point where the tip touches the plate (a groove narrower "
+        "than the tip on both rims); false: one contact, which can sink into the far rim",
     )
     speed: float = Field(0.03, gt=0, le=0.1, description="search speed [m/s]")
     trace_speed: float = Field(0.012, gt=0, le=0.1, description="tracing speed [m/s]")

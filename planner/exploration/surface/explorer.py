@@ -88,7 +88,7 @@ def build_world(plate, cfg: ExplorationSettings, region, tilt: float, seed: int,
     for p in corners:
         x = to_world(T, [p[0], p[1], float(H(p[0], p[1])) + r])
         check_force_feasible(gm, gm.inverse_kinematics(x, theta), cfg.normal_force)
-    world = SpatialWorld(dt=1e-3, seed=seed, sensors=sensors)
+    world = SpatialWorld(dt=1e-3, seed=seed, sensors=sensors, all_contacts=cfg.all_contacts)
     world.add_surface(plate, friction=cfg.friction, name="plate", pose=T)
     world.add_finger(gm, theta, tip_radius=r)
     return world, gm, T

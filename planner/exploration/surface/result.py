@@ -88,6 +88,9 @@ class ExplorationSettings:
         identify: ``"flow_chart"`` (crossings of Fig. 4.7 extended) or ``"raster"``
             (pattern matching of the raster's curvature regions, strategy raster only).
         goal: (2,) goal point of the ``bug2`` strategy in the plate frame [m].
+        all_contacts: simulate every point where the tip touches the plate (a groove
+            narrower than the tip on both rims; :class:`~planner.sim.spatial.SpatialWorld`).
+            False (default): one contact, which can sink into a groove's far rim.
     """
 
     strategy: str = "raster"
@@ -107,8 +110,10 @@ class ExplorationSettings:
     cost_weight: float = 0.2
     identify: str = "flow_chart"
     goal: tuple[float, float] | None = None
+    all_contacts: bool = False
 
     def __post_init__(self) -> None:
+        checks.boolean("all_contacts", self.all_contacts)
         checks.choice("strategy", self.strategy, STRATEGIES)
         r = checks.positive("tip_radius", self.tip_radius, "m")
         checks.positive("normal_force", self.normal_force, "N")
