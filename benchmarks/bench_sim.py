@@ -272,47 +272,68 @@ def bench_hold_slide(quick: bool) -> list[dict]:
     return rows
 
 
-def bench_ridge(quick: bool) -> list[dict]:
-    """The 3GM ridge slide: hapex (warm: the JIT caches are filled by a short first run) and
-    MuJoCo on the same scene via ``to_mjcf`` (:mod:`planner.sim.spatial.mujoco_peer`)."""
-    try:
-        from planner.sim.spatial.scenes import centre_path_error, ridge_slide_scene
-    except ImportError as exc:
-        return [{"scene": "ridge slide (3GM)", "engine": "hapex", "status": f"n/a: {exc}"}]
-    kw = {"travel": 0.006} if quick else {}
-    warm = ridge_slide_scene(travel=0.004)
-    warm.world.run(0.02, warm.controller)  # numba/ctypes caches
+def _hapex_slide(build, kw: dict, label: str):
+    """Build and run a 3GM slide scene (warm); the scene and its hapex row."""
+    from planner.sim.spatial.scenes import centre_path_error
+
     t0 = time.perf_counter()
-    sc = ridge_slide_scene(**kw)
+    sc = build(**kw)
     build_s = time.perf_counter() - t0
     t0, c0 = time.perf_counter(), time.process_time()
     log = sc.world.run(sc.duration, sc.controller)
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     pe = centre_path_error(sc, log)
     gaps = log.gap[np.isfinite(log.gap)]
-    rows = [
-        {
-            "engine": "hapex",
-            # the wall clock of a shared machine understates the speed: the process' CPU
-            # time is given too
-            "settings": f"exact (no parameters); {log.t[-1] / cpu:.1f}x RT in CPU time",
-            "sim_s": log.t[-1],
-            "build_s": build_s,
-            "steps_per_s": (len(log.t) - 1) / wall,
-            "real_time_factor": log.t[-1] / wall,
-            "path_rms_m": pe.rms,
-            "path_max_m": pe.max,
-            "lost_steps": pe.lost_steps,
-            # the deepest of the logged gaps and of the centre below its exact offset surface
-            # (a second contact the one-foot model misses shows only in the latter)
-            "penetration_m": max(
-                0.0,
-                -float(gaps.min()) if gaps.size else 0.0,
-                -float(np.min(pe.errors, initial=0.0)),
-            ),
-            "status": log.status,
-        }
-    ]
+    row = {
+        "engine": "hapex",
+        # the wall clock of a shared machine understates the speed: the process' CPU time too
+        "settings": f"{label}; {log.t[-1] / cpu:.1f}x RT in CPU time",
+        "sim_s": log.t[-1],
+        "build_s": build_s,
+        "steps_per_s": (len(log.t) - 1) / wall,
+        "real_time_factor": log.t[-1] / wall,
+        "path_rms_m": pe.rms,
+        "path_max_m": pe.max,
+        "lost_steps": pe.lost_steps,
+        # the deepest of the logged gaps and of the centre below its exact offset surface (a
+        # second contact the one-foot model misses shows only in the latter)
+        "penetration_m": max(
+            0.0,
+            -float(gaps.min()) if gaps.size else 0.0,
+            -float(np.min(pe.errors, initial=0.0)),
+        ),
+        "status": log.status,
+    }
+    return sc, row
+
+
+def bench_ravine(quick: bool) -> list[dict]:
+    """The 8 mm 3GM tip sliding across a 2 x 2 mm ravine it cannot enter (feature_plate's):
+    one contact per sphere (the default) against every contact (``all_contacts``)."""
+    from planner.sim.spatial.scenes import ridge_slide_scene
+
+    kw = {"kind": "ravine", "ridge_height": 2e-3, "ridge_width": 2e-3}
+    kw["travel"] = 0.012 if quick else 0.03
+    rows = []
+    for every, label in ((False, "one contact per sphere"), (True, "all_contacts")):
+        rows.append(_hapex_slide(ridge_slide_scene, {**kw, "all_contacts": every}, label)[1])
+    for r in rows:
+        r["scene"] = "ravine slide (3GM, tip wider than the ravine)"
+    return rows
+
+
+def bench_ridge(quick: bool) -> list[dict]:
+    """The 3GM ridge slide: hapex (warm: the JIT caches are filled by a short first run) and
+    MuJoCo on the same scene via ``to_mjcf`` (:mod:`planner.sim.spatial.mujoco_peer`)."""
+    try:
+        from planner.sim.spatial.scenes import ridge_slide_scene
+    except ImportError as exc:
+        return [{"scene": "ridge slide (3GM)", "engine": "hapex", "status": f"n/a: {exc}"}]
+    kw = {"travel": 0.006} if quick else {}
+    warm = ridge_slide_scene(travel=0.004)
+    warm.world.run(0.02, warm.controller)  # numba/ctypes caches
+    sc, row = _hapex_slide(ridge_slide_scene, kw, "exact (no parameters)")
+    rows = [row]
     if _mujoco() is None:
         rows.append({"engine": "MuJoCo", "settings": "-", "status": "not installed"})
     else:
@@ -411,7 +432,7 @@ def bench_breakdown(quick: bool) -> list[dict]:
 def main() -> None:
     args = arg_parser(__doc__.splitlines()[0]).parse_args()
     rows = []
-    for bench in (bench_pinch, bench_roll, bench_ridge, bench_hold_slide):
+    for bench in (bench_pinch, bench_roll, bench_ridge, bench_ravine, bench_hold_slide):
         rows += bench(args.quick)
     write_report(
         "sim_breakdown",
