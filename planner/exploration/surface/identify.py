@@ -182,9 +182,11 @@ def identify(
     path = []
     for c in across:
         rel = _rel(c.relief, relief_threshold)
-        step = abs(c.level_change) > max(level_threshold, abs(c.relief))
-        feet = "-+-" in c.pattern
         crease = max(c.end_slopes) < -crease_slope
+        # a level change is a step's only between level ends: where the plate falls away on
+        # both sides (a crease) the end levels are wherever the crossing stopped on the flanks
+        step = not crease and abs(c.level_change) > max(level_threshold, abs(c.relief))
+        feet = "-+-" in c.pattern
         path.append(
             f"{c.role}: pattern {c.pattern or '(none)'}, relief {rel}, "
             f"{'level change' if step else 'level'}, {'feet' if feet else 'no feet'}, "
