@@ -238,14 +238,16 @@ def _failed_row(case: dict, identify_mode: str, reason: str) -> dict:
     }
 
 
-def closed_row(case: dict, identify_mode: str = "flow_chart") -> dict:
-    """Explore one plate in the SpatialWorld and score it against the truth."""
+def closed_row(case: dict, identify_mode: str = "flow_chart", all_contacts: bool = False) -> dict:
+    """Explore one plate in the SpatialWorld and score it against the truth (``all_contacts``:
+    the simulator's every tip-plate contact, :class:`planner.sim.spatial.SpatialWorld`)."""
     from planner.errors import HapexError
     from planner.exploration.surface import explore_surface
     from planner.exploration.surface.metrics import exploration_metrics
 
     plate = _closed_plate(case)
     opts = {"line_spacing": 0.05} if identify_mode == "flow_chart" else {"line_spacing": 0.006}
+    opts["all_contacts"] = all_contacts
     try:
         return _explore_row(case, identify_mode, plate, opts, explore_surface, exploration_metrics)
     except HapexError as exc:  # a valid plate the explorer refused: reported, not hidden
@@ -356,10 +358,12 @@ def closed_summary(rows: list[dict]) -> list[dict]:
     return out
 
 
-def closed_rows(cases: list[dict], identify_mode: str = "flow_chart") -> list[dict]:
+def closed_rows(
+    cases: list[dict], identify_mode: str = "flow_chart", all_contacts: bool = False
+) -> list[dict]:
     rows = []
     for case in cases:
-        rows.append(closed_row(case, identify_mode))
+        rows.append(closed_row(case, identify_mode, all_contacts))
         print(
             {
                 k: rows[-1][k]
@@ -389,8 +393,15 @@ def main() -> None:
         help="base seed of the closed-loop plates (7: the reference set; any other value is "
         "a second set, its reports suffixed _seedN and the identification part skipped)",
     )
+    p.add_argument(
+        "--all-contacts",
+        action="store_true",
+        help="simulate every tip-plate contact (SpatialWorld all_contacts; reports suffixed "
+        "_all_contacts, identification part skipped)",
+    )
     args = p.parse_args()
     tag = "" if args.seed == 7 else f"_seed{args.seed}"
+    tag += "_all_contacts" if args.all_contacts else ""
     load0 = _load()
     notes = [f"load average at start: {load0} (2 cores shared with other engineers)"]
     if not tag:
@@ -399,8 +410,9 @@ def main() -> None:
     n_r = (0 if args.quick else len(KINDS)) if args.raster is None else args.raster
     if tag:
         n_r = 0
-    crow = closed_rows(closed_cases(n, seed=args.seed)) if n > 0 else []
-    crow += closed_rows(closed_cases(n_r, seed=8), "raster") if n_r > 0 else []
+    every = args.all_contacts
+    crow = closed_rows(closed_cases(n, seed=args.seed), all_contacts=every) if n > 0 else []
+    crow += closed_rows(closed_cases(n_r, seed=8), "raster", every) if n_r > 0 else []
     if crow:
         _closed_reports(args, crow, n_r, notes, tag)
 
@@ -429,8 +441,15 @@ def _closed_reports(args, crow: list[dict], n_r: int, notes: list[str], tag: str
         f"closed-loop plates of base seed {args.seed}"
         + (
             " (the reference set)"
-            if not tag
+            if args.seed == 7
             else " (a second set: are the reference set's numbers seed-specific?)"
+        ),
+        "simulator: "
+        + (
+            "every tip-plate contact (all_contacts: the tip bridges grooves narrower than it)"
+            if args.all_contacts
+            else "one contact per sphere and plate (the default; a tip wider than a groove "
+            "can sink into its far rim)"
         ),
         "one feature per plate (12 mm long ridges and ravines, closed outlines); 1 kHz control, "
         "OWTS at 5 kHz with the noise of the row, encoder quantization on",
