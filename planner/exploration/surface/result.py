@@ -165,7 +165,9 @@ class ExploredFeature:
             and both sides' outlines run between the same two ends: this is the most ends
             one side reached, not the sum over sides.
         skeleton: the feature skeleton (:class:`planner.skeleton.Skeleton`) or None.
-        centre: (2,) where it was met [m]; detected_at: time of the detection [s].
+        centre: (2,) where the identification crossings peak (a bump's or pit's top or
+            bottom; on a line feature where the search met it) [m]; detected_at: time of the
+            detection [s].
         latency: online detection latency (peak crossed -> detection) [s].
         evidence: the cues read by the flow chart.
         rise: height of the traced outline above (below) the plate level [m]: the boundary
