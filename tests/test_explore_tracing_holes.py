@@ -58,7 +58,7 @@ def test_lost_steps_and_stray_runs_are_not_filled():
 
 @pytest.mark.xfail(
     strict=True,
-    reason="the simulator, not the tracer: identified a closed ridge (boundary 0.16 mm off the "
+    reason="mostly the default one-contact simulator: identified a closed ridge (boundary 0.16 mm off the "
     "true outline), its skeleton is 1.29 mm off the crest (1.05-4 mm as the trace varies; with "
     "line_spacing=0.016 too). Inside the V's bend the ball rests on both arms, but the "
     "SpatialWorld plate contact is one closest point, so past the true inner corner of the "
