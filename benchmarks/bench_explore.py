@@ -293,10 +293,10 @@ def _explore_row(case, identify_mode, plate, opts, explore_surface, exploration_
 
 def _tail_at_edge(plate, n: int = 400) -> float:
     """Largest height [m] of the feature on the border of the region: what its flanks or
-    tails still lift (or lower) the plate where the explorer can first see it. The true
-    outline is a level line above the *asymptotic* plate (the nominal surface of §4.4.2);
-    a bump or pit whose tail at the border is a good part of the outline's level cannot be
-    outlined to 0.5 mm from inside the region (see ``boundary_dev_mean_mm``)."""
+    tails still lift (or lower) the plate where the explorer can first see it (a diagnostic:
+    the true outline is a level line above the feature's foot,
+    :func:`planner.exploration.surface.plates.foot_levels`, which the region sees, not above
+    the asymptotic plate, which its tails hide)."""
     from planner.exploration.surface.plates import plate_height
 
     (u0, u1), (v0, v1) = REGION
@@ -456,8 +456,9 @@ def _closed_reports(args, crow: list[dict], n_r: int, notes: list[str], tag: str
         "targets: type accuracy >= 95 %, boundary deviation <= 0.5 mm mean, closure 100 % "
         "(closed features), skeleton Hausdorff <= 1 mm, >= 10x real time",
         "boundary deviation: traced fingertip centres vs the true outline, the level line of "
-        "the traced (offset) surface at the feature's outline level above the asymptotic "
-        "plate; own level: vs the level line the tracer actually followed (tracing error "
+        "the traced (offset) surface at the feature's outline level above its foot (where the "
+        "traced surface's tilt falls to 5 deg, §4.4.2); own level: vs the level line the "
+        "tracer actually followed (tracing error "
         "alone); tail_at_edge_mm: the feature's height at the region border",
         "steps and cusps are open (traced along: pseudo-skeleton scored against the true "
         "outline line it follows, thesis §4.4.3; closure n/a)",

@@ -58,16 +58,16 @@ def test_lost_steps_and_stray_runs_are_not_filled():
 
 @pytest.mark.xfail(
     strict=True,
-    reason="mostly the default one-contact simulator: identified a closed ridge (boundary 0.16 mm off the "
-    "true outline), its skeleton is 1.29 mm off the crest (1.05-4 mm as the trace varies; with "
-    "line_spacing=0.016 too). Inside the V's bend the ball rests on both arms, but the "
-    "SpatialWorld plate contact is one closest point, so past the true inner corner of the "
-    "outline the ball sinks into the other arm (centre 0.12 mm below the resting height 0.7 mm "
-    "past the corner, 0.75 mm 2.7 mm past it): the level line it traces on the simulated "
-    "surface runs 2.7 mm straight on into the feature, kept as settled samples, and the medial "
-    "axis bends towards that tongue. With SpatialWorld(all_contacts=True) (explore's "
-    "all_contacts) the ball rests on both arms (sinking 0.74 mm -> 14 um at most) and the "
-    "skeleton is still 1.18 mm off: the rest of the error is not explained yet",
+    reason="mostly the default one-contact simulator: identified a closed ridge (boundary 0.16 mm "
+    "off the true outline), its skeleton is 1.29 mm off the crest (1.05-4 mm as the trace "
+    "varies; with line_spacing=0.016 too). Inside the V's bend the ball rests on both arms, "
+    "but the SpatialWorld plate contact is one closest point, so past the true inner corner "
+    "of the outline the ball sinks into the other arm (centre 0.12 mm below the resting "
+    "height 0.7 mm past the corner, 0.75 mm 2.7 mm past it): the level line it traces on the "
+    "simulated surface runs 2.7 mm straight on into the feature, kept as settled samples, and"
+    " the medial axis bends towards that tongue. With SpatialWorld(all_contacts=True) "
+    "(explore's all_contacts) the ball rests on both arms (sinking 0.74 mm -> 14 um at most) "
+    "and the skeleton is still 1.18 mm off: the rest of the error is not explained yet",
 )
 def test_curved_ridge_skeleton_follows_the_crest_around_the_bend():
     """scenarios/curved_ridge.yaml (Fig. 4.13): the decision parameter stops the tracing

@@ -141,3 +141,14 @@ def test_with_one_contact_per_sphere_the_tip_sinks_into_the_far_rim():
 def test_all_contacts_must_be_a_boolean():
     with pytest.raises(InvalidParameter, match="all_contacts: expected true or false"):
         SpatialWorld(all_contacts="false")
+
+
+@pytest.mark.parametrize("factor", [1.07, 1.2])
+def test_a_tip_wider_than_a_ridge_flank_allows_rides_it_exactly_with_all_contacts(factor):
+    """The 3GM ridge slide with a tip beyond the ridge's concave radius: one contact sinks
+    into the flank's foot (micrometres, test_sim_spatial_plate_curvature.py); with every
+    contact it touches the flank and the plate at once and rides the exact offset."""
+    radius = PlateFeature("ridge", 1e-3, 3e-3).concave_radius() * factor
+    scene = ridge_slide_scene(tip_radius=radius, travel=0.02, all_contacts=True)
+    log = scene.world.run(scene.duration, scene.controller)
+    assert -float(np.min(centre_path_error(scene, log).errors)) < 1e-12

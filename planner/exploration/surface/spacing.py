@@ -11,8 +11,10 @@ def spacing_warnings(plate, region, tip_radius: float) -> list[str]:
     """Messages for pairs of features closer than a fingertip diameter (§4.2.1).
 
     The distance of two features is that between their footprints, the outlines where each
-    rises a quarter of its height above the plate, traced by a thin ball of radius
-    ``FOOTPRINT_PROBE`` (:func:`~planner.exploration.surface.plates.truth_features`).
+    rises a quarter of its height above the plate far from it (the asymptotic plate: a
+    property of the plate, not the level a tracer reads at the feature's foot), traced by a
+    thin ball of radius ``FOOTPRINT_PROBE``
+    (:func:`~planner.exploration.surface.plates.truth_features` with ``foot_tilt=None``).
 
     Args:
         plate: a :class:`planner.sim.spatial.plate.Plate`.
@@ -28,7 +30,7 @@ def spacing_warnings(plate, region, tip_radius: float) -> list[str]:
     from planner.exploration.surface.plates import truth_features
 
     rise = [0.25 * f.height for f in plate.features]
-    truth = truth_features(plate, region, tip_radius=FOOTPRINT_PROBE, rise=rise)
+    truth = truth_features(plate, region, FOOTPRINT_PROBE, rise, foot_tilt=None)
     geoms = []
     for t in truth:
         lines = [ln for ln in t.outline if len(ln) >= 2]
